@@ -1,0 +1,12 @@
+#include "app/commands.h"
+
+namespace pwsim::app {
+
+const std::vector<Command>& AllCommands() {
+  static const std::vector<Command> commands{
+      {&RunSpec(), &RunCommand},
+  };
+  return commands;
+}
+
+}  // namespace pwsim::app

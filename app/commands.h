@@ -1,0 +1,24 @@
+#pragma once
+// The pwsim subcommands. Each lives in its own app/cmd_<name>.cc and is listed once in
+// app/commands.cc; a command only parses arguments and wires libraries together.
+
+#include <string>
+#include <vector>
+
+#include "app/cli.h"
+
+namespace pwsim::app {
+
+struct Command {
+  const CommandSpec* spec;
+  int (*run)(const ParsedArgs& args);
+};
+
+/// Every subcommand, in the order `pwsim --help` lists them.
+const std::vector<Command>& AllCommands();
+
+// Declarations, one pair per app/cmd_<name>.cc.
+const CommandSpec& RunSpec();
+int RunCommand(const ParsedArgs& args);
+
+}  // namespace pwsim::app

@@ -1,0 +1,37 @@
+# Helpers shared by every folder: warning flags and one-line test registration.
+
+# pwsim_set_warnings(<target>): the project's warning set; errors when PWSIM_WERROR is ON.
+function(pwsim_set_warnings target)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow -Wconversion
+                         -Wno-sign-conversion -Wnon-virtual-dtor -Wold-style-cast)
+  if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+    # GCC 12 reports false -Wrestrict positives inside std::string concatenation (GCC bug 105329).
+    target_compile_options(${target} PRIVATE -Wno-restrict)
+  endif()
+  if(PWSIM_WERROR)
+    target_compile_options(${target} PRIVATE -Werror)
+  endif()
+endfunction()
+
+# pwsim_add_library(<name> SOURCES ... PUBLIC_LIBS ... PRIVATE_LIBS ...)
+function(pwsim_add_library name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;PUBLIC_LIBS;PRIVATE_LIBS" ${ARGN})
+  add_library(${name} STATIC ${ARG_SOURCES})
+  target_include_directories(${name} PUBLIC ${PROJECT_SOURCE_DIR})
+  target_compile_features(${name} PUBLIC cxx_std_20)
+  target_link_libraries(${name} PUBLIC ${ARG_PUBLIC_LIBS} PRIVATE ${ARG_PRIVATE_LIBS})
+  pwsim_set_warnings(${name})
+endfunction()
+
+# pwsim_add_test(<name> SOURCES ... LIBS ... [LABELS ...])
+# Builds one GoogleTest executable and registers each TEST with CTest.
+function(pwsim_add_test name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS;LABELS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_LIBS} GTest::gtest GTest::gtest_main)
+  target_compile_definitions(${name} PRIVATE
+      PWSIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}" PWSIM_BINARY_DIR="${PROJECT_BINARY_DIR}")
+  pwsim_set_warnings(${name})
+  gtest_discover_tests(${name} WORKING_DIRECTORY ${PROJECT_BINARY_DIR} DISCOVERY_TIMEOUT 60
+                       PROPERTIES LABELS "${ARG_LABELS}")
+endfunction()

@@ -1,0 +1,27 @@
+#include "engine/input_error.h"
+
+#include <utility>
+
+namespace pwsim {
+namespace {
+
+std::string Compose(const std::string& file, int line, const std::string& field,
+                    const std::string& expected, const std::string& got) {
+  std::string where = file;
+  if (line > 0) where += ":" + std::to_string(line);
+  std::string message = where + ": field '" + field + "': expected " + expected;
+  if (!got.empty()) message += ", got " + got;
+  return message;
+}
+
+}  // namespace
+
+InputError::InputError(std::string file, int line, std::string field, std::string expected,
+                       std::string got)
+    : std::runtime_error(Compose(file, line, field, expected, got)),
+      file_(std::move(file)),
+      line_(line),
+      field_(std::move(field)),
+      expected_(std::move(expected)) {}
+
+}  // namespace pwsim

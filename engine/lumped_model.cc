@@ -1,0 +1,83 @@
+#include "engine/lumped_model.h"
+
+#include <Eigen/Dense>
+#include <unsupported/Eigen/MatrixFunctions>
+
+#include "engine/check.h"
+
+namespace pwsim {
+namespace {
+
+AxisPropagator MakePropagator(const AxisParams& axis, double dt) {
+  PWSIM_DEMAND(axis.inertia > 0.0 && dt > 0.0);
+  // Augmented state s = [q, q̇, u, u̇, F]; u̇ and F are constant across the step.
+  Eigen::Matrix<double, 5, 5> a = Eigen::Matrix<double, 5, 5>::Zero();
+  const double inv_m = 1.0 / axis.inertia;
+  a(0, 1) = 1.0;
+  a(1, 0) = -axis.stiffness * inv_m;
+  a(1, 1) = -axis.damping * inv_m;
+  a(1, 2) = axis.stiffness * inv_m;
+  a(1, 3) = axis.damping * inv_m;
+  a(1, 4) = inv_m;
+  a(2, 3) = 1.0;
+  const Eigen::Matrix<double, 5, 5> phi = (a * dt).exp();
+  AxisPropagator propagator;
+  for (int row = 0; row < 2; ++row) {
+    for (int col = 0; col < 5; ++col) propagator.phi[row * 5 + col] = phi(row, col);
+  }
+  return propagator;
+}
+
+inline void Advance(const AxisPropagator& p, double& q, double& q_rate, double u0, double u_rate,
+                    double force) {
+  const double* f = p.phi.data();
+  const double next_q = f[0] * q + f[1] * q_rate + f[2] * u0 + f[3] * u_rate + f[4] * force;
+  const double next_rate = f[5] * q + f[6] * q_rate + f[7] * u0 + f[8] * u_rate + f[9] * force;
+  q = next_q;
+  q_rate = next_rate;
+}
+
+}  // namespace
+
+LumpedModelParams MakeLumpedModelParams(const Chair& chair, double load_kg) {
+  PWSIM_DEMAND(chair.lm.has_value());
+  LumpedModelParams params;
+  params.heave = {MovingMass(chair, load_kg), chair.lm->c_z, chair.lm->k_z};
+  params.pitch = {PitchInertia(chair, load_kg), chair.lm->c_theta, chair.lm->k_theta};
+  return params;
+}
+
+DiscreteLumpedModel Discretize(const LumpedModelParams& params, double dt) {
+  DiscreteLumpedModel model;
+  model.params = params;
+  model.dt = dt;
+  model.heave = MakePropagator(params.heave, dt);
+  model.pitch = MakePropagator(params.pitch, dt);
+  return model;
+}
+
+LumpedState Step(const DiscreteLumpedModel& model, const LumpedState& state,
+                 const LumpedInput& input) {
+  const double inv_dt = 1.0 / model.dt;
+  LumpedState next = state;
+  Advance(model.heave, next.z, next.z_rate, input.z_gm_begin,
+          (input.z_gm_end - input.z_gm_begin) * inv_dt, 0.0);
+  Advance(model.pitch, next.pitch, next.pitch_rate, input.pitch_gm_begin,
+          (input.pitch_gm_end - input.pitch_gm_begin) * inv_dt, input.pitch_torque);
+  return next;
+}
+
+LumpedAcceleration Accelerations(const LumpedModelParams& params, const LumpedState& state,
+                                 double z_gm, double z_gm_rate, double pitch_gm,
+                                 double pitch_gm_rate, double pitch_torque) {
+  LumpedAcceleration acc;
+  acc.z = (-params.heave.damping * (state.z_rate - z_gm_rate) -
+           params.heave.stiffness * (state.z - z_gm)) /
+          params.heave.inertia;
+  acc.pitch = (pitch_torque - params.pitch.damping * (state.pitch_rate - pitch_gm_rate) -
+               params.pitch.stiffness * (state.pitch - pitch_gm)) /
+              params.pitch.inertia;
+  return acc;
+}
+
+}  // namespace pwsim
