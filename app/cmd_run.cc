@@ -70,6 +70,7 @@ const CommandSpec& RunSpec() {
       {
           {"out", "DIR", "-", "out/run", "output folder (created)"},
           {"decimate", "N", "ticks", "1", "write every N-th tick to trial.csv"},
+          {"no-video", "", "-", "off", "skip rendering (no video.mp4, frames.csv)"},
       },
       "SCENE  a pwsim-scene/1 YAML file (default: the paper's speed-cushion trial)"};
   return spec;
