@@ -1,0 +1,118 @@
+#include "render/render_scene.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pwsim::render {
+namespace {
+
+using Eigen::Vector3d;
+
+Quad MakeQuad(Vector3d a, Vector3d b, Vector3d c, Vector3d d, Rgb color, TextureKind texture,
+              double tile) {
+  return Quad{{a, b, c, d}, color, texture, tile};
+}
+
+/// The six faces of an axis-aligned box [lo, hi], facing outwards.
+void AddBox(std::vector<Quad>* quads, const Vector3d& lo, const Vector3d& hi, Rgb color) {
+  const double x0 = lo.x(), y0 = lo.y(), z0 = lo.z(), x1 = hi.x(), y1 = hi.y(), z1 = hi.z();
+  const auto none = TextureKind::kNone;
+  quads->push_back(MakeQuad({x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1}, color, none, 1));
+  quads->push_back(MakeQuad({x0, y1, z0}, {x0, y0, z0}, {x0, y0, z1}, {x0, y1, z1}, color, none, 1));
+  quads->push_back(MakeQuad({x0, y1, z0}, {x1, y1, z0}, {x1, y1, z1}, {x0, y1, z1}, color, none, 1));
+  quads->push_back(MakeQuad({x1, y0, z0}, {x0, y0, z0}, {x0, y0, z1}, {x1, y0, z1}, color, none, 1));
+  quads->push_back(MakeQuad({x0, y0, z1}, {x1, y0, z1}, {x1, y1, z1}, {x0, y1, z1}, color, none, 1));
+  quads->push_back(MakeQuad({x0, y1, z0}, {x1, y1, z0}, {x1, y0, z0}, {x0, y0, z0}, color, none, 1));
+}
+
+/// A wheel as a thin octagonal disc standing in the x-z plane, centred at (x, y, r).
+void AddWheel(std::vector<Quad>* quads, double x, double y, double radius, double thickness) {
+  const Rgb tyre{0.12F, 0.12F, 0.13F};
+  constexpr int kSides = 8;
+  for (int i = 0; i < kSides; ++i) {
+    const double a0 = 2.0 * M_PI * i / kSides;
+    const double a1 = 2.0 * M_PI * (i + 1) / kSides;
+    const Vector3d p0(x + radius * std::cos(a0), 0.0, radius + radius * std::sin(a0));
+    const Vector3d p1(x + radius * std::cos(a1), 0.0, radius + radius * std::sin(a1));
+    const Vector3d half(0.0, thickness / 2.0, 0.0);
+    const Vector3d centre(x, y, radius);
+    const Vector3d q0 = p0 + Vector3d(0, y, 0), q1 = p1 + Vector3d(0, y, 0);
+    // Tread strip and the two flat sides (as degenerate quads: a triangle fan slice each).
+    quads->push_back(MakeQuad(q0 + half, q0 - half, q1 - half, q1 + half, tyre, TextureKind::kNone, 1));
+    quads->push_back(MakeQuad(centre + half, q0 + half, q1 + half, centre + half, tyre,
+                              TextureKind::kNone, 1));
+    quads->push_back(MakeQuad(centre - half, q1 - half, q0 - half, centre - half, tyre,
+                              TextureKind::kNone, 1));
+  }
+}
+
+}  // namespace
+
+Eigen::Vector3d QuadNormal(const Quad& quad) {
+  const Vector3d n = (quad.corners[1] - quad.corners[0]).cross(quad.corners[2] - quad.corners[0]);
+  return n.norm() > 0.0 ? Vector3d(n.normalized()) : Vector3d(0, 0, 1);
+}
+
+RenderScene BuildRenderScene(const Scene& scene, const RenderConfig& config) {
+  RenderScene out;
+  out.texture_seed = config.texture_seed;
+
+  // Room: x from -2 m to length - 2 m (scene.h), y across, z up; faces point inwards.
+  const double x0 = -2.0, x1 = scene.room.length - 2.0;
+  const double y0 = -scene.room.width / 2.0, y1 = scene.room.width / 2.0;
+  const double z1 = scene.room.height;
+  const Rgb floor{0.85F, 0.80F, 0.72F}, wall{0.90F, 0.90F, 0.88F}, ceiling{0.95F, 0.95F, 0.95F};
+  out.world.push_back(MakeQuad({x0, y0, 0}, {x1, y0, 0}, {x1, y1, 0}, {x0, y1, 0}, floor,
+                               TextureKind::kFloor, 1.0));
+  out.world.push_back(MakeQuad({x0, y1, z1}, {x1, y1, z1}, {x1, y0, z1}, {x0, y0, z1}, ceiling,
+                               TextureKind::kCeiling, 1.5));
+  out.world.push_back(MakeQuad({x1, y0, 0}, {x1, y1, 0}, {x1, y1, z1}, {x1, y0, z1}, wall,
+                               TextureKind::kWall, 2.0));  // far wall, ahead of the chair
+  out.world.push_back(MakeQuad({x0, y1, 0}, {x0, y0, 0}, {x0, y0, z1}, {x0, y1, z1}, wall,
+                               TextureKind::kWall, 2.0));  // wall behind
+  out.world.push_back(MakeQuad({x0, y0, 0}, {x1, y0, 0}, {x1, y0, z1}, {x0, y0, z1},
+                               Rgb{0.86F, 0.88F, 0.92F}, TextureKind::kWall, 2.0));  // right
+  out.world.push_back(MakeQuad({x1, y1, 0}, {x0, y1, 0}, {x0, y1, z1}, {x1, y1, z1},
+                               Rgb{0.92F, 0.88F, 0.84F}, TextureKind::kWall, 2.0));  // left
+
+  // Speed cushion: each raised segment of the terrain profile becomes a top face and two sides;
+  // a skirt along each ramp closes it. Lifted 1 mm to stay clear of the floor's depth.
+  const double half_width = std::min(config.cushion_width, scene.room.width) / 2.0;
+  const Rgb cushion{0.95F, 0.55F, 0.15F};
+  const std::vector<double>& xs = scene.terrain.x;
+  const std::vector<double>& zs = scene.terrain.z;
+  constexpr double kLift = 0.001;
+  for (std::size_t i = 0; i + 1 < xs.size(); ++i) {
+    if (zs[i] <= 0.0 && zs[i + 1] <= 0.0) continue;
+    const double xa = xs[i], xb = xs[i + 1], za = zs[i] + kLift, zb = zs[i + 1] + kLift;
+    out.world.push_back(MakeQuad({xa, -half_width, za}, {xb, -half_width, zb}, {xb, half_width, zb},
+                                 {xa, half_width, za}, cushion, TextureKind::kCushion, 0.5));
+    const Rgb side{0.75F, 0.40F, 0.10F};
+    out.world.push_back(MakeQuad({xa, -half_width, 0}, {xb, -half_width, 0}, {xb, -half_width, zb},
+                                 {xa, -half_width, za}, side, TextureKind::kNone, 1));
+    out.world.push_back(MakeQuad({xb, half_width, 0}, {xa, half_width, 0}, {xa, half_width, za},
+                                 {xb, half_width, zb}, side, TextureKind::kNone, 1));
+  }
+
+  // Chair in V (x forward, y left, z up; O_V on the ground under the drive axle): wheels at the
+  // chair's contact points, a base, a seat, a backrest, armrests and a footrest.
+  const Chair& chair = scene.chair;
+  double front = 0.4, rear = -0.4;
+  for (const Wheel& w : chair.wheels) {
+    AddWheel(&out.chair, w.x, 0.30, w.radius, 0.06);
+    AddWheel(&out.chair, w.x, -0.30, w.radius, 0.06);
+    front = std::max(front, w.x + w.radius);
+    rear = std::min(rear, w.x - w.radius);
+  }
+  const Rgb frame{0.20F, 0.22F, 0.26F}, seat{0.15F, 0.25F, 0.55F};
+  AddBox(&out.chair, {rear + 0.05, -0.26, 0.15}, {front - 0.05, 0.26, 0.35}, frame);
+  AddBox(&out.chair, {-0.25, -0.24, 0.45}, {0.25, 0.24, 0.53}, seat);
+  AddBox(&out.chair, {-0.33, -0.24, 0.53}, {-0.25, 0.24, 1.05}, seat);
+  AddBox(&out.chair, {-0.20, 0.24, 0.70}, {0.20, 0.30, 0.75}, frame);
+  AddBox(&out.chair, {-0.20, -0.30, 0.70}, {0.20, -0.24, 0.75}, frame);
+  AddBox(&out.chair, {front - 0.05, -0.18, 0.10}, {front + 0.10, 0.18, 0.14}, frame);
+  AddBox(&out.chair, {0.16, -0.32, 0.75}, {0.20, -0.28, 0.85}, Rgb{0.05F, 0.05F, 0.05F});  // joystick
+  return out;
+}
+
+}  // namespace pwsim::render
