@@ -1,0 +1,118 @@
+#pragma once
+// Extended chair model: the paper's geometric + lumped model (seed 000 eq. 1-5) with the
+// physical effects it leaves out (measured-trials.md effect table), each switched on by its own
+// parameters. Every effect is off at its default (zero) value, so the base model is the
+// extended model with EffectParams{}.
+//
+// Driven like the paper's Fig. 6b: a trial's sampled x(t) (linear between samples) -> wheel
+// contact heights -> (effects) -> GM -> LM -> Z and θ at the sample times. Integration is RK4
+// with sub-steps of at most `max_step` between samples. Deterministic: same inputs, same bits.
+//
+//   PreparedTrial trial = PrepareTrial(chair, terrain, load_kg, t, x);
+//   ExtendedParams params{.lm = *chair.lm};
+//   params.fx.marker_lever_x = 0.1;
+//   ModelOutput out = SimulateExtended(trial, params);
+
+#include <span>
+#include <string>
+#include <vector>
+
+#include "engine/chair.h"
+#include "engine/terrain.h"
+
+namespace pwsim::effects {
+
+/// Effect parameters; each group is one effect id of the spec's table. Zero = effect absent.
+struct EffectParams {
+  // wheel_radius: each wheel centre rides the rolling-disc envelope of the ground.
+  double caster_radius{0.0};  ///< [m] radius of every caster wheel (0 = point contact)
+  double drive_radius{0.0};   ///< [m] radius of every non-caster wheel
+  // tyre_compliance: per-wheel series spring-damper with unsprung mass (2nd-order, unit DC gain).
+  double caster_tyre_period{0.0};  ///< [s] 1/f of the caster tyre mode (0 = rigid)
+  double drive_tyre_period{0.0};   ///< [s] 1/f of the drive tyre mode (0 = rigid)
+  double tyre_damping{0.5};        ///< [-] damping ratio of the tyre modes
+  // cushion_compliance: the obstacle height falls with the static wheel load W_i = α_i M g.
+  double cushion_loss_per_kn{0.0};  ///< [1/kN] fraction of obstacle height lost per kN
+  // heave_pitch_coupling: off-diagonal K, C as a fraction of sqrt(K_Z K_θ), sqrt(C_Z C_θ).
+  double stiffness_coupling{0.0};  ///< [-] in (-1, 1)
+  double damping_coupling{0.0};    ///< [-] in (-1, 1)
+  // nonlinear_stiffness: K δ (1 + κ (δ/δ_ref)²), δ_ref = kHeaveRef, kPitchRef.
+  double heave_hardening{0.0};  ///< κ_Z [-]
+  double pitch_hardening{0.0};  ///< κ_θ [-]
+  // suspension_friction: Coulomb force F_c tanh(δ̇/ε) on each axis.
+  double heave_friction{0.0};  ///< [N]
+  double pitch_friction{0.0};  ///< [N m]
+  // inertial_pitch: Γ_θ = M h a_x (nose-up when accelerating for h > 0).
+  double cm_lever{0.0};  ///< h [m]
+  // marker_offset: Z_measured = Z + r_x sin θ + r_z (cos θ - 1).
+  double marker_lever_x{0.0};  ///< [m]
+  double marker_lever_z{0.0};  ///< [m]
+};
+
+inline constexpr double kHeaveRef = 0.01;          ///< [m] δ_ref of the heave hardening
+inline constexpr double kPitchRef = 0.01;          ///< [rad] δ_ref of the pitch hardening
+inline constexpr double kHeaveFrictionEps = 0.01;  ///< [m/s] tanh smoothing of friction
+inline constexpr double kPitchFrictionEps = 0.02;  ///< [rad/s]
+inline constexpr double kGravity = 9.81;           ///< [m/s^2]
+
+struct ExtendedParams {
+  LumpedParams lm;  ///< K, C of eq. (3) (re-identified together with the effect)
+  EffectParams fx;
+};
+
+/// One trial ready to simulate: the chair (with gm), terrain, load and the sampled x(t).
+struct PreparedTrial {
+  Chair chair;
+  Terrain terrain;
+  double load_kg{0.0};
+  std::vector<double> t;      ///< [s] sample times, strictly increasing
+  std::vector<double> x;      ///< [m] O_V along the path at t
+  std::vector<double> accel;  ///< [m/s^2] smoothed longitudinal acceleration at t
+  std::vector<bool> is_caster;  ///< per wheel
+  double max_step{0.004};       ///< [s] largest RK4 sub-step
+};
+
+/// Builds a PreparedTrial; `accel` is estimated from x by a local quadratic fit over
+/// ±`accel_window` s unless given (same size as t). @pre chair.gm set, t strictly increasing.
+PreparedTrial PrepareTrial(const Chair& chair, const Terrain& terrain, double load_kg,
+                           std::vector<double> t, std::vector<double> x,
+                           std::vector<double> accel = {}, double accel_window = 0.15);
+
+/// Casters: wheels named "*caster*" or clearly smaller than the largest wheel.
+std::vector<bool> CasterWheels(const Chair& chair);
+
+struct ModelOutput {
+  std::vector<double> z;      ///< [m] measured-altitude channel at each sample time
+  std::vector<double> pitch;  ///< [rad]
+  std::vector<double> z_gm;      ///< [m] GM output (effective contacts) at each sample
+  std::vector<double> pitch_gm;  ///< [rad]
+};
+
+/// Simulates the extended model at the trial's sample times (starts in static equilibrium).
+ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& params);
+
+/// Wheel-centre height minus R over a piecewise-linear ground (rolling-disc envelope) and its
+/// x-derivative; R = 0 gives the ground itself.
+struct EnvelopePoint {
+  double height{0.0};  ///< [m]
+  double slope{0.0};   ///< [-]
+};
+EnvelopePoint RollingDiscEnvelope(const Terrain& terrain, double x, double radius);
+
+/// A trial as the diagnosis sees it: what was driven, on what, and what was measured.
+struct TrialRecord {
+  std::string name;
+  Chair chair;  ///< with gm (lm used as the starting point of fits when present)
+  Terrain terrain;
+  double load_kg{0.0};
+  double speed{0.0};          ///< [m/s] nominal (programmed or peak measured) speed
+  std::vector<double> t;      ///< [s]
+  std::vector<double> x;      ///< [m] measured O_V along the path
+  std::vector<double> z;      ///< [m] measured altitude (any constant offset)
+  std::vector<double> pitch;  ///< [rad] measured pitch (any constant offset)
+};
+
+/// Static wheel load W_i = α_i M g [N] (α as load share; used by cushion_compliance).
+std::vector<double> StaticWheelLoads(const Chair& chair, double load_kg);
+
+}  // namespace pwsim::effects
