@@ -1,0 +1,99 @@
+#pragma once
+// CiA 402 cyclic-synchronous-position (CSP) master for the platform's drives. Runs on drive
+// cycles (integers), never on the wall clock, so it is deterministic and replayable:
+//   each cycle: handle received frames (OnFrame), then Cycle() emits RPDO1 per axis + SYNC
+//   (and the master heartbeat every `heartbeat_period_cycles`).
+// Start-up: NMT reset-communication -> wait boot-up -> NMT start -> drives operational ->
+// controlword walk 0x06, 0x07, 0x0F while holding the actual position -> kRunning, where the
+// target position is the caller's setpoint. Heartbeat loss, EMCY and statusword faults are
+// reported (not acted on): the safety supervisor decides.
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "hardware/can_frame.h"
+#include "hardware/canopen.h"
+
+namespace pwsim::hw {
+
+inline constexpr int kPlatformAxes = 2;  ///< seed 001: q1 yaw (node 1), q2 rail (node 2)
+
+struct AxisConfig {
+  std::uint8_t node{1};
+  double counts_per_unit{1e6};  ///< [counts per rad] or [counts per m]
+};
+
+struct MasterConfig {
+  std::array<AxisConfig, kPlatformAxes> axes{{{1, 1e6}, {2, 1e6}}};
+  std::uint8_t master_node{0x7F};       ///< the master's own heartbeat id
+  int heartbeat_period_cycles{25};      ///< master heartbeat (25 x 4 ms = 100 ms)
+  int heartbeat_timeout_cycles{75};     ///< a drive silent this long is lost (3 periods)
+  int tpdo_timeout_cycles{3};           ///< a drive missing this many TPDOs is stale
+  int boot_timeout_cycles{500};         ///< start-up gives up after this (2 s at 4 ms)
+};
+
+enum class MasterPhase { kResetComm, kWaitBoot, kStartNodes, kEnabling, kRunning, kDisabled,
+                         kFailed };
+const char* MasterPhaseName(MasterPhase phase);
+
+struct AxisStatus {
+  canopen::NmtState nmt{canopen::NmtState::kStopped};
+  canopen::DriveState drive{canopen::DriveState::kNotReadyToSwitchOn};
+  bool seen_heartbeat{false};
+  std::int64_t last_heartbeat_cycle{-1};
+  std::int64_t last_tpdo_cycle{-1};
+  double position{0.0};         ///< measured [rad] or [m]
+  double velocity{0.0};         ///< measured [rad/s] or [m/s]
+  double torque_permille{0.0};
+  std::int32_t last_target_counts{0};
+  std::uint64_t emcy_count{0};
+  std::uint16_t last_emcy_code{0};
+  bool fault{false};            ///< statusword fault or EMCY with a non-zero code
+};
+
+class Cia402Master {
+ public:
+  explicit Cia402Master(MasterConfig config = {});
+
+  /// Feeds one received frame (any order within a cycle).
+  void OnFrame(const CanFrame& frame);
+  /// Emits this cycle's frames to `out` (appended). `setpoint` is used only in kRunning.
+  void Cycle(std::int64_t cycle, const std::array<double, kPlatformAxes>& setpoint,
+             std::vector<CanFrame>* out);
+  /// Stop streaming: walk the drives to "ready to switch on" (0x06) and then NMT pre-op.
+  void RequestDisable() { disable_requested_ = true; }
+  /// Operator action after a fault: send fault reset and re-enable.
+  void RequestFaultReset();
+
+  MasterPhase phase() const { return phase_; }
+  const AxisStatus& axis(int i) const { return axes_[static_cast<std::size_t>(i)]; }
+  bool running() const { return phase_ == MasterPhase::kRunning; }
+  bool any_fault() const;
+  /// True when every drive's heartbeat is younger than the timeout (at the last Cycle).
+  bool heartbeats_ok() const { return heartbeats_ok_; }
+  /// True when every drive answered the last SYNCs with a TPDO1.
+  bool tpdos_fresh() const { return tpdos_fresh_; }
+  std::uint8_t sync_counter() const { return sync_counter_; }
+  std::uint64_t frames_ignored() const { return frames_ignored_; }
+  const MasterConfig& config() const { return config_; }
+
+ private:
+  int AxisIndex(std::uint8_t node) const;
+
+  MasterConfig config_;
+  std::array<AxisStatus, kPlatformAxes> axes_{};
+  MasterPhase phase_{MasterPhase::kResetComm};
+  std::int64_t phase_start_{0};
+  std::int64_t cycle_{0};
+  std::uint8_t sync_counter_{0};
+  bool disable_requested_{false};
+  bool fault_reset_requested_{false};
+  bool heartbeats_ok_{false};
+  bool tpdos_fresh_{false};
+  std::uint64_t frames_ignored_{0};
+  std::array<std::uint16_t, kPlatformAxes> last_controlword_{};
+};
+
+}  // namespace pwsim::hw

@@ -1,0 +1,117 @@
+#include "hardware/udp_socket.h"
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
+namespace pwsim::hw {
+
+std::string UdpAddress::ToString() const {
+  in_addr a{};
+  a.s_addr = ip;
+  char buf[INET_ADDRSTRLEN] = {};
+  ::inet_ntop(AF_INET, &a, buf, sizeof(buf));
+  return std::string(buf) + ":" + std::to_string(port);
+}
+
+std::optional<UdpAddress> ParseUdpAddress(const std::string& text) {
+  const std::size_t colon = text.rfind(':');
+  if (colon == std::string::npos || colon == 0 || colon + 1 >= text.size()) return std::nullopt;
+  std::string host = text.substr(0, colon);
+  if (host == "localhost") host = "127.0.0.1";
+  in_addr a{};
+  if (::inet_pton(AF_INET, host.c_str(), &a) != 1) return std::nullopt;
+  unsigned long port = 0;
+  for (std::size_t i = colon + 1; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c < '0' || c > '9') return std::nullopt;
+    port = port * 10 + static_cast<unsigned long>(c - '0');
+    if (port > 65535) return std::nullopt;
+  }
+  return UdpAddress{a.s_addr, static_cast<std::uint16_t>(port)};
+}
+
+std::int64_t MonotonicNs() {
+  timespec ts{};
+  ::clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<std::int64_t>(ts.tv_sec) * 1000000000LL + ts.tv_nsec;
+}
+
+UdpSocket::~UdpSocket() {
+  if (fd_ >= 0) ::close(fd_);
+}
+UdpSocket::UdpSocket(UdpSocket&& other) noexcept : fd_(other.fd_) { other.fd_ = -1; }
+UdpSocket& UdpSocket::operator=(UdpSocket&& other) noexcept {
+  if (this != &other) {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = other.fd_;
+    other.fd_ = -1;
+  }
+  return *this;
+}
+
+std::string UdpSocket::Bind(const UdpAddress& local) {
+  if (fd_ >= 0) ::close(fd_);
+  fd_ = ::socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+  if (fd_ < 0) return std::string("socket(AF_INET, SOCK_DGRAM) failed: ") + std::strerror(errno);
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_addr.s_addr = local.ip;
+  addr.sin_port = htons(local.port);
+  if (::bind(fd_, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)) != 0) {
+    const std::string message = "bind " + local.ToString() + " failed: " + std::strerror(errno);
+    ::close(fd_);
+    fd_ = -1;
+    return message;
+  }
+  return "";
+}
+
+std::uint16_t UdpSocket::local_port() const {
+  sockaddr_in addr{};
+  socklen_t len = sizeof(addr);
+  if (fd_ < 0 || ::getsockname(fd_, reinterpret_cast<sockaddr*>(&addr), &len) != 0) return 0;
+  return ntohs(addr.sin_port);
+}
+
+bool UdpSocket::SendTo(const UdpAddress& to, std::span<const std::uint8_t> bytes) {
+  if (fd_ < 0) return false;
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_addr.s_addr = to.ip;
+  addr.sin_port = htons(to.port);
+  const ssize_t n = ::sendto(fd_, bytes.data(), bytes.size(), MSG_DONTWAIT | MSG_NOSIGNAL,
+                             reinterpret_cast<sockaddr*>(&addr), sizeof(addr));
+  return n == static_cast<ssize_t>(bytes.size());
+}
+
+long UdpSocket::Receive(std::span<std::uint8_t> buffer, UdpAddress* from) {
+  if (fd_ < 0) return -1;
+  for (;;) {
+    sockaddr_in addr{};
+    socklen_t len = sizeof(addr);
+    const ssize_t n = ::recvfrom(fd_, buffer.data(), buffer.size(), MSG_DONTWAIT | MSG_TRUNC,
+                                 reinterpret_cast<sockaddr*>(&addr), &len);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return -1;  // EAGAIN, or ECONNREFUSED from an earlier send: nothing to read
+    }
+    if (from != nullptr) *from = UdpAddress{addr.sin_addr.s_addr, ntohs(addr.sin_port)};
+    if (static_cast<std::size_t>(n) > buffer.size()) return static_cast<long>(buffer.size()) + 1;
+    return static_cast<long>(n);
+  }
+}
+
+bool UdpSocket::WaitReadable(int timeout_ms) const {
+  if (fd_ < 0) return false;
+  pollfd p{fd_, POLLIN, 0};
+  return ::poll(&p, 1, timeout_ms) > 0;
+}
+
+}  // namespace pwsim::hw

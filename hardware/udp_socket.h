@@ -1,0 +1,52 @@
+#pragma once
+// A small non-blocking UDP socket (IPv4) used by the CAN-over-UDP bus and the HMD bridge.
+// Endpoints are "HOST:PORT" strings; port 0 binds an ephemeral port.
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+
+namespace pwsim::hw {
+
+struct UdpAddress {
+  std::uint32_t ip{0};    ///< network byte order
+  std::uint16_t port{0};  ///< host byte order
+  bool operator==(const UdpAddress&) const = default;
+  std::string ToString() const;
+};
+
+/// Parses "HOST:PORT" (HOST a dotted IPv4 address or "localhost"). Empty on error.
+std::optional<UdpAddress> ParseUdpAddress(const std::string& text);
+
+/// Monotonic clock [ns] (CLOCK_MONOTONIC), the time base of every hardware timestamp.
+std::int64_t MonotonicNs();
+
+class UdpSocket {
+ public:
+  UdpSocket() = default;
+  ~UdpSocket();
+  UdpSocket(UdpSocket&& other) noexcept;
+  UdpSocket& operator=(UdpSocket&& other) noexcept;
+  UdpSocket(const UdpSocket&) = delete;
+  UdpSocket& operator=(const UdpSocket&) = delete;
+
+  /// Binds to `local` (port 0 = ephemeral). Returns an error message, or "" on success.
+  std::string Bind(const UdpAddress& local);
+  bool is_open() const { return fd_ >= 0; }
+  int fd() const { return fd_; }
+  std::uint16_t local_port() const;
+
+  /// Sends one datagram; false when the kernel refused it (counted by the caller).
+  bool SendTo(const UdpAddress& to, std::span<const std::uint8_t> bytes);
+  /// Receives one datagram into `buffer`; returns its size, or -1 when none waits.
+  /// A datagram larger than the buffer is reported with size buffer.size()+1 (truncated).
+  long Receive(std::span<std::uint8_t> buffer, UdpAddress* from);
+  /// Waits up to `timeout_ms` for a datagram. False on timeout.
+  bool WaitReadable(int timeout_ms) const;
+
+ private:
+  int fd_{-1};
+};
+
+}  // namespace pwsim::hw
