@@ -210,18 +210,49 @@ PreparedLumped PrepareLumped(const std::vector<const MeasuredTrial*>& trials, co
   return prepared;
 }
 
-std::vector<double> CumulativeTrapezoid(std::span<const double> t, std::span<const double> f) {
-  std::vector<double> out(f.size(), 0.0);
-  for (std::size_t k = 1; k < f.size(); ++k) {
-    out[k] = out[k - 1] + 0.5 * (f[k] + f[k - 1]) * (t[k] - t[k - 1]);
+/// Linear interpolation of samples (t, y) at the grid times t0 + k dt, k < n.
+std::vector<double> ToGrid(std::span<const double> t, std::span<const double> y, double t0,
+                           double dt, std::size_t n) {
+  std::vector<double> grid(n);
+  std::size_t seg = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double time = t0 + static_cast<double>(k) * dt;
+    while (seg + 2 < t.size() && time > t[seg + 1]) ++seg;
+    const double s = std::clamp((time - t[seg]) / (t[seg + 1] - t[seg]), 0.0, 1.0);
+    grid[k] = y[seg] + s * (y[seg + 1] - y[seg]);
+  }
+  return grid;
+}
+
+/// State-variable filter F(s) = λ²/(s + λ)² of a grid signal: returns F·v, sF·v, s²F·v,
+/// starting at rest at v[0] (semi-implicit Euler on the fine grid).
+struct FilteredSignal {
+  std::vector<double> d0, d1, d2;
+};
+FilteredSignal StateVariableFilter(std::span<const double> v, double dt, double lambda) {
+  FilteredSignal out;
+  out.d0.resize(v.size());
+  out.d1.resize(v.size());
+  out.d2.resize(v.size());
+  double x1 = v[0];
+  double x2 = 0.0;
+  for (std::size_t k = 0; k < v.size(); ++k) {
+    const double x2_rate = lambda * lambda * (v[k] - x1) - 2.0 * lambda * x2;
+    out.d0[k] = x1;
+    out.d1[k] = x2;
+    out.d2[k] = x2_rate;
+    x2 += dt * x2_rate;
+    x1 += dt * x2;
   }
   return out;
 }
 
-/// Integral equation-error estimate of (K, C) of one axis over several trials:
-///   I (y(t) - u(0)) = -C ∫(y - u) - K ∬(y - u)   (at rest in equilibrium at t = 0)
-/// Integrating instead of differentiating keeps mocap noise from dominating.
+/// Equation-error estimate of (K, C) of one axis over several trials with state-variable
+/// filtering (the classical continuous-time linear estimate): with e = y - u,
+///   I s²F[y] = -C sF[e] - K F[e]
+/// where F low-passes the mocap noise before any derivative is taken.
 bool LinearAxisEstimate(const std::vector<AxisData>& axes, double& k, double& c) {
+  constexpr double kLambda = 2.0 * std::numbers::pi * 8.0;  // [rad/s] filter corner
   Eigen::Matrix2d normal = Eigen::Matrix2d::Zero();
   Eigen::Vector2d rhs = Eigen::Vector2d::Zero();
   for (const AxisData& d : axes) {
@@ -229,15 +260,18 @@ bool LinearAxisEstimate(const std::vector<AxisData>& axes, double& k, double& c)
     double offset = 0.0;
     for (std::size_t s = 0; s < d.window; ++s) offset += d.y[s] - u[s];
     offset /= static_cast<double>(d.window);
-    std::vector<double> e(u.size());
-    for (std::size_t s = 0; s < u.size(); ++s) e[s] = d.y[s] - offset - u[s];
-    const std::vector<double> i1 = CumulativeTrapezoid(d.t, e);
-    const std::vector<double> i2 = CumulativeTrapezoid(d.t, i1);
-    for (std::size_t s = 0; s < u.size(); ++s) {
-      const Eigen::Vector2d row(-i1[s], -i2[s]);  // [C, K]
-      const double target = d.inertia * (d.y[s] - offset - u[0]);
+    std::vector<double> y_grid = ToGrid(d.t, d.y, d.t0, d.dt, d.input.size());
+    std::vector<double> e_grid(y_grid.size());
+    for (std::size_t g = 0; g < y_grid.size(); ++g) {
+      y_grid[g] -= offset;
+      e_grid[g] = y_grid[g] - d.input[g];
+    }
+    const FilteredSignal fy = StateVariableFilter(y_grid, d.dt, kLambda);
+    const FilteredSignal fe = StateVariableFilter(e_grid, d.dt, kLambda);
+    for (std::size_t g = 0; g < y_grid.size(); ++g) {
+      const Eigen::Vector2d row(-fe.d1[g], -fe.d0[g]);  // [C, K]
       normal += row * row.transpose();
-      rhs += row * target;
+      rhs += row * (d.inertia * fy.d2[g]);
     }
   }
   const Eigen::Vector2d solution = normal.ldlt().solve(rhs);

@@ -3,7 +3,7 @@
 //  1. GM: α and β by linear least squares on the slowest trials (dynamics negligible), one
 //     free offset per trial and channel.
 //  2. LM: K and C by output-error (simulation-error) minimisation over the faster trials with
-//     Ceres Solver, started from a linear (integral equation-error) estimate. Optionally one
+//     Ceres Solver, started from a linear (state-variable-filter equation-error) estimate. Optionally one
 //     natural frequency and damping ratio for both axes (the paper's choice, `shared_mode`).
 //  3. (passes ≥ 2) GM again with the LM-filtered regressors (the LM is linear, so the
 //     measured output of a slow trial is Σ α_i LM[Z_Oi]: this removes the small dynamic bias
