@@ -1,0 +1,195 @@
+#include "mca/cue_analysis.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/check.h"
+
+namespace pwsim::mca {
+namespace {
+
+using Mat3 = std::array<double, 9>;
+
+Mat3 Multiply(const Mat3& a, const Mat3& b) {
+  Mat3 out{};
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) {
+      double s = 0.0;
+      for (int k = 0; k < 3; ++k) s += a[static_cast<std::size_t>(3 * r + k)] * b[static_cast<std::size_t>(3 * k + c)];
+      out[static_cast<std::size_t>(3 * r + c)] = s;
+    }
+  }
+  return out;
+}
+
+/// Rᵀ v.
+std::array<double, 3> TransposeTimes(const Mat3& r, const std::array<double, 3>& v) {
+  return {r[0] * v[0] + r[3] * v[1] + r[6] * v[2], r[1] * v[0] + r[4] * v[1] + r[7] * v[2],
+          r[2] * v[0] + r[5] * v[1] + r[8] * v[2]};
+}
+
+double Mean(const std::vector<double>& v) {
+  double s = 0.0;
+  for (double x : v) s += x;
+  return v.empty() ? 0.0 : s / static_cast<double>(v.size());
+}
+
+/// Σ a[i] b[i + lag] over the overlap.
+double LaggedDot(const std::vector<double>& a, const std::vector<double>& b, long lag) {
+  const long n = static_cast<long>(a.size());
+  double s = 0.0;
+  for (long i = std::max(0L, -lag); i < n && i + lag < n; ++i) {
+    s += a[static_cast<std::size_t>(i)] * b[static_cast<std::size_t>(i + lag)];
+  }
+  return s;
+}
+
+double LaggedSquares(const std::vector<double>& v, long from, long to) {
+  double s = 0.0;
+  for (long i = std::max(0L, from); i < std::min(static_cast<long>(v.size()), to); ++i) {
+    s += v[static_cast<std::size_t>(i)] * v[static_cast<std::size_t>(i)];
+  }
+  return s;
+}
+
+}  // namespace
+
+PlatformHeadPose HeadPoseOnPlatform(const PlatformSpec& platform, const DofArray& pose) {
+  const double roll = pose[Index(Dof::kRoll)];
+  const double pitch = pose[Index(Dof::kPitch)];
+  const double yaw = pose[Index(Dof::kYaw)];
+  const double cr = std::cos(roll), sr = std::sin(roll);
+  const double cp = std::cos(pitch), sp = std::sin(pitch);
+  const double cy = std::cos(yaw), sy = std::sin(yaw);
+  const Mat3 rz{cy, -sy, 0, sy, cy, 0, 0, 0, 1};
+  const Mat3 ry{cp, 0, -sp, 0, 1, 0, sp, 0, cp};  // Ry(-pitch): nose-up lifts x
+  const Mat3 rx{1, 0, 0, 0, cr, -sr, 0, sr, cr};
+  PlatformHeadPose out;
+  out.r = Multiply(Multiply(rz, ry), rx);
+  const auto& h = platform.head_from_pivot;
+  for (std::size_t i = 0; i < 3; ++i) {
+    out.p[i] = pose[i] + out.r[3 * i] * h[0] + out.r[3 * i + 1] * h[1] + out.r[3 * i + 2] * h[2];
+  }
+  return out;
+}
+
+std::vector<HeadMotion> DeliveredHeadMotion(const PlatformSpec& platform,
+                                            const std::vector<DofArray>& poses, double dt) {
+  PWSIM_DEMAND(dt > 0.0);
+  const std::size_t n = poses.size();
+  std::vector<HeadMotion> out(n);
+  if (n < 3) return out;
+  std::vector<PlatformHeadPose> head(n);
+  for (std::size_t k = 0; k < n; ++k) head[k] = HeadPoseOnPlatform(platform, poses[k]);
+  for (std::size_t k = 1; k + 1 < n; ++k) {
+    const PlatformHeadPose& prev = head[k - 1];
+    const PlatformHeadPose& now = head[k];
+    const PlatformHeadPose& next = head[k + 1];
+    std::array<double, 3> f{};
+    for (std::size_t i = 0; i < 3; ++i) f[i] = (next.p[i] - 2.0 * now.p[i] + prev.p[i]) / (dt * dt);
+    f[2] += kGravity;
+    out[k].fs = TransposeTimes(now.r, f);
+    // Ω = Rᵀ Ṙ (skew), Ṙ by central difference
+    Mat3 rdot{};
+    for (std::size_t i = 0; i < 9; ++i) rdot[i] = (next.r[i] - prev.r[i]) / (2.0 * dt);
+    Mat3 rt{};
+    for (std::size_t r = 0; r < 3; ++r) {
+      for (std::size_t c = 0; c < 3; ++c) rt[3 * r + c] = now.r[3 * c + r];
+    }
+    const Mat3 omega = Multiply(rt, rdot);
+    out[k].w = {0.5 * (omega[7] - omega[5]), 0.5 * (omega[2] - omega[6]), 0.5 * (omega[3] - omega[1])};
+  }
+  out[0] = out[1];
+  out[n - 1] = out[n - 2];
+  return out;
+}
+
+std::array<double, 2> MaxCrossCorrelation(const std::vector<double>& a,
+                                          const std::vector<double>& b, double dt, double max_lag) {
+  PWSIM_DEMAND(a.size() == b.size() && dt > 0.0);
+  const double ma = Mean(a);
+  const double mb = Mean(b);
+  std::vector<double> ca(a.size()), cb(b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    ca[i] = a[i] - ma;
+    cb[i] = b[i] - mb;
+  }
+  const double norm = std::sqrt(LaggedSquares(ca, 0, static_cast<long>(ca.size())) *
+                                LaggedSquares(cb, 0, static_cast<long>(cb.size())));
+  if (!(norm > 0.0)) return {0.0, 0.0};
+  const long max_ticks = static_cast<long>(std::llround(max_lag / dt));
+  double best = -2.0;
+  long best_lag = 0;
+  for (long lag = -max_ticks; lag <= max_ticks; ++lag) {
+    const double c = LaggedDot(ca, cb, lag) / norm;
+    if (c > best) {
+      best = c;
+      best_lag = lag;
+    }
+  }
+  return {best, static_cast<double>(best_lag) * dt};
+}
+
+AxisConsistency CompareAxis(const std::vector<double>& truth, const std::vector<double>& platform,
+                            double threshold, double dt, double max_lag) {
+  PWSIM_DEMAND(truth.size() == platform.size() && dt > 0.0 && max_lag >= 0.0);
+  AxisConsistency out;
+  const std::size_t n = truth.size();
+  if (n == 0) return out;
+  // correlation and RMS error at zero lag
+  const double mt = Mean(truth);
+  const double mp = Mean(platform);
+  double stt = 0.0, spp = 0.0, stp = 0.0, see = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double t = truth[i] - mt;
+    const double p = platform[i] - mp;
+    stt += t * t;
+    spp += p * p;
+    stp += t * p;
+    const double e = platform[i] - truth[i];
+    see += e * e;
+    out.peak_true = std::max(out.peak_true, std::abs(truth[i]));
+    out.peak_platform = std::max(out.peak_platform, std::abs(platform[i]));
+  }
+  out.correlation = (stt > 0.0 && spp > 0.0) ? stp / std::sqrt(stt * spp) : 0.0;
+  out.rms_error = std::sqrt(see / static_cast<double>(n));
+  // lag and gain at the best cross-correlation
+  const auto [xc, lag] = MaxCrossCorrelation(truth, platform, dt, max_lag);
+  (void)xc;
+  out.lag = lag;
+  const long lag_ticks = static_cast<long>(std::llround(lag / dt));
+  const double tt = LaggedSquares(truth, -lag_ticks, static_cast<long>(n) - lag_ticks);
+  out.gain = tt > 0.0 ? LaggedDot(truth, platform, lag_ticks) / tt : 0.0;
+  // wrong-sign episodes
+  bool in_episode = false;
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool wrong = std::abs(platform[i]) > threshold && platform[i] * truth[i] < 0.0;
+    if (wrong) {
+      out.wrong_sign_duration += dt;
+      if (!in_episode) ++out.wrong_sign_count;
+    }
+    in_episode = wrong;
+  }
+  return out;
+}
+
+RateCues RateAbove(const std::vector<double>& angle, double threshold, double dt) {
+  PWSIM_DEMAND(dt > 0.0);
+  RateCues out;
+  bool in_episode = false;
+  // a relative margin keeps a rate limited exactly at the threshold from counting
+  const double limit = threshold * (1.0 + 1e-9);
+  for (std::size_t i = 1; i < angle.size(); ++i) {
+    const double rate = std::abs(angle[i] - angle[i - 1]) / dt;
+    out.max_rate = std::max(out.max_rate, rate);
+    const bool above = rate > limit;
+    if (above) {
+      out.duration += dt;
+      if (!in_episode) ++out.count;
+    }
+    in_episode = above;
+  }
+  return out;
+}
+
+}  // namespace pwsim::mca

@@ -1,0 +1,76 @@
+#include "mca/cueing.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pwsim::mca {
+
+CueingTrace RunCueing(const McaConfig& config, const std::vector<HeadMotion>& truth, double dt) {
+  CueingTrace trace;
+  trace.truth = truth;
+  const std::size_t n = truth.size();
+  ClassicalWashout washout(config.washout, config.platform, dt);
+  trace.commands.reserve(n);
+  std::vector<DofArray> poses;
+  poses.reserve(n);
+  for (const HeadMotion& input : truth) {
+    trace.commands.push_back(washout.Step(input));
+    poses.push_back(trace.commands.back().pose);
+  }
+  trace.delivered = DeliveredHeadMotion(config.platform, poses, dt);
+  VestibularModel vehicle(config.vestibular, dt);
+  VestibularModel platform(config.vestibular, dt);
+  trace.perceived_true.reserve(n);
+  trace.perceived_platform.reserve(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    trace.perceived_true.push_back(vehicle.Step(truth[k]));
+    trace.perceived_platform.push_back(platform.Step(trace.delivered[k]));
+  }
+  return trace;
+}
+
+ConsistencyReport EvaluateConsistency(const McaConfig& config, const CueingTrace& trace, double dt,
+                                      double max_lag) {
+  ConsistencyReport report;
+  const std::size_t n = trace.commands.size();
+  std::vector<double> t(n), p(n);
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    for (std::size_t k = 0; k < n; ++k) {
+      t[k] = trace.perceived_true[k].fs[axis];
+      p[k] = trace.perceived_platform[k].fs[axis];
+    }
+    report.otolith[axis] = CompareAxis(t, p, config.vestibular.thresholds.fs[axis], dt, max_lag);
+    for (std::size_t k = 0; k < n; ++k) {
+      t[k] = trace.perceived_true[k].w[axis];
+      p[k] = trace.perceived_platform[k].w[axis];
+    }
+    report.canals[axis] = CompareAxis(t, p, config.vestibular.thresholds.w[axis], dt, max_lag);
+  }
+  std::vector<double> tilt_pitch(n), tilt_roll(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    tilt_pitch[k] = trace.commands[k].tilt_pitch;
+    tilt_roll[k] = trace.commands[k].tilt_roll;
+    if (trace.commands[k].fault) ++report.fault_ticks;
+  }
+  report.tilt_pitch = RateAbove(tilt_pitch, config.vestibular.thresholds.tilt_rate, dt);
+  report.tilt_roll = RateAbove(tilt_roll, config.vestibular.thresholds.tilt_rate, dt);
+  for (Dof dof : kAllDofs) {
+    if (!config.platform.Has(dof)) continue;
+    const DofLimits& limits = config.platform.limits(dof);
+    DofUsage usage;
+    usage.dof = dof;
+    const auto i = static_cast<std::size_t>(Index(dof));
+    for (const McaCommand& c : trace.commands) {
+      usage.peak_pose = std::max(usage.peak_pose, std::abs(c.pose[i]));
+      usage.peak_rate = std::max(usage.peak_rate, std::abs(c.rate[i]));
+      usage.peak_accel = std::max(usage.peak_accel, std::abs(c.accel[i]));
+    }
+    usage.pose_fraction = std::isfinite(limits.travel) ? usage.peak_pose / limits.travel : 0.0;
+    usage.rate_fraction = usage.peak_rate / limits.speed;
+    usage.accel_fraction = usage.peak_accel / limits.accel;
+    report.usage.push_back(usage);
+  }
+  return report;
+}
+
+}  // namespace pwsim::mca

@@ -1,0 +1,49 @@
+#pragma once
+// A whole trial through the MCA, offline: true head motion in, platform commands, visual
+// channel, delivered head motion, both perceived motions and the consistency metrics out.
+// The per-tick work is ClassicalWashout::Step; this file only collects series.
+//
+//   CueingTrace trace = RunCueing(config, head_motions, dt);
+//   ConsistencyReport report = EvaluateConsistency(config, trace, dt);
+
+#include <array>
+#include <vector>
+
+#include "mca/config.h"
+#include "mca/cue_analysis.h"
+#include "mca/head_motion.h"
+#include "mca/vestibular.h"
+#include "mca/washout.h"
+
+namespace pwsim::mca {
+
+struct CueingTrace {
+  std::vector<HeadMotion> truth;       ///< the vehicle's head motion (input)
+  std::vector<McaCommand> commands;    ///< platform command stream and tilt, per tick
+  std::vector<HeadMotion> delivered;   ///< what the platform delivers at the head
+  std::vector<Perceived> perceived_true;
+  std::vector<Perceived> perceived_platform;
+};
+
+CueingTrace RunCueing(const McaConfig& config, const std::vector<HeadMotion>& truth, double dt);
+
+/// Per-axis use of the platform's limits.
+struct DofUsage {
+  Dof dof{Dof::kSurge};
+  double peak_pose{0.0}, peak_rate{0.0}, peak_accel{0.0};  ///< max |.| [SI]
+  double pose_fraction{0.0}, rate_fraction{0.0}, accel_fraction{0.0};  ///< of the limit
+};
+
+struct ConsistencyReport {
+  std::array<AxisConsistency, 3> otolith{};  ///< x, y, z
+  std::array<AxisConsistency, 3> canals{};   ///< x, y, z
+  RateCues tilt_pitch{};
+  RateCues tilt_roll{};
+  std::vector<DofUsage> usage;               ///< present axes only
+  int fault_ticks{0};
+};
+
+ConsistencyReport EvaluateConsistency(const McaConfig& config, const CueingTrace& trace, double dt,
+                                      double max_lag = 0.5);
+
+}  // namespace pwsim::mca

@@ -1,0 +1,55 @@
+#pragma once
+// The MCA's input: the motion felt at the occupant's vestibular point H. Specific force
+// fs_WH_H = R_HW (a_WH_W - g_W) and angular velocity w_WH_H, both expressed in H (x forward,
+// y left, z up; H is parallel to the chair frame V). At rest fs = (0, 0, +g).
+// The sagittal chair model gives surge, heave and pitch; all six axes are carried.
+//
+//   HeadMotion h = HeadMotionFromChair(sample, scene.occupant.head_offset);
+
+#include <array>
+#include <vector>
+
+#include "engine/chair_simulator.h"
+#include "mca/dof.h"
+
+namespace pwsim::mca {
+
+struct HeadMotion {
+  std::array<double, 3> fs{0.0, 0.0, kGravity};  ///< fs_WH_H [m/s^2]
+  /// w_WH_H [rad/s], right-handed about x, y, z. Note y points left, so a nose-up pitch rate
+  /// θ̇ is w[1] = -θ̇.
+  std::array<double, 3> w{};
+  bool operator==(const HeadMotion&) const = default;
+};
+
+/// The rotational cue rates of a motion: (roll rate, nose-up pitch rate, yaw rate) [rad/s].
+inline std::array<double, 3> CueRates(const HeadMotion& m) { return {m.w[0], -m.w[1], m.w[2]}; }
+
+/// Pose of the eye/head point in W for the visual channel (sagittal plane).
+struct HeadPose {
+  double x{0.0};      ///< [m] along the path
+  double z{0.0};      ///< [m] altitude
+  double pitch{0.0};  ///< [rad] nose-up
+};
+
+/// Head motion of the chair at one sample: O_V moves with (drive.a, lm_acc.z) and pitches with
+/// θ_M; the head sits at p_VH = head_offset from O_V in V. Exact rigid-body kinematics:
+/// a_WH = a_WV + θ̈ R'(θ) p_VH - θ̇² R(θ) p_VH in the x-z plane.
+HeadMotion HeadMotionFromChair(const ChairSample& sample, const std::array<double, 3>& head_offset);
+/// p_WH and the chair pitch at one sample.
+HeadPose HeadPoseFromChair(const ChairSample& sample, const std::array<double, 3>& head_offset);
+
+/// A tracked rigid body (e.g. motion capture of the chair) sampled on the engine's ticks.
+struct SagittalTrack {
+  double dt{1e-3};             ///< [s]
+  std::vector<double> x;       ///< O_V along the path [m]
+  std::vector<double> z;       ///< O_V altitude [m]
+  std::vector<double> pitch;   ///< [rad] nose-up
+};
+/// Head motion from a pose track by central differences (one-sided at the ends).
+/// `smooth_ticks` > 0 averages each derivative over ±smooth_ticks (measured, noisy tracks).
+std::vector<HeadMotion> HeadMotionFromTrack(const SagittalTrack& track,
+                                            const std::array<double, 3>& head_offset,
+                                            int smooth_ticks = 0);
+
+}  // namespace pwsim::mca

@@ -1,0 +1,297 @@
+#include "mca/washout.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/check.h"
+
+namespace pwsim::mca {
+namespace {
+
+constexpr std::array<Dof, 3> kTranslations{Dof::kSurge, Dof::kSway, Dof::kHeave};
+constexpr std::array<Dof, 3> kRotations{Dof::kRoll, Dof::kPitch, Dof::kYaw};
+constexpr double kRejoinTolerance = 1e-6;  ///< [m | rad] recovery ends when this close
+
+std::size_t At(Dof dof) { return static_cast<std::size_t>(Index(dof)); }
+
+bool Finite(const HeadMotion& m) {
+  for (double v : m.fs) {
+    if (!std::isfinite(v)) return false;
+  }
+  for (double v : m.w) {
+    if (!std::isfinite(v)) return false;
+  }
+  return true;
+}
+
+/// Advances a rate-limited tilt angle towards asin of the low-passed specific force.
+double TiltStep(const TiltParams& p, double angle, double force_lp, double dt) {
+  const double s_max = std::sin(p.max_angle);
+  const double target = std::asin(std::clamp(force_lp / kGravity, -s_max, s_max));
+  const double step = p.max_rate * dt;
+  return angle + std::clamp(target - angle, -step, step);
+}
+
+void ParseTranslational(YamlMap& m, TranslationalParams& p) {
+  p.scale = m.NumberOr("scale", p.scale, Range::Closed(0.0, 10.0));
+  p.limit = m.NumberOr("limit_mps2", p.limit, Range::Positive(100.0, "m/s^2"));
+  p.hp_order = m.IntegerOr("hp_order", p.hp_order, 2, 3);
+  p.hp_omega = m.NumberOr("hp_omega_radps", p.hp_omega, Range::Positive(100.0, "rad/s"));
+  p.hp_zeta = m.NumberOr("hp_zeta", p.hp_zeta, Range::Positive(10.0));
+  p.hp_break = m.NumberOr("hp_break_radps", p.hp_break, Range::Positive(100.0, "rad/s"));
+  p.leak = m.NumberOr("leak_radps", p.leak, Range::Closed(0.0, 100.0, "rad/s"));
+}
+
+void ParseRotational(YamlMap& m, RotationalParams& p) {
+  p.scale = m.NumberOr("scale", p.scale, Range::Closed(0.0, 10.0));
+  p.limit = kDegToRad * m.NumberOr("limit_degps", p.limit / kDegToRad, Range::Positive(3600.0, "deg/s"));
+  p.hp_order = m.IntegerOr("hp_order", p.hp_order, 1, 2);
+  p.hp_omega = m.NumberOr("hp_omega_radps", p.hp_omega, Range::Positive(100.0, "rad/s"));
+  p.hp_zeta = m.NumberOr("hp_zeta", p.hp_zeta, Range::Positive(10.0));
+  p.leak = m.NumberOr("leak_radps", p.leak, Range::Closed(0.0, 100.0, "rad/s"));
+}
+
+void ParseTilt(YamlMap& m, TiltParams& p) {
+  p.enabled = m.BoolOr("enabled", p.enabled);
+  p.scale = m.NumberOr("scale", p.scale, Range::Closed(0.0, 10.0));
+  p.lp_omega = m.NumberOr("lp_omega_radps", p.lp_omega, Range::Positive(100.0, "rad/s"));
+  p.lp_zeta = m.NumberOr("lp_zeta", p.lp_zeta, Range::Positive(10.0));
+  p.max_rate =
+      kDegToRad * m.NumberOr("max_rate_degps", p.max_rate / kDegToRad, Range::Positive(90.0, "deg/s"));
+  p.max_angle =
+      kDegToRad * m.NumberOr("max_angle_deg", p.max_angle / kDegToRad, Range::Positive(60.0, "deg"));
+}
+
+}  // namespace
+
+const TranslationalParams& WashoutParams::translation(Dof dof) const {
+  PWSIM_DEMAND(!IsRotational(dof));
+  return translational[At(dof)];
+}
+
+const RotationalParams& WashoutParams::rotation(Dof dof) const {
+  PWSIM_DEMAND(IsRotational(dof));
+  return rotational[At(dof) - 3];
+}
+
+std::string WashoutParams::Validate() const {
+  for (Dof dof : kTranslations) {
+    const TranslationalParams& p = translation(dof);
+    const std::string name(DofName(dof));
+    if (!(p.scale >= 0.0) || !(p.limit > 0.0)) return name + ": scale >= 0 and limit > 0 required";
+    if (p.hp_order != 2 && p.hp_order != 3) return name + ": hp_order must be 2 or 3";
+    if (!(p.hp_omega > 0.0) || !(p.hp_zeta > 0.0) || !(p.hp_break > 0.0)) {
+      return name + ": high-pass frequencies and damping must be > 0";
+    }
+    if (!(p.leak >= 0.0)) return name + ": leak must be >= 0";
+  }
+  for (Dof dof : kRotations) {
+    const RotationalParams& p = rotation(dof);
+    const std::string name(DofName(dof));
+    if (!(p.scale >= 0.0) || !(p.limit > 0.0)) return name + ": scale >= 0 and limit > 0 required";
+    if (p.hp_order != 1 && p.hp_order != 2) return name + ": hp_order must be 1 or 2";
+    if (!(p.hp_omega > 0.0) || !(p.hp_zeta > 0.0)) return name + ": high-pass must be > 0";
+    if (!(p.leak >= 0.0)) return name + ": leak must be >= 0";
+  }
+  for (const TiltParams* t : {&tilt_pitch, &tilt_roll}) {
+    if (!(t->scale >= 0.0) || !(t->lp_omega > 0.0) || !(t->lp_zeta > 0.0) || !(t->max_rate > 0.0) ||
+        !(t->max_angle > 0.0 && t->max_angle <= 60.0 * kDegToRad)) {
+      return std::string(t == &tilt_pitch ? "tilt_pitch" : "tilt_roll") +
+             ": scale >= 0, low-pass > 0, max_rate > 0, max_angle in (0, 60] deg required";
+    }
+  }
+  if (!(fault.hold_time >= 0.0) || !(fault.return_speed_fraction > 0.0) ||
+      !(fault.return_speed_fraction <= 1.0)) {
+    return "fault: hold_s >= 0 and return_speed_fraction in (0, 1] required";
+  }
+  return {};
+}
+
+WashoutParams DefaultWashoutParams() {
+  WashoutParams p;
+  for (Dof dof : kTranslations) {
+    p.translational[At(dof)] = {.scale = 1.0, .limit = 5.0, .hp_order = 3, .hp_omega = 2.0,
+                                .hp_zeta = 1.0, .hp_break = 0.5, .leak = 0.0};
+  }
+  // heave: the cushion's bumps are short; a faster washout keeps them inside the travel
+  p.translational[At(Dof::kHeave)] = {.scale = 0.8, .limit = 9.0, .hp_order = 3, .hp_omega = 3.0,
+                                      .hp_zeta = 1.0, .hp_break = 0.5, .leak = 0.0};
+  for (Dof dof : kRotations) {
+    p.rotational[At(dof) - 3] = {.scale = 1.0, .limit = 60.0 * kDegToRad, .hp_order = 2,
+                                 .hp_omega = 0.5, .hp_zeta = 1.0, .leak = 0.0};
+  }
+  p.tilt_pitch = TiltParams{};
+  p.tilt_roll = TiltParams{};
+  p.fault = FaultParams{};
+  return p;
+}
+
+WashoutParams ParseWashoutParams(YamlMap& map, const WashoutParams& base) {
+  WashoutParams p = base;
+  for (Dof dof : kTranslations) {
+    const std::string key(DofName(dof));
+    if (!map.Has(key)) continue;
+    YamlMap axis = map.Map(key);
+    ParseTranslational(axis, p.translational[At(dof)]);
+    axis.Finish();
+  }
+  for (Dof dof : kRotations) {
+    const std::string key(DofName(dof));
+    if (!map.Has(key)) continue;
+    YamlMap axis = map.Map(key);
+    ParseRotational(axis, p.rotational[At(dof) - 3]);
+    axis.Finish();
+  }
+  for (auto [key, tilt] : {std::pair{"tilt_pitch", &p.tilt_pitch}, std::pair{"tilt_roll", &p.tilt_roll}}) {
+    if (!map.Has(key)) continue;
+    YamlMap axis = map.Map(key);
+    ParseTilt(axis, *tilt);
+    axis.Finish();
+  }
+  if (map.Has("fault")) {
+    YamlMap fault = map.Map("fault");
+    p.fault.hold_time = fault.NumberOr("hold_s", p.fault.hold_time, Range::Closed(0.0, 60.0, "s"));
+    p.fault.return_speed_fraction = fault.NumberOr(
+        "return_speed_fraction", p.fault.return_speed_fraction, Range::Positive(1.0));
+    fault.Finish();
+  }
+  if (const std::string problem = p.Validate(); !problem.empty()) {
+    map.Fail("", "consistent washout parameters (" + problem + ")", "inconsistent ones");
+  }
+  return p;
+}
+
+ContinuousSystem ChannelSystem(const WashoutParams& params, Dof dof) {
+  if (IsRotational(dof)) {
+    const RotationalParams& p = params.rotation(dof);
+    const ContinuousSystem hp =
+        p.hp_order == 1 ? HighPass1(p.hp_omega) : HighPass2(p.hp_omega, p.hp_zeta);
+    return Series(Series(Gain(p.scale), hp), LeakyIntegrator(p.leak));
+  }
+  const TranslationalParams& p = params.translation(dof);
+  ContinuousSystem hp = HighPass2(p.hp_omega, p.hp_zeta);
+  if (p.hp_order == 3) hp = Series(hp, HighPass1(p.hp_break));
+  const ContinuousSystem integrate = Series(LeakyIntegrator(p.leak), LeakyIntegrator(p.leak));
+  return Series(Series(Gain(p.scale), hp), integrate);
+}
+
+ClassicalWashout::ClassicalWashout(const WashoutParams& params, const PlatformSpec& platform,
+                                   double dt)
+    : params_(params), platform_(platform), dt_(dt) {
+  PWSIM_DEMAND(params.Validate().empty());
+  PWSIM_DEMAND(platform.Validate().empty());
+  PWSIM_DEMAND(dt > 0.0);
+  // the scale is applied before the input clamp, so the filters run unscaled
+  WashoutParams unscaled = params;
+  for (auto& t : unscaled.translational) t.scale = 1.0;
+  for (auto& r : unscaled.rotational) r.scale = 1.0;
+  for (Dof dof : kAllDofs) channel_[At(dof)] = Discretize(ChannelSystem(unscaled, dof), dt);
+  tilt_lp_[0] = Discretize(LowPass2(params.tilt_pitch.lp_omega, params.tilt_pitch.lp_zeta), dt);
+  tilt_lp_[1] = Discretize(LowPass2(params.tilt_roll.lp_omega, params.tilt_roll.lp_zeta), dt);
+  hold_ticks_ = static_cast<std::int64_t>(std::llround(params.fault.hold_time / dt));
+  Reset();
+}
+
+void ClassicalWashout::Reset() {
+  state_ = WashoutState{};
+  command_ = McaCommand{};
+}
+
+const McaCommand& ClassicalWashout::Step(const HeadMotion& input) {
+  if (Finite(input)) {
+    StepHealthy(input);
+  } else {
+    StepFaulted();
+  }
+  return command_;
+}
+
+void ClassicalWashout::StepHealthy(const HeadMotion& input) {
+  if (state_.fault_ticks > 0) {
+    state_.fault_ticks = 0;
+    state_.recovering = true;
+  }
+  DofArray desired{};
+  // specific-force channels on the deviation from rest (0, 0, g)
+  const std::array<double, 3> deviation{input.fs[0], input.fs[1], input.fs[2] - kGravity};
+  for (Dof dof : kTranslations) {
+    if (!platform_.Has(dof)) continue;
+    const TranslationalParams& p = params_.translation(dof);
+    const double u = std::clamp(p.scale * deviation[At(dof)], -p.limit, p.limit);
+    desired[At(dof)] = mca::Step(channel_[At(dof)], state_.channel[At(dof)], u);
+  }
+  // angular-rate channels
+  const std::array<double, 3> rates = CueRates(input);
+  for (Dof dof : kRotations) {
+    if (!platform_.Has(dof)) continue;
+    const RotationalParams& p = params_.rotation(dof);
+    const double u = std::clamp(p.scale * rates[At(dof) - 3], -p.limit, p.limit);
+    desired[At(dof)] = mca::Step(channel_[At(dof)], state_.channel[At(dof)], u);
+  }
+  // tilt coordination: sustained surge -> pitch, sustained sway -> roll
+  if (platform_.Has(Dof::kPitch) && params_.tilt_pitch.enabled) {
+    const double f = mca::Step(tilt_lp_[0], state_.tilt_lp[0], params_.tilt_pitch.scale * input.fs[0]);
+    state_.tilt[0] = TiltStep(params_.tilt_pitch, state_.tilt[0], f, dt_);
+    desired[At(Dof::kPitch)] += state_.tilt[0];
+  }
+  if (platform_.Has(Dof::kRoll) && params_.tilt_roll.enabled) {
+    const double f = mca::Step(tilt_lp_[1], state_.tilt_lp[1], params_.tilt_roll.scale * input.fs[1]);
+    state_.tilt[1] = TiltStep(params_.tilt_roll, state_.tilt[1], f, dt_);
+    desired[At(Dof::kRoll)] += state_.tilt[1];
+  }
+  Limit(desired, state_.recovering ? params_.fault.return_speed_fraction : 1.0);
+  if (state_.recovering) {
+    bool joined = true;
+    for (Dof dof : kAllDofs) {
+      if (std::abs(command_.pose[At(dof)] - desired[At(dof)]) > kRejoinTolerance) joined = false;
+    }
+    state_.recovering = !joined;
+  }
+  command_.fault = false;
+}
+
+void ClassicalWashout::StepFaulted() {
+  if (state_.fault_ticks == 0) {
+    // hold the last safe pose; the filters restart from rest when input returns
+    for (Dof dof : kAllDofs) state_.hold_pose[At(dof)] = state_.limiter[At(dof)].pose;
+    state_.channel = {};
+    state_.tilt_lp = {};
+  }
+  ++state_.fault_ticks;
+  ++state_.fault_total;
+  state_.recovering = false;
+  DofArray desired{};
+  const bool holding = state_.fault_ticks <= hold_ticks_;
+  if (holding) {
+    desired = state_.hold_pose;
+  } else {
+    // wash out to neutral; the tilt returns below the perception threshold
+    state_.tilt[0] = TiltStep(params_.tilt_pitch, state_.tilt[0], 0.0, dt_);
+    state_.tilt[1] = TiltStep(params_.tilt_roll, state_.tilt[1], 0.0, dt_);
+    desired[At(Dof::kPitch)] = platform_.Has(Dof::kPitch) ? state_.tilt[0] : 0.0;
+    desired[At(Dof::kRoll)] = platform_.Has(Dof::kRoll) ? state_.tilt[1] : 0.0;
+  }
+  state_.desired_prev = desired;  // targets are piecewise constant: no feed-forward
+  Limit(desired, holding ? 1.0 : params_.fault.return_speed_fraction);
+  command_.fault = true;
+}
+
+void ClassicalWashout::Limit(const DofArray& desired, double speed_fraction) {
+  for (Dof dof : kAllDofs) {
+    const std::size_t i = At(dof);
+    const DofLimits& limits = platform_.dofs[i];
+    if (!limits.present) continue;
+    const double target_rate = (desired[i] - state_.desired_prev[i]) / dt_;
+    state_.limiter[i] =
+        StepLimiter(limits, state_.limiter[i], desired[i], target_rate, speed_fraction * limits.speed, dt_);
+    command_.pose[i] = state_.limiter[i].pose;
+    command_.rate[i] = state_.limiter[i].rate;
+    command_.accel[i] = state_.limiter[i].accel;
+  }
+  state_.desired_prev = desired;
+  command_.desired = desired;
+  command_.tilt_pitch = state_.tilt[0];
+  command_.tilt_roll = state_.tilt[1];
+}
+
+}  // namespace pwsim::mca

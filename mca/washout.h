@@ -1,0 +1,157 @@
+#pragma once
+// Classical washout (Reid & Nahon structure) with tilt coordination, per axis:
+//
+//   surge/sway/heave:  f = fs_H - (0, 0, g)  → scale, clamp ±limit → H_hp(s) → 1/(s+λ)² → pose
+//                      H_hp = s²/(s²+2ζωs+ω²) (order 2) or that · s/(s+ω_b) (order 3)
+//   roll/pitch/yaw:    rate → scale, clamp ±limit → s/(s+ω) or s²/(s²+2ζωs+ω²) → 1/(s+λ) → pose
+//   tilt (pitch←surge, roll←sway): f → scale → ω²/(s²+2ζωs+ω²) → asin(f/g), clamped to
+//                      ±max_angle → rate limited to ±max_rate (default 3 deg/s) → added to pose
+//
+// Then each present axis goes through the platform limiter (mca/platform.h), so the command
+// stream never leaves the platform's limits. The specific-force channels act on the head's
+// specific force in head axes (no rotation into the inertial frame: the PW platform's tilts are
+// small and the resulting coupling is second order); filters are exact FOH discretisations, so
+// the behaviour does not depend on the step size.
+//
+// Faults: a non-finite input holds the last safe pose for fault.hold_time, then washes out to
+// neutral at fault.return_speed_fraction of each axis's speed limit; filter states restart
+// from rest, and when finite input returns the platform rejoins the washout output at the
+// reduced speed before normal tracking resumes.
+//
+//   ClassicalWashout mca(DefaultWashoutParams(), MakePw4DofPlatform(), 1e-3);
+//   const McaCommand& cmd = mca.Step(head_motion);   // one tick; no allocation
+
+#include <array>
+#include <cstdint>
+#include <string>
+
+#include "engine/yaml_reader.h"
+#include "mca/dof.h"
+#include "mca/head_motion.h"
+#include "mca/lti.h"
+#include "mca/platform.h"
+
+namespace pwsim::mca {
+
+/// One specific-force channel (surge, sway or heave).
+struct TranslationalParams {
+  double scale{1.0};      ///< [-] gain on the specific-force deviation
+  double limit{5.0};      ///< [m/s^2] clamp on the scaled input
+  int hp_order{3};        ///< 2 or 3
+  double hp_omega{2.0};   ///< ωn [rad/s] of the second-order high-pass
+  double hp_zeta{1.0};    ///< ζ [-]
+  double hp_break{0.5};   ///< ω_b [rad/s] of the first-order stage (order 3)
+  double leak{0.0};       ///< λ [rad/s] of the double integrator 1/(s+λ)²
+  bool operator==(const TranslationalParams&) const = default;
+};
+
+/// One angular-rate channel (roll, pitch or yaw).
+struct RotationalParams {
+  double scale{1.0};      ///< [-]
+  double limit{1.0};      ///< [rad/s] clamp on the scaled rate
+  int hp_order{2};        ///< 1 or 2
+  double hp_omega{0.5};   ///< ω [rad/s]
+  double hp_zeta{1.0};    ///< ζ [-] (order 2)
+  double leak{0.0};       ///< λ [rad/s] of the integrator 1/(s+λ)
+  bool operator==(const RotationalParams&) const = default;
+};
+
+/// Tilt coordination of one axis (pitch from surge, roll from sway).
+struct TiltParams {
+  bool enabled{true};
+  double scale{1.0};                  ///< [-] on the specific force
+  double lp_omega{2.0};               ///< ω [rad/s] of the second-order low-pass
+  double lp_zeta{1.0};                ///< ζ [-]
+  double max_rate{3.0 * kDegToRad};   ///< [rad/s], below the tilt-perception threshold
+  double max_angle{10.0 * kDegToRad}; ///< [rad]
+  bool operator==(const TiltParams&) const = default;
+};
+
+struct FaultParams {
+  double hold_time{0.5};               ///< [s] the last safe pose is held
+  double return_speed_fraction{0.1};   ///< [-] of each axis's speed limit, while returning
+  bool operator==(const FaultParams&) const = default;
+};
+
+struct WashoutParams {
+  std::array<TranslationalParams, 3> translational{};  ///< surge, sway, heave
+  std::array<RotationalParams, 3> rotational{};        ///< roll, pitch, yaw
+  TiltParams tilt_pitch{};                             ///< pitch from surge specific force
+  TiltParams tilt_roll{};                              ///< roll from sway specific force
+  FaultParams fault{};
+  bool operator==(const WashoutParams&) const = default;
+
+  const TranslationalParams& translation(Dof dof) const;
+  const RotationalParams& rotation(Dof dof) const;
+  /// Empty when valid, else which field is wrong and why.
+  std::string Validate() const;
+};
+
+/// The defaults documented in docs/mca.md (tuned for the PW platform and the speed cushion).
+WashoutParams DefaultWashoutParams();
+/// Reads an `mca:` mapping over `base`: every axis and every field optional.
+/// @throws InputError (file, line, field, expected).
+WashoutParams ParseWashoutParams(YamlMap& map, const WashoutParams& base);
+
+/// Continuous transfer function from the channel input to the pose of one axis (for tests
+/// and OMCT comparisons): scale · H_hp(s) · integrator.
+ContinuousSystem ChannelSystem(const WashoutParams& params, Dof dof);
+
+/// One tick of output: the platform command stream and the visual channel's tilt.
+struct McaCommand {
+  DofArray pose{};     ///< setpoint per axis [m | rad]; 0 for axes the platform lacks
+  DofArray rate{};     ///< its rate over the last tick [m/s | rad/s]
+  DofArray accel{};    ///< its acceleration [m/s^2 | rad/s^2]
+  DofArray desired{};  ///< washout + tilt before the limiter
+  double tilt_pitch{0.0};  ///< [rad] tilt-coordination part of the pitch (not to be seen)
+  double tilt_roll{0.0};   ///< [rad] tilt-coordination part of the roll (not to be seen)
+  bool fault{false};       ///< this tick's input was not finite
+  bool operator==(const McaCommand&) const = default;
+};
+
+/// Everything the next tick needs (copyable, comparable).
+struct WashoutState {
+  std::array<FilterState, kDofCount> channel{};
+  std::array<FilterState, 2> tilt_lp{};   ///< pitch, roll
+  std::array<double, 2> tilt{};           ///< rate-limited tilt angles [rad]
+  std::array<LimiterState, kDofCount> limiter{};
+  DofArray desired_prev{};
+  DofArray hold_pose{};
+  std::int64_t fault_ticks{0};    ///< consecutive faulted ticks (0 = healthy)
+  bool recovering{false};
+  std::int64_t fault_total{0};    ///< faulted ticks since Reset
+  bool operator==(const WashoutState&) const = default;
+};
+
+class ClassicalWashout {
+ public:
+  /// @pre params.Validate() and platform.Validate() are empty; dt > 0.
+  ClassicalWashout(const WashoutParams& params, const PlatformSpec& platform, double dt);
+
+  /// Back to neutral at rest.
+  void Reset();
+  /// Advances one tick with the head motion of this tick. No allocation.
+  const McaCommand& Step(const HeadMotion& input);
+
+  const WashoutState& state() const { return state_; }
+  const McaCommand& command() const { return command_; }
+  const WashoutParams& params() const { return params_; }
+  const PlatformSpec& platform() const { return platform_; }
+  double dt() const { return dt_; }
+
+ private:
+  void StepHealthy(const HeadMotion& input);
+  void StepFaulted();
+  void Limit(const DofArray& desired, double speed_fraction);
+
+  WashoutParams params_;
+  PlatformSpec platform_;
+  double dt_;
+  std::array<DiscreteSystem, kDofCount> channel_{};
+  std::array<DiscreteSystem, 2> tilt_lp_{};
+  std::int64_t hold_ticks_{0};
+  WashoutState state_;
+  McaCommand command_;
+};
+
+}  // namespace pwsim::mca
