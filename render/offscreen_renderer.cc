@@ -92,7 +92,7 @@ osg::ref_ptr<osg::Texture2D> MakeOsgTexture(TextureKind kind, std::uint32_t seed
   osg::ref_ptr<osg::Texture2D> out = new osg::Texture2D(image.get());
   out->setWrap(osg::Texture::WRAP_S, osg::Texture::REPEAT);
   out->setWrap(osg::Texture::WRAP_T, osg::Texture::REPEAT);
-  out->setFilter(osg::Texture::MIN_FILTER, osg::Texture::LINEAR_MIPMAP_LINEAR);
+  out->setFilter(osg::Texture::MIN_FILTER, osg::Texture::LINEAR_MIPMAP_NEAREST);
   out->setFilter(osg::Texture::MAG_FILTER, osg::Texture::LINEAR);
   return out;
 }

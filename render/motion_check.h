@@ -1,0 +1,58 @@
+#pragma once
+// Motion from the pixels: the camera's pitch change and vertical displacement between two
+// consecutive frames, estimated with OpenCV (Shi-Tomasi corners, pyramidal Lucas-Kanade flow,
+// a RANSAC homography of the floor plane decomposed into R and t/d), and the comparison of such
+// a series with a reference (gain, lag, correlation). This closes the loop on the video itself:
+// wrong sign, wrong axis, dropped or shifted frames all show up.
+//
+//   FrameMotionEstimator estimator(width, height, fov_y_deg);
+//   estimator.Push(frame0);
+//   FrameMotion m = estimator.Push(frame1, /*eye_height=*/1.3);  // m.pitch_delta [rad]
+
+#include <memory>
+#include <vector>
+
+#include "render/offscreen_renderer.h"
+
+namespace pwsim::render {
+
+/// Camera motion from the previous frame to this one, in the previous camera's axes.
+struct FrameMotion {
+  bool valid{false};
+  double pitch_delta{0.0};     ///< [rad] nose-up positive
+  double roll_delta{0.0};      ///< [rad] right side down positive
+  double vertical_delta{0.0};  ///< [m] up positive (scaled by the given eye height)
+  int tracked{0};              ///< features tracked
+  int inliers{0};              ///< homography inliers
+};
+
+class FrameMotionEstimator final {
+ public:
+  /// Frames wider than `max_width` are halved until they fit (speed); intrinsics follow.
+  FrameMotionEstimator(int width, int height, double fov_y_deg, int max_width = 640);
+  ~FrameMotionEstimator();
+  FrameMotionEstimator(const FrameMotionEstimator&) = delete;
+  FrameMotionEstimator& operator=(const FrameMotionEstimator&) = delete;
+
+  /// Takes the next frame; the first call returns an invalid motion. `eye_height` [m] is the
+  /// camera's height above the floor, which sets the scale of the vertical displacement.
+  FrameMotion Push(const ImageView& frame, double eye_height = 1.3);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// How well `estimate` follows `reference` (same sampling, step dt [s]).
+struct SeriesComparison {
+  double gain{0.0};         ///< least-squares slope of estimate on the lag-aligned reference
+  double lag{0.0};          ///< [s] > 0: the estimate lags the reference (sub-sample, parabolic)
+  double correlation{0.0};  ///< Pearson correlation at the best whole-sample lag
+  double rms_error{0.0};    ///< RMS of estimate - reference at zero lag
+  int samples{0};
+};
+/// Searches lags in [-max_lag, max_lag] samples. NaN entries are skipped.
+SeriesComparison CompareSeries(const std::vector<double>& estimate,
+                               const std::vector<double>& reference, double dt, int max_lag);
+
+}  // namespace pwsim::render

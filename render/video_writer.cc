@@ -1,0 +1,169 @@
+#include "render/video_writer.h"
+
+#include <csignal>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "engine/check.h"
+
+namespace pwsim::render {
+namespace {
+
+std::string Quoted(const std::filesystem::path& path) {
+  std::string out = "'";
+  for (const char c : path.string()) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+std::string ReadTail(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string s = text.str();
+  return s.size() > 800 ? s.substr(s.size() - 800) : s;
+}
+
+}  // namespace
+
+bool FfmpegHasEncoder(const std::string& encoder) {
+  std::FILE* pipe = ::popen("ffmpeg -hide_banner -encoders 2>/dev/null", "r");
+  if (pipe == nullptr) return false;
+  char line[512];
+  bool found = false;
+  while (std::fgets(line, sizeof(line), pipe) != nullptr) {
+    std::istringstream words(line);
+    std::string flags, name;
+    words >> flags >> name;
+    if (name == encoder) found = true;
+  }
+  ::pclose(pipe);
+  return found;
+}
+
+VideoWriter::VideoWriter(VideoConfig config) : config_(std::move(config)) {
+  PWSIM_DEMAND(config_.width > 0 && config_.height > 0 && config_.width % 2 == 0 &&
+               config_.height % 2 == 0 && config_.fps > 0 && config_.queue_frames >= 1);
+  // Pick the encoder this ffmpeg build has; name the container explicitly (the partial file's
+  // extension says nothing).
+  std::string codec_args, container;
+  if (config_.codec == VideoCodec::kH264) {
+    container = "mp4";
+    if (FfmpegHasEncoder("libx264")) {
+      encoder_ = "libx264";
+      codec_args = "-c:v libx264 -preset veryfast -crf " + std::to_string(config_.crf) +
+                   " -pix_fmt yuv420p -movflags +faststart";
+    } else {
+      encoder_ = "mpeg4";
+      codec_args = "-c:v mpeg4 -q:v 3 -pix_fmt yuv420p";
+    }
+  } else {
+    container = "matroska";
+    if (FfmpegHasEncoder("libx264rgb")) {
+      encoder_ = "libx264rgb";
+      codec_args = "-c:v libx264rgb -preset ultrafast -qp 0 -pix_fmt bgr24";
+    } else {
+      encoder_ = "ffv1";
+      codec_args = "-c:v ffv1 -pix_fmt bgr0";
+    }
+  }
+  std::filesystem::create_directories(config_.file.parent_path().empty()
+                                          ? std::filesystem::path(".")
+                                          : config_.file.parent_path());
+  partial_ = config_.file;
+  partial_ += ".partial";
+  log_ = config_.file;
+  log_ += ".ffmpeg.log";
+  const std::string command =
+      "ffmpeg -hide_banner -loglevel error -nostdin -y -f rawvideo -pix_fmt bgra -s " +
+      std::to_string(config_.width) + "x" + std::to_string(config_.height) + " -framerate " +
+      std::to_string(config_.fps) + " -i - -an " + codec_args + " -f " + container + " " +
+      Quoted(partial_) + " 2>" + Quoted(log_);
+  // A dead ffmpeg must surface as a write error, not kill pwsim with SIGPIPE.
+  std::signal(SIGPIPE, SIG_IGN);
+  pipe_ = ::popen(command.c_str(), "w");
+  if (pipe_ == nullptr) throw std::runtime_error("render: could not start ffmpeg: " + command);
+  thread_ = std::thread([this] { WriterLoop(); });
+}
+
+VideoWriter::~VideoWriter() {
+  if (closed_) return;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    closing_ = true;
+  }
+  changed_.notify_all();
+  if (thread_.joinable()) thread_.join();
+  if (pipe_ != nullptr) ::pclose(pipe_);
+  std::error_code ignored;
+  std::filesystem::remove(partial_, ignored);
+}
+
+void VideoWriter::Push(const ImageView& frame) {
+  PWSIM_DEMAND(!closed_ && frame.width == config_.width && frame.height == config_.height);
+  const std::size_t bytes = static_cast<std::size_t>(frame.width) * frame.height * 4;
+  std::vector<std::uint8_t> buffer;
+  {
+    std::unique_lock<std::mutex> lock(mutex_);
+    changed_.wait(lock, [&] {
+      return static_cast<int>(queue_.size()) < config_.queue_frames || write_failed_;
+    });
+    if (!spare_.empty()) {
+      buffer = std::move(spare_.back());
+      spare_.pop_back();
+    }
+  }
+  buffer.resize(bytes);
+  std::memcpy(buffer.data(), frame.bgra, bytes);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    queue_.push_back(std::move(buffer));
+    ++pushed_;
+  }
+  changed_.notify_all();
+}
+
+void VideoWriter::WriterLoop() {
+  for (;;) {
+    std::vector<std::uint8_t> frame;
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      changed_.wait(lock, [&] { return !queue_.empty() || closing_; });
+      if (queue_.empty()) return;
+      frame = std::move(queue_.front());
+      queue_.pop_front();
+    }
+    const bool ok = !write_failed_ && std::fwrite(frame.data(), 1, frame.size(), pipe_) == frame.size();
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (!ok) write_failed_ = true;
+      spare_.push_back(std::move(frame));
+    }
+    changed_.notify_all();
+  }
+}
+
+void VideoWriter::Close() {
+  PWSIM_DEMAND(!closed_);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    closing_ = true;
+  }
+  changed_.notify_all();
+  thread_.join();
+  const int status = ::pclose(pipe_);
+  pipe_ = nullptr;
+  closed_ = true;
+  if (write_failed_ || status != 0) {
+    std::error_code ignored;
+    std::filesystem::remove(partial_, ignored);
+    throw std::runtime_error("render: ffmpeg failed writing " + config_.file.string() +
+                             " (exit status " + std::to_string(status) + "): " + ReadTail(log_));
+  }
+  std::filesystem::rename(partial_, config_.file);
+  std::error_code ignored;
+  std::filesystem::remove(log_, ignored);
+}
+
+}  // namespace pwsim::render
