@@ -261,7 +261,7 @@ MocapTrack ReadQtm6dTsv(const std::filesystem::path& file, const std::string& bo
     if (IsBlank(line.text)) continue;
     last_line = line.number;
     std::vector<std::string> fields = Split(line.text, '\t');
-    if (fields.size() == columns.size() + 1 && fields.back().empty()) fields.pop_back();
+    if (fields.size() > 1 && fields.back().empty()) fields.pop_back();  // the trailing tab
     if (fields.size() != columns.size()) {
       throw InputError(name, line.number, "(row)",
                        std::to_string(columns.size()) +
