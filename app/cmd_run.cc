@@ -8,6 +8,7 @@
 #include <iostream>
 
 #include "app/commands.h"
+#include "app/run_render.h"
 #include "app/scene_path.h"
 #include "engine/atomic_file.h"
 #include "engine/chair_simulator.h"
@@ -70,6 +71,12 @@ const CommandSpec& RunSpec() {
       {
           {"out", "DIR", "-", "out/run", "output folder (created)"},
           {"decimate", "N", "ticks", "1", "write every N-th tick to trial.csv"},
+          {"size", "WxH", "px", "1280x720", "image size (scene render.size; stereo: both eyes)"},
+          {"fps", "N", "frames/s", "50", "video frame rate; must divide the clock rate"},
+          {"stereo", "", "-", "", "render side-by-side HMD eyes (scene render.hmd)"},
+          {"no-tilt-removal", "", "-", "", "keep the platform tilt in the view (to compare)"},
+          {"png-frames", "", "-", "", "also write DIR/frames/frame_NNNNN.png"},
+          {"lossless", "", "-", "", "also write DIR/video_lossless.mkv (exact pixels)"},
           {"no-video", "", "-", "off", "skip rendering (no video.mp4, frames.csv)"},
       },
       "SCENE  a pwsim-scene/1 YAML file (default: the paper's speed-cushion trial)"};
@@ -101,6 +108,7 @@ int RunCommand(const ParsedArgs& args) {
 
   std::filesystem::create_directories(out_dir);
   table.WriteCsv(out_dir / "trial.csv", static_cast<int>(decimate));
+  RenderTrial(scene, table, args, summary, out_dir);  // render/: video, frames.csv
   WriteFileAtomically(out_dir / "summary.json", summary.dump(2) + "\n");
   std::cout << "pwsim run: scene '" << scene.name << "' (" << scene_path.string() << "), "
             << samples.size() << " ticks at " << scene.clock.rate_hz << " Hz\n"

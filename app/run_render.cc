@@ -1,0 +1,319 @@
+#include "app/run_render.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include "render/camera_rig.h"
+#include "render/image_io.h"
+#include "render/motion_check.h"
+#include "render/offscreen_renderer.h"
+#include "render/plot.h"
+#include "render/render_config.h"
+#include "render/render_scene.h"
+#include "render/video_writer.h"
+
+namespace pwsim::app {
+namespace {
+
+using render::RenderConfig;
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+/// --size WxH, --fps N, --stereo, --no-tilt-removal over the scene's render: section.
+RenderConfig ConfigFromArgs(const Scene& scene, const ParsedArgs& args) {
+  RenderConfig config = render::ParseRenderConfig(scene);
+  if (args.Has("size")) {
+    const std::string text = args.Get("size");
+    int width = 0, height = 0;
+    char x = 0, extra = 0;
+    if (std::sscanf(text.c_str(), "%d%c%d%c", &width, &x, &height, &extra) != 3 || x != 'x') {
+      throw std::invalid_argument("option --size: expected WxH in px (e.g. 1280x720), got '" +
+                                  text + "'");
+    }
+    if (config.stereo || args.Flag("stereo")) {
+      config.hmd.eye_width = width / 2;  // both eyes side by side make the image
+      config.hmd.eye_height = height;
+    }
+    config.width = width;
+    config.height = height;
+  }
+  if (args.Has("fps")) {
+    const long long fps = args.GetInt("fps");
+    if (fps < 1 || fps > 1000) throw std::invalid_argument("option --fps: expected 1..1000");
+    config.fps = static_cast<int>(fps);
+  }
+  if (args.Flag("stereo")) config.stereo = true;
+  if (args.Flag("no-tilt-removal")) config.remove_tilt = false;
+  if (const std::string error = config.Validate(scene.clock); !error.empty()) {
+    throw std::invalid_argument("render: " + error);
+  }
+  return config;
+}
+
+/// The visual channel at one tick: the MCA's vis_* columns when present, else the chair.
+class VisualChannel {
+ public:
+  explicit VisualChannel(const TrialTable& table) {
+    const bool mca = table.Has("vis_x_m");
+    source_ = mca ? "mca visual channel (vis_*)" : "chair (x_m, z_m, pitch_rad; no tilt)";
+    x_ = &table.Column(mca ? "vis_x_m" : "x_m");
+    z_ = &table.Column(mca && table.Has("vis_z_m") ? "vis_z_m" : "z_m");
+    pitch_ = &table.Column(mca && table.Has("vis_pitch_rad") ? "vis_pitch_rad" : "pitch_rad");
+    if (table.Has("vis_tilt_pitch_rad")) tilt_pitch_ = &table.Column("vis_tilt_pitch_rad");
+    if (table.Has("vis_tilt_roll_rad")) tilt_roll_ = &table.Column("vis_tilt_roll_rad");
+  }
+  render::VisualSample At(std::size_t row) const {
+    render::VisualSample s;
+    s.x = (*x_)[row];
+    s.z = (*z_)[row];
+    s.pitch = (*pitch_)[row];
+    s.tilt_pitch = tilt_pitch_ != nullptr ? (*tilt_pitch_)[row] : 0.0;
+    s.tilt_roll = tilt_roll_ != nullptr ? (*tilt_roll_)[row] : 0.0;
+    return s;
+  }
+  const std::string& source() const { return source_; }
+
+ private:
+  std::string source_;
+  const std::vector<double>* x_{nullptr};
+  const std::vector<double>* z_{nullptr};
+  const std::vector<double>* pitch_{nullptr};
+  const std::vector<double>* tilt_pitch_{nullptr};
+  const std::vector<double>* tilt_roll_{nullptr};
+};
+
+/// The vestibular pitch-rate cue to compare with: an MCA `vest_*pitch*rate*` column when there
+/// is one, else the chair's true pitch rate.
+std::string VestibularPitchRateColumn(const TrialTable& table) {
+  for (const std::string& name : table.names()) {
+    if (name.rfind("vest_", 0) == 0 && name.find("pitch") != std::string::npos &&
+        (name.find("rate") != std::string::npos || name.find("radps") != std::string::npos)) {
+      return name;
+    }
+  }
+  return "pitch_rate_radps";
+}
+
+/// A terminal progress bar on stderr (redrawn in place on a terminal, sparse lines otherwise).
+class ProgressBar {
+ public:
+  explicit ProgressBar(std::int64_t total) : total_(total), tty_(::isatty(2) != 0) {}
+  void Update(std::int64_t done, double fps) {
+    const int percent = static_cast<int>(100 * done / std::max<std::int64_t>(total_, 1));
+    if (!tty_ && percent < last_percent_ + 25 && done != total_) return;
+    last_percent_ = percent;
+    constexpr int kWidth = 30;
+    const int filled = static_cast<int>(kWidth * done / std::max<std::int64_t>(total_, 1));
+    char line[160];
+    std::snprintf(line, sizeof(line), "render [%s%s] %3d%% %lld/%lld frames %6.1f fps",
+                  std::string(static_cast<std::size_t>(filled), '#').c_str(),
+                  std::string(static_cast<std::size_t>(kWidth - filled), '.').c_str(), percent,
+                  static_cast<long long>(done), static_cast<long long>(total_), fps);
+    std::cerr << (tty_ ? "\r" : "") << line << (tty_ && done != total_ ? "" : "\n") << std::flush;
+  }
+
+ private:
+  std::int64_t total_;
+  bool tty_;
+  int last_percent_{-100};
+};
+
+nlohmann::ordered_json ComparisonJson(const render::SeriesComparison& c, const std::string& ref) {
+  return {{"reference", ref},       {"gain", c.gain},           {"lag_s", c.lag},
+          {"correlation", c.correlation}, {"rms_error", c.rms_error}, {"samples", c.samples}};
+}
+
+}  // namespace
+
+void RenderTrial(const Scene& scene, const TrialTable& table, const ParsedArgs& args,
+                 nlohmann::ordered_json& summary, const std::filesystem::path& out_dir) {
+  const RenderConfig config = ConfigFromArgs(scene, args);
+  if (args.Flag("no-video")) {
+    summary["render"] = {{"skipped", "--no-video"}};
+    return;
+  }
+  const bool video = true;
+  const int ticks_per_frame = config.TicksPerFrame(scene.clock);
+  const std::size_t frame_count = (table.rows() - 1) / static_cast<std::size_t>(ticks_per_frame) + 1;
+  const double frame_dt = 1.0 / config.fps;
+  const VisualChannel channel(table);
+  const auto& head = scene.occupant.head_offset;
+
+  // Frame log columns (frames.csv) and pixel-check columns (visual_check.csv).
+  std::vector<double> frame_index(frame_count), tick(frame_count), time(frame_count);
+  std::vector<double> cam_x(frame_count), cam_y(frame_count), cam_z(frame_count);
+  std::vector<double> cam_pitch(frame_count), cam_roll(frame_count), cam_yaw(frame_count, 0.0);
+  std::vector<double> tilt_shown(frame_count);
+  std::vector<double> est_pitch_rate(frame_count, kNaN), est_vertical_rate(frame_count, kNaN);
+
+  std::unique_ptr<render::OffscreenRenderer> renderer;
+  std::unique_ptr<render::VideoWriter> h264, lossless;
+  std::unique_ptr<render::FrameMotionEstimator> estimator;
+  if (video) {
+    renderer = std::make_unique<render::OffscreenRenderer>(render::BuildRenderScene(scene, config),
+                                                           config);
+    const int width = renderer->width(), height = renderer->height();
+    h264 = std::make_unique<render::VideoWriter>(render::VideoConfig{
+        out_dir / "video.mp4", width, height, config.fps, render::VideoCodec::kH264, config.crf});
+    if (args.Flag("lossless")) {
+      lossless = std::make_unique<render::VideoWriter>(
+          render::VideoConfig{out_dir / "video_lossless.mkv", width, height, config.fps,
+                              render::VideoCodec::kLossless, 0});
+    }
+    if (!config.stereo) {
+      estimator = std::make_unique<render::FrameMotionEstimator>(width, height, config.fov_y_deg);
+    }
+  }
+
+  ProgressBar progress(static_cast<std::int64_t>(frame_count));
+  const auto start = std::chrono::steady_clock::now();
+  for (std::size_t k = 0; k < frame_count; ++k) {
+    const std::size_t row = k * static_cast<std::size_t>(ticks_per_frame);  // frame k = tick k·N
+    const render::VisualSample sample = channel.At(row);
+    const Eigen::Isometry3d X_WC = render::EyePose(sample, head, config.remove_tilt);
+    const std::array<double, 2> pitch_roll = render::PitchRollOf(X_WC.linear());
+    frame_index[k] = static_cast<double>(k);
+    tick[k] = static_cast<double>(row);
+    time[k] = scene.clock.TimeAt(static_cast<std::int64_t>(row));
+    cam_x[k] = X_WC.translation().x();
+    cam_y[k] = X_WC.translation().y();
+    cam_z[k] = X_WC.translation().z();
+    cam_pitch[k] = pitch_roll[0];
+    cam_roll[k] = pitch_roll[1];
+    tilt_shown[k] = config.remove_tilt ? 0.0 : sample.tilt_pitch;
+    if (!video) continue;
+
+    const render::ImageView frame = renderer->Render(render::ChairPose(sample), X_WC, time[k]);
+    h264->Push(frame);
+    if (lossless) lossless->Push(frame);
+    if (args.Flag("png-frames")) {
+      char name[32];
+      std::snprintf(name, sizeof(name), "frame_%05zu.png", k);
+      render::WritePng(out_dir / "frames" / name, frame);
+    }
+    if (estimator) {
+      const render::FrameMotion motion = estimator->Push(frame, cam_z[k]);
+      if (motion.valid) {
+        est_pitch_rate[k] = motion.pitch_delta / frame_dt;
+        est_vertical_rate[k] = motion.vertical_delta / frame_dt;
+      }
+    }
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    progress.Update(static_cast<std::int64_t>(k + 1), static_cast<double>(k + 1) / elapsed);
+  }
+  if (h264) h264->Close();
+  if (lossless) lossless->Close();
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  TrialTable frames(frame_count);
+  frames.Add("frame", frame_index);
+  frames.Add("tick", tick);
+  frames.Add("t_s", time);
+  frames.Add("cam_x_m", cam_x);
+  frames.Add("cam_y_m", cam_y);
+  frames.Add("cam_z_m", cam_z);
+  frames.Add("cam_pitch_rad", cam_pitch);
+  frames.Add("cam_roll_rad", cam_roll);
+  frames.Add("cam_yaw_rad", cam_yaw);
+  frames.Add("tilt_pitch_shown_rad", tilt_shown);
+  frames.WriteCsv(out_dir / "frames.csv");
+
+  nlohmann::ordered_json render_json{
+      {"frames_csv", "frames.csv"},
+      {"frames", frame_count},
+      {"fps", config.fps},
+      {"ticks_per_frame", ticks_per_frame},
+      {"duration_s", static_cast<double>(frame_count) * frame_dt},
+      {"visual_source", channel.source()},
+      {"tilt_removed", config.remove_tilt},
+      {"stereo", config.stereo},
+      {"width_px", config.image_width()},
+      {"height_px", config.image_height()},
+      {"fov_y_deg", config.fov_y_deg},
+      {"video", video ? nlohmann::ordered_json("video.mp4") : nlohmann::ordered_json(nullptr)}};
+  if (config.stereo) {
+    render_json["hmd"] = {{"eye_width_px", config.hmd.eye_width},
+                          {"eye_height_px", config.hmd.eye_height},
+                          {"ipd_m", config.hmd.ipd},
+                          {"outer_deg", config.hmd.fov.outer_deg},
+                          {"inner_deg", config.hmd.fov.inner_deg},
+                          {"up_deg", config.hmd.fov.up_deg},
+                          {"down_deg", config.hmd.fov.down_deg}};
+  }
+  if (video) {
+    render_json["encoder"] = h264->encoder();
+    if (lossless) render_json["lossless_video"] = "video_lossless.mkv";
+    render_json["gl_renderer"] = renderer->gl_renderer();
+    render_json["wall_s"] = wall_s;
+    render_json["frames_per_s"] = static_cast<double>(frame_count) / wall_s;
+  }
+  summary["render"] = render_json;
+  if (!estimator) {
+    summary["visual_check"] = {{"skipped", video ? "stereo view" : "--no-video"}};
+    return;
+  }
+
+  // Pixel check: motion between frames k-1 and k belongs to the mid time (k - 1/2)/fps; the
+  // references are the pose log differenced the same way and the vestibular cue at that time.
+  const std::string vest_column = VestibularPitchRateColumn(table);
+  const std::vector<double>& vest = table.Column(vest_column);
+  std::vector<double> t_mid(frame_count, kNaN), pose_pitch_rate(frame_count, kNaN);
+  std::vector<double> pose_vertical_rate(frame_count, kNaN), vest_pitch_rate(frame_count, kNaN);
+  for (std::size_t k = 1; k < frame_count; ++k) {
+    t_mid[k] = (time[k] + time[k - 1]) / 2.0;
+    pose_pitch_rate[k] = (cam_pitch[k] - cam_pitch[k - 1]) / frame_dt;
+    pose_vertical_rate[k] = (cam_z[k] - cam_z[k - 1]) / frame_dt;
+    const std::size_t mid_row = k * static_cast<std::size_t>(ticks_per_frame) -
+                                static_cast<std::size_t>(ticks_per_frame) / 2;
+    vest_pitch_rate[k] = vest[mid_row];
+  }
+  t_mid[0] = time[0];
+  TrialTable check(frame_count);
+  check.Add("frame", frame_index);
+  check.Add("t_mid_s", t_mid);
+  check.Add("est_pitch_rate_radps", est_pitch_rate);
+  check.Add("pose_pitch_rate_radps", pose_pitch_rate);
+  check.Add("vest_pitch_rate_radps", vest_pitch_rate);
+  check.Add("est_vertical_rate_mps", est_vertical_rate);
+  check.Add("pose_vertical_rate_mps", pose_vertical_rate);
+  check.WriteCsv(out_dir / "visual_check.csv");
+
+  const int max_lag = std::max(2, config.fps / 2);  // ±0.5 s
+  const auto vs_pose = render::CompareSeries(est_pitch_rate, pose_pitch_rate, frame_dt, max_lag);
+  const auto vs_vest = render::CompareSeries(est_pitch_rate, vest_pitch_rate, frame_dt, max_lag);
+  const auto vertical =
+      render::CompareSeries(est_vertical_rate, pose_vertical_rate, frame_dt, max_lag);
+  const auto pose_vs_vest =
+      render::CompareSeries(pose_pitch_rate, vest_pitch_rate, frame_dt, max_lag);
+  int valid = 0;
+  for (double v : est_pitch_rate) valid += std::isfinite(v) ? 1 : 0;
+  render::WritePlotPng(
+      out_dir / "visual_check.png", t_mid,
+      {{"Pitch rate: from the pixels vs camera pose log vs vestibular cue", "rad/s",
+        {{"pixels (optical flow + homography)", est_pitch_rate, 0xd62728},
+         {"camera pose log", pose_pitch_rate, 0x1f77b4},
+         {vest_column, vest_pitch_rate, 0x2ca02c}}},
+       {"Vertical velocity of the eye: pixels vs pose log", "m/s",
+        {{"pixels (floor homography)", est_vertical_rate, 0xd62728},
+         {"camera pose log", pose_vertical_rate, 0x1f77b4}}}});
+  summary["visual_check"] = {
+      {"csv", "visual_check.csv"},
+      {"plot", "visual_check.png"},
+      {"frames_estimated", valid},
+      {"pitch_rate_vs_pose", ComparisonJson(vs_pose, "cam_pitch_rad (frames.csv), differenced")},
+      {"pitch_rate_vs_vestibular", ComparisonJson(vs_vest, vest_column)},
+      {"pose_pitch_rate_vs_vestibular", ComparisonJson(pose_vs_vest, vest_column)},
+      {"vertical_rate_vs_pose", ComparisonJson(vertical, "cam_z_m (frames.csv), differenced")}};
+}
+
+}  // namespace pwsim::app
