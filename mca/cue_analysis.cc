@@ -109,24 +109,35 @@ std::array<double, 2> MaxCrossCorrelation(const std::vector<double>& a,
   PWSIM_DEMAND(a.size() == b.size() && dt > 0.0);
   const double ma = Mean(a);
   const double mb = Mean(b);
-  std::vector<double> ca(a.size()), cb(b.size());
-  for (std::size_t i = 0; i < a.size(); ++i) {
+  const std::size_t n = a.size();
+  std::vector<double> ca(n), cb(n);
+  // prefix sums of squares: each lag is normalised over its own overlap
+  std::vector<double> qa(n + 1, 0.0), qb(n + 1, 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
     ca[i] = a[i] - ma;
     cb[i] = b[i] - mb;
+    qa[i + 1] = qa[i] + ca[i] * ca[i];
+    qb[i + 1] = qb[i] + cb[i] * cb[i];
   }
-  const double norm = std::sqrt(LaggedSquares(ca, 0, static_cast<long>(ca.size())) *
-                                LaggedSquares(cb, 0, static_cast<long>(cb.size())));
-  if (!(norm > 0.0)) return {0.0, 0.0};
-  const long max_ticks = static_cast<long>(std::llround(max_lag / dt));
+  const long max_ticks = std::min(static_cast<long>(std::llround(max_lag / dt)),
+                                  static_cast<long>(n) / 2);
   double best = -2.0;
   long best_lag = 0;
   for (long lag = -max_ticks; lag <= max_ticks; ++lag) {
+    const auto a_from = static_cast<std::size_t>(std::max(0L, -lag));
+    const auto a_to = static_cast<std::size_t>(std::min(static_cast<long>(n), static_cast<long>(n) - lag));
+    if (a_to <= a_from) continue;
+    const auto b_from = static_cast<std::size_t>(static_cast<long>(a_from) + lag);
+    const auto b_to = static_cast<std::size_t>(static_cast<long>(a_to) + lag);
+    const double norm = std::sqrt((qa[a_to] - qa[a_from]) * (qb[b_to] - qb[b_from]));
+    if (!(norm > 0.0)) continue;
     const double c = LaggedDot(ca, cb, lag) / norm;
     if (c > best) {
       best = c;
       best_lag = lag;
     }
   }
+  if (best < -1.0) return {0.0, 0.0};
   return {best, static_cast<double>(best_lag) * dt};
 }
 

@@ -74,7 +74,7 @@ std::string PlatformSpec::Validate() const {
     if (!(l.travel > 0.0)) return axis + ": travel must be > 0";
     if (!(l.speed > 0.0) || !std::isfinite(l.speed)) return axis + ": speed must be finite and > 0";
     if (!(l.accel > 0.0) || !std::isfinite(l.accel)) return axis + ": accel must be finite and > 0";
-    if (!(l.steady_accel > 0.0) || l.steady_accel > l.accel) {
+    if (!(l.steady_accel > 0.0) || (std::isfinite(l.steady_accel) && l.steady_accel > l.accel)) {
       return axis + ": steady accel must be in (0, accel]";
     }
     if (!(l.steady_time > 0.0)) return axis + ": steady time must be > 0";

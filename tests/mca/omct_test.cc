@@ -1,0 +1,51 @@
+#include "mca/omct.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+
+namespace pwsim::mca {
+namespace {
+
+// Tests the 12 OMCT frequencies 10^(k/5), 0.1 .. 15.85 rad/s.
+TEST(OmctTest, Frequencies) {
+  const std::array<double, 12> f = OmctFrequencies();
+  EXPECT_DOUBLE_EQ(f.front(), 0.1);
+  EXPECT_NEAR(f[5], 1.0, 1e-15);
+  EXPECT_NEAR(f.back(), 15.848931924611133, 1e-12);
+  for (std::size_t i = 1; i < f.size(); ++i) EXPECT_NEAR(f[i] / f[i - 1], std::pow(10.0, 0.2), 1e-12);
+}
+
+// Tests that a direct heave test equals the continuous design (s² · channel) within 1e-3 at
+// chosen frequencies, through the limiter (inside its limits) and the head kinematics.
+TEST(OmctTest, HeaveMatchesContinuousDesign) {
+  const WashoutParams params = DefaultWashoutParams();
+  const PlatformSpec platform = MakePw4DofPlatform();
+  const ContinuousSystem channel = ChannelSystem(params, Dof::kHeave);
+  OmctOptions options;
+  options.settle_min = 10.0;
+  for (double w : {0.631, 2.512, 10.0}) {
+    const OmctPoint p = RunOmctPoint(OmctTests()[5], w, params, platform, options);
+    ASSERT_EQ(p.test, "fz_to_fz");
+    const std::complex<double> s(0.0, w);
+    const std::complex<double> expected = s * s * channel.Response(w);
+    EXPECT_NEAR(p.gain, std::abs(expected), 1e-3) << w;
+    EXPECT_NEAR(p.phase * kDegToRad, std::arg(expected), 1e-3) << w;
+  }
+}
+
+// Tests which tests apply to the two platforms of the seeds.
+TEST(OmctTest, ApplicableTests) {
+  const WashoutParams params = DefaultWashoutParams();
+  int pw = 0, car = 0;
+  for (const OmctTest& t : OmctTests()) {
+    pw += OmctApplies(t, params, MakePw4DofPlatform()) ? 1 : 0;
+    car += OmctApplies(t, params, MakeCar2DofPlatform()) ? 1 : 0;
+  }
+  EXPECT_EQ(pw, 10);  // fx and fy are produced by tilt coordination
+  EXPECT_EQ(car, 2);  // fx_to_fx on the rail, r_to_r on the turntable
+}
+
+}  // namespace
+}  // namespace pwsim::mca

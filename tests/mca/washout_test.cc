@@ -1,0 +1,251 @@
+#include "mca/washout.h"
+
+#include "engine/input_error.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+namespace pwsim::mca {
+namespace {
+
+constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+HeadMotion Rest() { return HeadMotion{}; }
+
+HeadMotion Surge(double a) {
+  HeadMotion m;
+  m.fs[0] = a;
+  return m;
+}
+
+/// A smooth sagittal manoeuvre: accelerate, a bump in heave and pitch, brake.
+HeadMotion Manoeuvre(double t) {
+  HeadMotion m;
+  m.fs[0] = 0.8 * (std::tanh(3.0 * (t - 1.0)) - std::tanh(3.0 * (t - 4.0))) * 0.5;
+  m.fs[2] = kGravity + 3.0 * std::exp(-8.0 * (t - 2.5) * (t - 2.5)) * std::sin(12.0 * (t - 2.5));
+  m.w[1] = -0.3 * std::exp(-4.0 * (t - 2.7) * (t - 2.7)) * std::sin(6.0 * (t - 2.7));
+  m.w[0] = 0.05 * std::sin(0.7 * t);
+  m.w[2] = 0.1 * std::sin(0.4 * t);
+  return m;
+}
+
+void ExpectWithinLimits(const PlatformSpec& platform, const McaCommand& c, const char* where) {
+  for (Dof dof : kAllDofs) {
+    const auto i = static_cast<std::size_t>(Index(dof));
+    if (!platform.Has(dof)) {
+      ASSERT_EQ(c.pose[i], 0.0) << where;
+      continue;
+    }
+    const DofLimits& l = platform.limits(dof);
+    ASSERT_TRUE(std::isfinite(c.pose[i])) << where;
+    ASSERT_LE(std::abs(c.pose[i]), l.travel) << where << " " << DofName(dof);
+    ASSERT_LE(std::abs(c.rate[i]), l.speed * (1.0 + 1e-9)) << where << " " << DofName(dof);
+    ASSERT_LE(std::abs(c.accel[i]), l.accel * (1.0 + 1e-6)) << where << " " << DofName(dof);
+  }
+}
+
+// Tests that a vehicle at rest (fs = +g up, no rotation) leaves the platform exactly neutral.
+TEST(WashoutTest, RestIsNeutralForever) {
+  for (const PlatformSpec& platform : {MakePw4DofPlatform(), MakeCar2DofPlatform()}) {
+    ClassicalWashout dut(DefaultWashoutParams(), platform, 1e-3);
+    for (int k = 0; k < 20000; ++k) {
+      const McaCommand& c = dut.Step(Rest());
+      for (double v : c.pose) ASSERT_EQ(v, 0.0);
+      ASSERT_EQ(c.tilt_pitch, 0.0);
+    }
+  }
+}
+
+// Tests tilt coordination for a sustained 1 m/s² surge: the tilt settles at asin(a/g), its
+// rate never exceeds 3 deg/s, and the washed-out pitch is the tilt alone.
+TEST(WashoutTest, SustainedSurgeTiltsToAsinAtLimitedRate) {
+  for (double a : {0.5, 1.0}) {
+    const double dt = 1e-3;
+    ClassicalWashout dut(DefaultWashoutParams(), MakePw4DofPlatform(), dt);
+    double prev_tilt = 0.0, max_rate = 0.0;
+    McaCommand last;
+    for (int k = 0; k < 60000; ++k) {
+      last = dut.Step(Surge(a));
+      max_rate = std::max(max_rate, std::abs(last.tilt_pitch - prev_tilt) / dt);
+      prev_tilt = last.tilt_pitch;
+    }
+    EXPECT_NEAR(last.tilt_pitch, std::asin(a / kGravity), 0.1 * kDegToRad) << a;
+    EXPECT_NEAR(last.pose[Index(Dof::kPitch)], last.tilt_pitch, 1e-6) << a;
+    EXPECT_LE(max_rate, 3.0 * kDegToRad * (1.0 + 1e-9)) << a;
+    if (a >= 1.0) {
+      EXPECT_GT(max_rate, 2.9 * kDegToRad) << "the rate limit should be active";
+    }
+  }
+}
+
+// Tests that a specific-force step on the rail produces zero final displacement (3rd order).
+TEST(WashoutTest, SurgeStepWashesOutOnTheRail) {
+  ClassicalWashout dut(DefaultWashoutParams(), MakeCar2DofPlatform(), 1e-3);
+  double peak = 0.0;
+  McaCommand c;
+  for (int k = 0; k < 60000; ++k) {
+    c = dut.Step(Surge(1.0));
+    peak = std::max(peak, std::abs(c.pose[Index(Dof::kSurge)]));
+  }
+  EXPECT_GT(peak, 0.05);
+  EXPECT_NEAR(c.pose[Index(Dof::kSurge)], 0.0, 1e-4);
+}
+
+// Tests that the command stream does not depend on the step size: 250 Hz against 1 kHz.
+TEST(WashoutTest, StepSizeIndependent) {
+  const PlatformSpec platform = MakePw4DofPlatform();
+  ClassicalWashout slow(DefaultWashoutParams(), platform, 4e-3);
+  ClassicalWashout fast(DefaultWashoutParams(), platform, 1e-3);
+  DofArray worst{};
+  double worst_tilt = 0.0;
+  for (int k = 1; k <= 2000; ++k) {
+    const McaCommand& s = slow.Step(Manoeuvre(k * 4e-3));
+    McaCommand f;
+    for (int j = 1; j <= 4; ++j) f = fast.Step(Manoeuvre((4 * (k - 1) + j) * 1e-3));
+    for (std::size_t i = 0; i < worst.size(); ++i) {
+      worst[i] = std::max(worst[i], std::abs(s.pose[i] - f.pose[i]));
+    }
+    worst_tilt = std::max(worst_tilt, std::abs(s.tilt_pitch - f.tilt_pitch));
+  }
+  EXPECT_LT(worst[Index(Dof::kHeave)], 2e-4);                // [m]
+  EXPECT_LT(worst[Index(Dof::kPitch)], 0.05 * kDegToRad);    // [rad]
+  EXPECT_LT(worst[Index(Dof::kRoll)], 0.05 * kDegToRad);
+  EXPECT_LT(worst[Index(Dof::kYaw)], 0.05 * kDegToRad);
+  // the rate limiter differs by at most one slow tick of travel
+  EXPECT_LT(worst_tilt, 3.0 * kDegToRad * 4e-3);
+}
+
+// Property test: random, extreme and non-finite inputs never leave either platform's limits,
+// and the tilt never turns faster than 3 deg/s.
+TEST(WashoutTest, NeverLeavesLimitsForAnyInput) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  std::bernoulli_distribution rare(0.002);
+  for (const PlatformSpec& platform : {MakePw4DofPlatform(), MakeCar2DofPlatform()}) {
+    for (double dt : {1e-3, 4e-3}) {
+      ClassicalWashout dut(DefaultWashoutParams(), platform, dt);
+      double prev_pitch_tilt = 0.0, prev_roll_tilt = 0.0;
+      for (int k = 0; k < 150000; ++k) {
+        HeadMotion m;
+        const int regime = (k / 2000) % 5;
+        for (std::size_t i = 0; i < 3; ++i) {
+          const double scale = regime == 0 ? 2.0 : regime == 1 ? 50.0 : regime == 2 ? 1e9 : 5.0;
+          m.fs[i] += scale * uniform(rng);
+          m.w[i] = 0.1 * scale * uniform(rng);
+        }
+        if (regime == 3) {  // sustained extremes of either sign
+          m.fs[0] = (k / 700) % 2 ? 30.0 : -30.0;
+          m.fs[1] = (k / 900) % 2 ? 30.0 : -30.0;
+        }
+        if (regime == 4 || rare(rng)) {
+          m.fs[static_cast<std::size_t>(k % 3)] = (k % 2) ? kNan : kInf;
+        }
+        const McaCommand& c = dut.Step(m);
+        ExpectWithinLimits(platform, c, "random");
+        ASSERT_LE(std::abs(c.tilt_pitch - prev_pitch_tilt), 3.0 * kDegToRad * dt * (1.0 + 1e-9));
+        ASSERT_LE(std::abs(c.tilt_roll - prev_roll_tilt), 3.0 * kDegToRad * dt * (1.0 + 1e-9));
+        ASSERT_LE(std::abs(c.tilt_pitch), 10.0 * kDegToRad + 1e-12);
+        prev_pitch_tilt = c.tilt_pitch;
+        prev_roll_tilt = c.tilt_roll;
+      }
+    }
+  }
+}
+
+// Tests the fault path: a non-finite input holds the last pose, then washes out to neutral;
+// finite input afterwards rejoins the washout.
+TEST(WashoutTest, NonFiniteInputHoldsThenWashesOut) {
+  const double dt = 1e-3;
+  const WashoutParams params = DefaultWashoutParams();
+  ClassicalWashout dut(params, MakePw4DofPlatform(), dt);
+  for (int k = 0; k < 3000; ++k) dut.Step(Manoeuvre(k * dt));  // platform away from neutral
+  const McaCommand before = dut.command();
+  HeadMotion bad = Manoeuvre(3.0);
+  bad.w[1] = kNan;
+  const McaCommand& first = dut.Step(bad);
+  EXPECT_TRUE(first.fault);
+  // held: within one tick of braking from the last safe pose
+  for (Dof dof : kAllDofs) {
+    const auto i = static_cast<std::size_t>(Index(dof));
+    const DofLimits& l = dut.platform().dofs[i];
+    if (!l.present) continue;
+    EXPECT_NEAR(first.pose[i], before.pose[i], (std::abs(before.rate[i]) + l.accel * dt) * dt);
+  }
+  for (int k = 0; k < 60000; ++k) dut.Step(bad);
+  for (double v : dut.command().pose) EXPECT_NEAR(v, 0.0, 1e-9);
+  EXPECT_EQ(dut.state().fault_total, 60001);
+  // recovery
+  for (int k = 0; k < 20000; ++k) dut.Step(Rest());
+  EXPECT_FALSE(dut.command().fault);
+  EXPECT_FALSE(dut.state().recovering);
+  for (double v : dut.command().pose) EXPECT_NEAR(v, 0.0, 1e-9);
+}
+
+// Tests bit-identical repeat runs, and that Reset() restores the initial behaviour.
+TEST(WashoutTest, RepeatRunsAreBitIdentical) {
+  auto run = [](ClassicalWashout& dut) {
+    std::vector<McaCommand> out;
+    for (int k = 0; k < 8000; ++k) {
+      HeadMotion m = Manoeuvre(k * 1e-3);
+      if (k == 4000) m.fs[0] = kNan;
+      out.push_back(dut.Step(m));
+    }
+    return out;
+  };
+  ClassicalWashout a(DefaultWashoutParams(), MakePw4DofPlatform(), 1e-3);
+  ClassicalWashout b(DefaultWashoutParams(), MakePw4DofPlatform(), 1e-3);
+  const std::vector<McaCommand> ra = run(a);
+  const std::vector<McaCommand> rb = run(b);
+  EXPECT_TRUE(ra == rb);
+  EXPECT_EQ(a.state(), b.state());
+  a.Reset();
+  EXPECT_TRUE(run(a) == ra);
+}
+
+// Tests the channel transfer function: pose/input = scale · HP · integrators.
+TEST(WashoutTest, ChannelSystemClosedForm) {
+  WashoutParams params = DefaultWashoutParams();
+  params.translational[Index(Dof::kHeave)].leak = 0.05;
+  const TranslationalParams& h = params.translation(Dof::kHeave);
+  const ContinuousSystem dut = ChannelSystem(params, Dof::kHeave);
+  const RotationalParams& r = params.rotation(Dof::kPitch);
+  const ContinuousSystem pitch = ChannelSystem(params, Dof::kPitch);
+  for (double w : {0.1, 1.0, 6.31}) {
+    const std::complex<double> s(0.0, w);
+    const auto hp2 = s * s / (s * s + 2.0 * h.hp_zeta * h.hp_omega * s + h.hp_omega * h.hp_omega);
+    const auto expected = h.scale * hp2 * s / (s + h.hp_break) / ((s + h.leak) * (s + h.leak));
+    EXPECT_NEAR(std::abs(dut.Response(w) - expected), 0.0, 1e-9 * std::abs(expected));
+    const auto rot = r.scale * s * s / (s * s + 2.0 * r.hp_zeta * r.hp_omega * s + r.hp_omega * r.hp_omega) / s;
+    EXPECT_NEAR(std::abs(pitch.Response(w) - rot), 0.0, 1e-9 * std::abs(rot));
+  }
+}
+
+// Tests strict parsing of an mca mapping: per-axis values, degrees converted, unknown keys fail.
+TEST(WashoutTest, ParsesPerAxisParameters) {
+  const YamlDocument doc = LoadYamlString(
+      "heave: {scale: 0.5, hp_omega_radps: 4}\npitch: {limit_degps: 30, hp_order: 1}\n"
+      "tilt_pitch: {max_rate_degps: 2, max_angle_deg: 6}\nfault: {hold_s: 1}\n",
+      "mca.yaml");
+  YamlMap map(doc.root, doc.file, "mca");
+  const WashoutParams p = ParseWashoutParams(map, DefaultWashoutParams());
+  map.Finish();
+  EXPECT_DOUBLE_EQ(p.translation(Dof::kHeave).scale, 0.5);
+  EXPECT_DOUBLE_EQ(p.translation(Dof::kHeave).hp_omega, 4.0);
+  EXPECT_NEAR(p.rotation(Dof::kPitch).limit, 30.0 * kDegToRad, 1e-15);
+  EXPECT_EQ(p.rotation(Dof::kPitch).hp_order, 1);
+  EXPECT_NEAR(p.tilt_pitch.max_rate, 2.0 * kDegToRad, 1e-15);
+  EXPECT_DOUBLE_EQ(p.fault.hold_time, 1.0);
+  EXPECT_EQ(p.translation(Dof::kSurge), DefaultWashoutParams().translation(Dof::kSurge));
+
+  const YamlDocument bad = LoadYamlString("heave: {hp_omega: 4}\n", "mca.yaml");
+  YamlMap bad_map(bad.root, bad.file, "mca");
+  EXPECT_THROW(ParseWashoutParams(bad_map, DefaultWashoutParams()), InputError);
+}
+
+}  // namespace
+}  // namespace pwsim::mca
