@@ -5,6 +5,8 @@ namespace pwsim::app {
 const std::vector<Command>& AllCommands() {
   static const std::vector<Command> commands{
       {&RunSpec(), &RunCommand},
+      {&GenerateSpec(), &GenerateCommand},
+      {&IdentifySpec(), &IdentifyCommand},
   };
   return commands;
 }

@@ -20,5 +20,9 @@ const std::vector<Command>& AllCommands();
 // Declarations, one pair per app/cmd_<name>.cc.
 const CommandSpec& RunSpec();
 int RunCommand(const ParsedArgs& args);
+const CommandSpec& GenerateSpec();
+int GenerateCommand(const ParsedArgs& args);
+const CommandSpec& IdentifySpec();
+int IdentifyCommand(const ParsedArgs& args);
 
 }  // namespace pwsim::app
