@@ -36,7 +36,10 @@ bool Cia402Master::any_fault() const {
 
 void Cia402Master::RequestFaultReset() {
   fault_reset_requested_ = true;
-  for (AxisStatus& a : axes_) a.fault = false;
+  for (AxisStatus& a : axes_) {
+    a.emcy_fault = false;
+    a.fault = a.drive == DriveState::kFault || a.drive == DriveState::kFaultReactionActive;
+  }
   if (phase_ == MasterPhase::kRunning) phase_ = MasterPhase::kEnabling;
 }
 
@@ -66,8 +69,9 @@ void Cia402Master::OnFrame(const CanFrame& frame) {
         a.drive = canopen::DecodeStatusword(s.statusword);
         a.position = static_cast<double>(s.position_actual) / c.counts_per_unit;
         a.last_tpdo_cycle = cycle_;
-        if (a.drive == DriveState::kFault || a.drive == DriveState::kFaultReactionActive)
-          a.fault = true;
+        a.nmt = NmtState::kOperational;  // PDOs flow only in operational
+        a.fault = a.emcy_fault || a.drive == DriveState::kFault ||
+                  a.drive == DriveState::kFaultReactionActive;
       }
       break;
     }
@@ -84,7 +88,10 @@ void Cia402Master::OnFrame(const CanFrame& frame) {
       if (canopen::DecodeEmcy(frame, &node, &e)) {
         ++a.emcy_count;
         a.last_emcy_code = e.code;
-        if (e.code != 0) a.fault = true;
+        if (e.code != 0) {
+          a.emcy_fault = true;
+          a.fault = true;
+        }
       }
       break;
     }

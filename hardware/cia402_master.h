@@ -50,7 +50,8 @@ struct AxisStatus {
   std::int32_t last_target_counts{0};
   std::uint64_t emcy_count{0};
   std::uint16_t last_emcy_code{0};
-  bool fault{false};            ///< statusword fault or EMCY with a non-zero code
+  bool emcy_fault{false};       ///< an EMCY with a non-zero code since the last fault reset
+  bool fault{false};            ///< statusword shows fault (reaction) or emcy_fault
 };
 
 class Cia402Master {

@@ -72,7 +72,9 @@ void PlatformPlant::Advance(double duration, const std::array<double, 2>& target
         const double ref = previous_target_[i] + alpha * (target[i] - previous_target_[i]);
         const double e = ref - state_.q[i];
         const JointPid& g = gains_[i];
-        state_.integral[i] = std::clamp(state_.integral[i] + e * h, -0.05, 0.05);
+        // Anti-windup: the integral term may supply at most 20 % of the actuator's effort.
+        const double i_max = g.ki > 0.0 ? 0.2 * limit[i] / g.ki : 0.0;
+        state_.integral[i] = std::clamp(state_.integral[i] + e * h, -i_max, i_max);
         tau[i] = std::clamp(g.kp * e + g.ki * state_.integral[i] + g.kd * (v_ref[i] - state_.qd[i]),
                             -limit[i], limit[i]);
       }

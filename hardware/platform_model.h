@@ -29,8 +29,9 @@ struct PlatformParams {
   double gear1{139.2};      ///< K1 yaw reduction
   double gear2{45.0};       ///< K2 rail reduction
   /// Joint effort limits: the seed's peak accelerations (58.151 deg/s^2 yaw with the cabin at
-  /// the rail's far end, 1.224 g rail) times 1.5, so the PID can track what the limits allow.
-  double tau1_max{300.0 * 1.0149 * 1.5};  ///< [N m]
+  /// the rail's far end, where m11 is about 800 kg m^2; 1.224 g rail) times 1.5, so the PID can
+  /// track everything the safety limits allow, Coriolis coupling included.
+  double tau1_max{800.0 * 1.0149 * 1.5};  ///< [N m]
   double tau2_max{359.32 * 12.0 * 1.5};   ///< [N]
   double dry_velocity_eps{1e-4};          ///< [rad/s], [m/s] sign() regularisation
 };

@@ -123,8 +123,10 @@ void SimulatedDrives::StepPhysics(std::vector<CanFrame>* out) {
       latched_target_[k] = static_cast<double>(target_counts_[k]) / config_.counts_per_unit[k];
       quick_stop_velocity_[k] = plant_.state().qd[k];
       enabled = true;
-    } else if (s == DriveState::kQuickStopActive) {
-      // Decelerate at the quick-stop ramp, then hold (0x605A option 6).
+    } else if (s == DriveState::kQuickStopActive || s == DriveState::kFault ||
+               s == DriveState::kFaultReactionActive) {
+      // Decelerate at the quick-stop ramp, then hold (0x605A option 6; 0x605E fault reaction
+      // "slow down on quick-stop ramp", the holding brake modelled as position hold).
       double& v = quick_stop_velocity_[k];
       const double dv = config_.quick_stop_decel[k] * dt;
       v = std::abs(v) <= dv ? 0.0 : v - std::copysign(dv, v);
