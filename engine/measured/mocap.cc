@@ -356,8 +356,9 @@ void WriteMocapCsv(const std::vector<MocapFrame>& frames, const std::filesystem:
   text += "t_s,x_m,y_m,z_m,pitch_rad\n";
   for (const MocapFrame& f : frames) {
     if (!f.tracked) continue;
-    text += Fixed(f.t, 5) + "," + Fixed(f.x, 6) + "," + Fixed(f.y, 6) + "," + Fixed(f.z, 6) + "," +
-            Fixed(f.pitch, 7) + "\n";
+    // 10 µm and 1 µrad: far below any mocap noise.
+    text += Fixed(f.t, 5) + "," + Fixed(f.x, 5) + "," + Fixed(f.y, 5) + "," + Fixed(f.z, 5) + "," +
+            Fixed(f.pitch, 6) + "\n";
   }
   WriteFileAtomically(file, text);
 }
