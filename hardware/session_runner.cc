@@ -1,0 +1,103 @@
+#include "hardware/session_runner.h"
+
+#include <poll.h>
+#include <time.h>
+
+#include <algorithm>
+#include <array>
+
+#include "hardware/candump_log.h"
+
+namespace pwsim::hw {
+namespace {
+
+void Drain(ICanBus& bus, UdpSocket* hmd, SessionInputs* in, CandumpWriter* dump) {
+  CanFrame f;
+  while (bus.Receive(&f) == BusStatus::kOk) {
+    const std::int64_t now = MonotonicNs();
+    in->can.push_back({now, f});
+    if (dump != nullptr) dump->Write(now / 1000, f);
+  }
+  if (hmd == nullptr) return;
+  std::array<std::uint8_t, 512> buffer{};
+  for (;;) {
+    UdpAddress from;
+    const long n = hmd->Receive(buffer, &from);
+    if (n < 0) break;
+    RxDatagram d;
+    d.rx_ns = MonotonicNs();
+    const auto size = std::min(static_cast<std::size_t>(n), buffer.size());
+    d.bytes.assign(buffer.begin(), buffer.begin() + static_cast<long>(size));
+    in->hmd.push_back(std::move(d));
+  }
+}
+
+/// Waits until `deadline_ns`, collecting whatever arrives meanwhile.
+void WaitUntil(std::int64_t deadline_ns, ICanBus& bus, UdpSocket* hmd, SessionInputs* in,
+               CandumpWriter* dump) {
+  for (;;) {
+    Drain(bus, hmd, in, dump);
+    const std::int64_t now = MonotonicNs();
+    if (now >= deadline_ns) return;
+    std::array<pollfd, 2> fds{};
+    nfds_t n = 0;
+    if (bus.fd() >= 0) fds[n++] = {bus.fd(), POLLIN, 0};
+    if (hmd != nullptr && hmd->fd() >= 0) fds[n++] = {hmd->fd(), POLLIN, 0};
+    const std::int64_t wait = deadline_ns - now;
+    timespec ts{static_cast<time_t>(wait / 1'000'000'000), static_cast<long>(wait % 1'000'000'000)};
+    ::ppoll(fds.data(), n, &ts, nullptr);
+  }
+}
+
+}  // namespace
+
+SessionReport RunSession(const SessionConfig& config, const SessionStreams& streams,
+                         const RunnerIo& io) {
+  SessionCore core(config);
+  std::optional<CandumpWriter> dump;
+  if (io.candump != nullptr) dump.emplace(*io.candump, "can0");
+  if (io.log != nullptr) *io.log << "# pwsim-session-log/1 " << config.ToHeader() << "\n";
+  const std::int64_t ns_per_tick = 1'000'000'000LL / config.clock_rate_hz;
+  const std::int64_t start = MonotonicNs() + 2'000'000;  // first tick 2 ms from now
+  SessionInputs in;
+  SessionOutputs out;
+  std::vector<std::string> lines;
+  std::int64_t buffer_hmd_dropped = 0;
+  for (std::int64_t tick = 0; !core.done(); ++tick) {
+    const bool drive = core.is_drive_tick(tick);
+    const bool frame = core.is_frame_tick(tick);
+    if (!drive && !frame) continue;
+    WaitUntil(start + tick * ns_per_tick, *io.bus, io.hmd, &in, dump ? &*dump : nullptr);
+    in.now_ns = MonotonicNs();
+    if (drive) {
+      const auto i = static_cast<std::size_t>(tick / config.drive_cycle_ticks);
+      if (!streams.setpoints.empty())
+        in.setpoint = streams.setpoints[std::min(i, streams.setpoints.size() - 1)];
+    }
+    if (frame) {
+      const auto i = static_cast<std::size_t>(tick / config.frame_ticks);
+      if (!streams.cameras.empty()) in.camera = streams.cameras[std::min(i, streams.cameras.size() - 1)];
+    }
+    in.stop_request = io.stop != nullptr && io.stop->load();
+    out.Clear();
+    core.Step(tick, in, &out);
+    for (const CanFrame& f : out.can) {
+      if (io.bus->Send(f) == BusStatus::kOk && dump) dump->Write(MonotonicNs() / 1000, f);
+    }
+    if (io.hmd != nullptr) {
+      for (const auto& b : out.hmd)
+        if (!io.hmd->SendTo(io.hmd_peer, b)) ++buffer_hmd_dropped;
+    }
+    if (io.log != nullptr) {
+      lines.clear();
+      AppendInputLines(tick, in, &lines);
+      for (const std::string& l : lines) *io.log << l << '\n';
+      for (const std::string& l : out.log) *io.log << l << '\n';
+    }
+    in = SessionInputs{};
+  }
+  if (io.log != nullptr) io.log->flush();
+  return core.Report();
+}
+
+}  // namespace pwsim::hw

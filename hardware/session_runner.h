@@ -1,0 +1,40 @@
+#pragma once
+// The real-time loop around SessionCore: maps CLOCK_MONOTONIC to engine ticks, sleeps until
+// each tick that has platform or visual work, timestamps every CAN frame and HMD datagram as
+// it arrives (ppoll between ticks), steps the core, sends its outputs and writes the log.
+
+#include <atomic>
+#include <functional>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "hardware/can_bus.h"
+#include "hardware/session.h"
+#include "hardware/udp_socket.h"
+
+namespace pwsim::hw {
+
+struct SessionStreams {
+  /// MCA setpoint per drive tick (index tick / drive_cycle_ticks); held at the last value
+  /// after the end.
+  std::vector<std::array<double, kPlatformAxes>> setpoints;
+  /// Camera pose per frame tick (index tick / frame_ticks); held after the end.
+  std::vector<Pose> cameras;
+};
+
+struct RunnerIo {
+  ICanBus* bus{nullptr};
+  UdpSocket* hmd{nullptr};      ///< may be null when the HMD is not required
+  UdpAddress hmd_peer;
+  std::ostream* log{nullptr};   ///< session log (replayable); may be null
+  std::ostream* candump{nullptr};  ///< candump -l style log of all bus traffic; may be null
+  const std::atomic<bool>* stop{nullptr};  ///< set by a signal handler: graceful soft stop
+};
+
+/// Runs until the core is done. Returns the report.
+SessionReport RunSession(const SessionConfig& config, const SessionStreams& streams,
+                         const RunnerIo& io);
+
+}  // namespace pwsim::hw

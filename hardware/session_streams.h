@@ -1,0 +1,22 @@
+#pragma once
+// The session's input streams from a scene: the chair trial of the engine, run through the
+// MCA (mca/cueing.h: washout + the platform limiter) on the 2-DoF car platform of seed 001,
+// gives the platform setpoints (surge -> rail q2, yaw -> q1) per drive cycle; the head pose of
+// the visual channel gives the camera pose per frame.
+
+#include <string>
+
+#include "engine/scene.h"
+#include "hardware/session.h"
+#include "hardware/session_runner.h"
+
+namespace pwsim::hw {
+
+/// @throws InputError (scene sections) or std::invalid_argument (a platform without rail/yaw).
+SessionStreams BuildSessionStreams(const Scene& scene, const SessionConfig& config,
+                                   std::string* description);
+
+/// Camera pose for a head at (x, z) [m] with nose-up `pitch` [rad] (y left, z up).
+Pose CameraPose(double x, double z, double pitch);
+
+}  // namespace pwsim::hw
