@@ -13,10 +13,15 @@ namespace pwsim {
 
 double MeasuredTrial::NominalSpeed() const {
   if (profile.speed) return *profile.speed;
+  // Peak speed over 0.2 s spans, so that mocap noise does not inflate it.
   double peak = 0.0;
+  std::size_t begin = 0;
   for (std::size_t k = 1; k < track.size(); ++k) {
-    const double dt = track.t[k] - track.t[k - 1];
-    peak = std::max(peak, std::abs(track.x[k] - track.x[k - 1]) / dt);
+    while (begin + 1 < k && track.t[k] - track.t[begin + 1] >= 0.2) ++begin;
+    const double span = track.t[k] - track.t[begin];
+    if (span >= 0.2 || begin == 0) {
+      peak = std::max(peak, std::abs(track.x[k] - track.x[begin]) / span);
+    }
   }
   return peak;
 }

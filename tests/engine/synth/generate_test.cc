@@ -84,6 +84,15 @@ TEST(GenerateTrialSetTest, TruthModelHookDecidesTheMotion) {
   for (double p : set.trials[0].measured.track.pitch) EXPECT_DOUBLE_EQ(p, -0.02);
 }
 
+TEST(GenerateTrialSetTest, NominalSpeedFromTheTrackWhenNoProfileIsGiven) {
+  const TrialSet set = GenerateTrialSet(Tiny());
+  for (const SyntheticTrial& trial : set.trials) {
+    MeasuredTrial measured = trial.measured;
+    measured.profile.speed.reset();
+    EXPECT_NEAR(measured.NominalSpeed(), trial.speed, 0.05 * trial.speed) << measured.name;
+  }
+}
+
 TEST(GenerateTrialSetTest, RejectsAnInconsistentConfig) {
   GenerateConfig config = Tiny();
   config.truth.lm.reset();
