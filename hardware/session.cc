@@ -219,8 +219,7 @@ void SessionCore::Step(std::int64_t tick, const SessionInputs& in, SessionOutput
   const std::int64_t ns_per_tick = 1'000'000'000LL / config_.clock_rate_hz;
   ++steps_;
   last_tick_ = tick;
-  if (first_now_ns_ < 0) first_now_ns_ = in.now_ns - tick * ns_per_tick;
-  lateness_us_.push_back(static_cast<double>(in.now_ns - (first_now_ns_ + tick * ns_per_tick)) / 1000.0);
+  lateness_us_.push_back(static_cast<double>(in.now_ns - in.scheduled_ns) / 1000.0);
   if (in.stop_request && !stop_request_) {
     stop_request_ = true;
     out->log.push_back("E " + std::to_string(tick) + " stop requested");
@@ -447,7 +446,8 @@ bool HexDecode(std::string_view hex, std::vector<std::uint8_t>* bytes) {
 }
 
 void AppendInputLines(std::int64_t tick, const SessionInputs& in, std::vector<std::string>* lines) {
-  lines->push_back("T " + std::to_string(tick) + " " + std::to_string(in.now_ns));
+  lines->push_back("T " + std::to_string(tick) + " " + std::to_string(in.now_ns) + " " +
+                   std::to_string(in.scheduled_ns));
   if (in.setpoint)
     lines->push_back("M " + std::to_string(tick) + " " + F((*in.setpoint)[0]) + " " + F((*in.setpoint)[1]));
   if (in.camera) lines->push_back("K " + std::to_string(tick) + PoseText(*in.camera));
@@ -521,7 +521,8 @@ ReplayResult ReplaySessionLog(std::istream& log) {
           return result;
         }
         std::int64_t t = 0;
-        if (parts.size() != 3 || !ParseI64(parts[1], &t) || !ParseI64(parts[2], &in.now_ns))
+        if (parts.size() != 4 || !ParseI64(parts[1], &t) || !ParseI64(parts[2], &in.now_ns) ||
+            !ParseI64(parts[3], &in.scheduled_ns))
           return fail(number, "bad T record");
         tick = t;
         break;

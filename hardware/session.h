@@ -12,7 +12,7 @@
 // (CAMERA_POSE to the headset, PING every ping_every_frames frames).
 //
 // Log lines (text, numbers round-trip exact):
-//   inputs:  T tick now_ns | C rx_ns ID#DATA | H rx_ns hex | M tick yaw rail | K tick pose(7) |
+//   inputs:  T tick now_ns scheduled_ns | C rx_ns ID#DATA | H rx_ns hex | M tick yaw rail | K tick pose(7) |
 //            X tick (stop request)
 //   outputs: c ID#DATA | h hex | S tick cycle sp_yaw sp_rail cmd_yaw cmd_rail meas_yaw meas_rail
 //            state phase | P tick t_sample_local_ns raw(7) compensated(7) | E tick text
@@ -68,7 +68,8 @@ struct RxDatagram {
 };
 
 struct SessionInputs {
-  std::int64_t now_ns{0};
+  std::int64_t now_ns{0};        ///< when the step ran (CLOCK_MONOTONIC)
+  std::int64_t scheduled_ns{0};  ///< when it was due (start + tick * dt)
   std::vector<RxFrame> can;
   std::vector<RxDatagram> hmd;
   std::optional<std::array<double, kPlatformAxes>> setpoint;  ///< on drive ticks
@@ -148,7 +149,6 @@ class SessionCore {
   std::int64_t stop_since_tick_{-1};
   std::int64_t disable_ticks_{0};
   std::int64_t last_sync_tick_{-1};
-  std::int64_t first_now_ns_{-1};
   std::int64_t last_drive_now_ns_{-1};
   SupervisorState last_state_{SupervisorState::kIdle};
   MasterPhase last_phase_{MasterPhase::kResetComm};

@@ -1,7 +1,12 @@
 #include "hardware/session_runner.h"
 
 #include <poll.h>
+#include <sched.h>
+#include <sys/mman.h>
 #include <time.h>
+
+#include <cerrno>
+#include <cstring>
 
 #include <algorithm>
 #include <array>
@@ -51,6 +56,16 @@ void WaitUntil(std::int64_t deadline_ns, ICanBus& bus, UdpSocket* hmd, SessionIn
 
 }  // namespace
 
+std::string EnterRealtime(int priority) {
+  sched_param p{};
+  p.sched_priority = priority;
+  if (::sched_setscheduler(0, SCHED_FIFO, &p) != 0)
+    return std::string("SCHED_FIFO refused: ") + std::strerror(errno);
+  if (::mlockall(MCL_CURRENT | MCL_FUTURE) != 0)
+    return std::string("mlockall refused: ") + std::strerror(errno);
+  return "";
+}
+
 SessionReport RunSession(const SessionConfig& config, const SessionStreams& streams,
                          const RunnerIo& io) {
   SessionCore core(config);
@@ -67,7 +82,8 @@ SessionReport RunSession(const SessionConfig& config, const SessionStreams& stre
     const bool drive = core.is_drive_tick(tick);
     const bool frame = core.is_frame_tick(tick);
     if (!drive && !frame) continue;
-    WaitUntil(start + tick * ns_per_tick, *io.bus, io.hmd, &in, dump ? &*dump : nullptr);
+    in.scheduled_ns = start + tick * ns_per_tick;
+    WaitUntil(in.scheduled_ns, *io.bus, io.hmd, &in, dump ? &*dump : nullptr);
     in.now_ns = MonotonicNs();
     if (drive) {
       const auto i = static_cast<std::size_t>(tick / config.drive_cycle_ticks);

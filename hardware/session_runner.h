@@ -31,7 +31,11 @@ struct RunnerIo {
   std::ostream* log{nullptr};   ///< session log (replayable); may be null
   std::ostream* candump{nullptr};  ///< candump -l style log of all bus traffic; may be null
   const std::atomic<bool>* stop{nullptr};  ///< set by a signal handler: graceful soft stop
+  int rt_priority{0};           ///< > 0: try SCHED_FIFO at this priority and lock memory
 };
+
+/// Tries SCHED_FIFO at `priority` and mlockall; returns "" or why it was refused.
+std::string EnterRealtime(int priority);
 
 /// Runs until the core is done. Returns the report.
 SessionReport RunSession(const SessionConfig& config, const SessionStreams& streams,

@@ -1,0 +1,137 @@
+// pwsim hmd-peer: plays a headset on the HMD bridge for tests and demos. Receives camera
+// poses, answers each frame with a tracked head pose (the head riding the platform, plus a
+// gentle scripted head motion), answers pings, and can run on an offset clock or vanish.
+
+#include <csignal>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+
+#include "app/commands.h"
+#include "hardware/hmd_protocol.h"
+#include "hardware/udp_socket.h"
+
+namespace pwsim::app {
+namespace {
+
+volatile std::sig_atomic_t g_stop = 0;
+void OnSignal(int) { g_stop = 1; }
+
+}  // namespace
+
+const CommandSpec& HmdPeerSpec() {
+  static const CommandSpec spec{
+      "hmd-peer",
+      "pwsim hmd-peer [options]",
+      "Play a headset on the HMD bridge (UDP): camera poses in, head poses out.",
+      {
+          {"listen", "HOST:PORT", "-", "127.0.0.1:29537", "UDP address the session sends frames to"},
+          {"clock-offset-ms", "MS", "ms", "0", "run the headset clock this far ahead of ours"},
+          {"head-yaw-deg", "DEG", "deg", "5", "amplitude of the scripted head yaw (0.5 Hz)"},
+          {"duration", "S", "s", "0", "exit after this long (0 = until the session says bye)"},
+          {"exit-after", "S", "s", "0", "vanish abruptly after this long (fault injection; 0 = never)"},
+          {"report", "FILE", "-", "", "write a JSON summary"},
+      },
+      ""};
+  return spec;
+}
+
+int HmdPeerCommand(const ParsedArgs& args) {
+  if (!args.positional().empty()) throw std::invalid_argument("takes no positional arguments");
+  const auto listen = hw::ParseUdpAddress(args.Get("listen"));
+  if (!listen) throw std::invalid_argument("option --listen: expected HOST:PORT");
+  const auto offset_ns = static_cast<std::int64_t>(args.GetDouble("clock-offset-ms") * 1e6);
+  const double head_yaw = args.GetDouble("head-yaw-deg") * M_PI / 180.0;
+  const double duration = args.GetDouble("duration");
+  const double exit_after = args.GetDouble("exit-after");
+  hw::UdpSocket socket;
+  const std::string error = socket.Bind(*listen);
+  if (!error.empty()) {
+    std::cerr << "pwsim hmd-peer: " << error << "\n";
+    return 1;
+  }
+  std::signal(SIGINT, OnSignal);
+  std::signal(SIGTERM, OnSignal);
+  std::cout << "pwsim hmd-peer: listening on " << listen->ToString() << "\n" << std::flush;
+
+  auto peer_now = [&] { return hw::MonotonicNs() + offset_ns; };
+  const std::int64_t start = hw::MonotonicNs();
+  hw::ClockOffsetEstimator no_offset;  // the peer checks order only
+  hw::HmdReceiveFilter filter(1'000'000'000);
+  std::uint32_t seq = 0;
+  std::uint64_t frames = 0;
+  std::string why = "signal";
+  std::array<std::uint8_t, 512> buffer{};
+  std::array<std::uint8_t, hw::kHmdMaxSize> reply{};
+  for (;;) {
+    if (g_stop) break;
+    const double t = static_cast<double>(hw::MonotonicNs() - start) / 1e9;
+    if (duration > 0 && t >= duration) {
+      why = "duration reached";
+      break;
+    }
+    if (exit_after > 0 && t >= exit_after) {
+      std::cout << "pwsim hmd-peer: vanishing at t=" << t << " s (--exit-after)\n" << std::flush;
+      return 0;
+    }
+    socket.WaitReadable(5);
+    hw::UdpAddress from;
+    long n = 0;
+    bool bye = false;
+    while ((n = socket.Receive(buffer, &from)) >= 0) {
+      const std::int64_t rx = peer_now();
+      hw::HmdMessage m;
+      if (hw::DecodeHmd(std::span<const std::uint8_t>(buffer.data(),
+                                                      std::min(static_cast<std::size_t>(n), buffer.size())),
+                        &m) != hw::CodecError::kOk) {
+        filter.CountMalformed();
+        continue;
+      }
+      if (!filter.Accept(m, rx, no_offset)) continue;
+      hw::HmdMessage r;
+      r.header.session = m.header.session;
+      if (const auto* cam = std::get_if<hw::CameraPoseMsg>(&m.body)) {
+        ++frames;
+        // Head in the rig: seated 1.2 m up, looking around gently; the tracker sees it in the
+        // room, i.e. carried by the platform.
+        const double ts = static_cast<double>(rx) / 1e9;
+        hw::Pose head_in_rig;
+        head_in_rig.p = {0.0, 0.0, 1.2};
+        const double yaw = head_yaw * std::sin(2.0 * M_PI * 0.5 * ts);
+        head_in_rig.q = {0.0, 0.0, std::sin(0.5 * yaw), std::cos(0.5 * yaw)};
+        const hw::Pose in_room =
+            hw::ComposePose(hw::PlatformPose(cam->platform[0], cam->platform[1]), head_in_rig);
+        r.body = hw::HeadPoseMsg{rx, in_room, cam->frame, rx};
+      } else if (const auto* ping = std::get_if<hw::PingMsg>(&m.body)) {
+        r.body = hw::PongMsg{ping->t0, rx, 0};
+      } else if (std::holds_alternative<hw::ByeMsg>(m.body)) {
+        bye = true;
+        continue;
+      } else {
+        continue;
+      }
+      r.header.seq = seq++;
+      if (auto* pong = std::get_if<hw::PongMsg>(&r.body)) pong->t2 = peer_now();
+      r.header.t_send_ns = peer_now();
+      r.header.type = static_cast<hw::HmdType>(r.body.index() + 1);
+      const std::size_t size = hw::EncodeHmd(r, reply);
+      socket.SendTo(from, std::span<const std::uint8_t>(reply.data(), size));
+    }
+    if (bye) {
+      why = "session said bye";
+      break;
+    }
+  }
+  const auto& c = filter.counters();
+  std::cout << "pwsim hmd-peer: stopped (" << why << "), " << frames << " frames, dropped "
+            << c.out_of_order << " out-of-order, " << c.malformed << " malformed\n";
+  if (!args.Get("report").empty()) {
+    std::ofstream r(args.Get("report"));
+    r << "{\n  \"format\": \"pwsim-hmd-peer-report/1\",\n  \"frames\": " << frames
+      << ",\n  \"out_of_order\": " << c.out_of_order << ",\n  \"malformed\": " << c.malformed
+      << ",\n  \"stop\": \"" << why << "\"\n}\n";
+  }
+  return 0;
+}
+
+}  // namespace pwsim::app
