@@ -201,7 +201,7 @@ void RenderTrial(const Scene& scene, const TrialTable& table, const ParsedArgs& 
       render::WritePng(out_dir / "frames" / name, frame);
     }
     if (estimator) {
-      const render::FrameMotion motion = estimator->Push(frame, cam_z[k]);
+      const render::FrameMotion motion = estimator->Push(frame, cam_z[k], scene.room.height - cam_z[k]);
       if (motion.valid) {
         est_pitch_rate[k] = motion.pitch_delta / frame_dt;
         est_vertical_rate[k] = motion.vertical_delta / frame_dt;

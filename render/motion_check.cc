@@ -5,10 +5,19 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
 namespace pwsim::render {
+namespace {
+
+// Floor (ceiling) points are taken at least this far below (above) the optical axis, as the
+// tangent of the angle: clear of the horizon band where the far wall is.
+constexpr double kFloorMinSlope = 0.10;
+constexpr double kCeilingMinSlope = 0.25;
+
+}  // namespace
 
 struct FrameMotionEstimator::Impl {
   int scale_shifts{0};  ///< the frame is halved this many times
@@ -32,7 +41,8 @@ FrameMotionEstimator::FrameMotionEstimator(int width, int height, double fov_y_d
 
 FrameMotionEstimator::~FrameMotionEstimator() = default;
 
-FrameMotion FrameMotionEstimator::Push(const ImageView& frame, double eye_height) {
+FrameMotion FrameMotionEstimator::Push(const ImageView& frame, double eye_height,
+                                       double ceiling_clearance) {
   Impl& d = *impl_;
   const cv::Mat bgra(frame.height, frame.width, CV_8UC4, const_cast<std::uint8_t*>(frame.bgra));
   cv::cvtColor(bgra, d.grey, cv::COLOR_BGRA2GRAY);
@@ -55,43 +65,71 @@ FrameMotion FrameMotionEstimator::Push(const ImageView& frame, double eye_height
     cv::calcOpticalFlowPyrLK(d.previous, d.grey, corners, tracked, status, error,
                              cv::Size(21, 21), 3);
   }
-  std::vector<cv::Point2f> all0, all1, floor0, floor1;
-  const double horizon_margin = 0.12 * d.grey.rows;
+  std::vector<cv::Point2f> all0, all1;
   for (std::size_t i = 0; i < status.size(); ++i) {
     if (!status[i]) continue;
     all0.push_back(corners[i]);
     all1.push_back(tracked[i]);
-    // The floor: well below the image centre (the horizon when the view is level).
-    if (corners[i].y > d.K(1, 2) + horizon_margin) {
-      floor0.push_back(corners[i]);
-      floor1.push_back(tracked[i]);
-    }
   }
   motion.tracked = static_cast<int>(all0.size());
   d.grey.copyTo(d.previous);
 
-  // 2. The floor homography H = K (R + t nᵀ/d) K⁻¹, decomposed; the solution whose plane normal
-  //    points up (−y in OpenCV's camera axes: x right, y down, z ahead) is the floor.
-  cv::Matx33d R = cv::Matx33d::eye();
-  cv::Vec3d t_over_d(0, 0, 0);
-  if (floor0.size() >= 12) {
-    cv::Mat inlier_mask;
-    const cv::Mat H = cv::findHomography(floor0, floor1, cv::RANSAC, 1.0, inlier_mask, 2000, 0.999);
-    if (!H.empty()) {
-      motion.inliers = cv::countNonZero(inlier_mask);
-      std::vector<cv::Mat> rotations, translations, normals;
-      cv::decomposeHomographyMat(H, cv::Mat(d.K), rotations, translations, normals);
-      double best = -2.0;
-      for (std::size_t s = 0; s < normals.size(); ++s) {
-        const double up = -normals[s].at<double>(1);
-        if (up > best) {
-          best = up;
-          R = cv::Matx33d(rotations[s]);
-          t_over_d = cv::Vec3d(translations[s]);
-        }
-      }
-      motion.valid = best > 0.7;
+  // 2. The floor nᵀX = h (n down, h the eye height) and, when given, the ceiling (n up, its
+  //    clearance above the eye) map x₁ to x₂ ∝ R x₁ + t w with inverse depth w = nᵀx₁ / h. With
+  //    R ≈ I + [ω]× this is linear in (ω, t); solved by least squares, re-weighted to drop
+  //    points off the planes (walls, cushion, mismatches). Pitch moves floor and ceiling points
+  //    the same way, heave moves them apart: using both keeps the two separate.
+  const double f = d.K(0, 0), cx = d.K(0, 2), cy = d.K(1, 2);
+  struct PlanePoint {
+    double u1, v1, u2, v2, w;
+  };
+  std::vector<PlanePoint> floor;
+  for (std::size_t i = 0; i < all0.size(); ++i) {
+    const double u1 = (all0[i].x - cx) / f, v1 = (all0[i].y - cy) / f;
+    const double u2 = (all1[i].x - cx) / f, v2 = (all1[i].y - cy) / f;
+    if (std::abs(u1) > 0.35 * d.grey.cols / f) continue;  // side walls
+    if (v1 > kFloorMinSlope) floor.push_back({u1, v1, u2, v2, v1 / eye_height});
+    if (ceiling_clearance > 0 && v1 < -kCeilingMinSlope) {
+      floor.push_back({u1, v1, u2, v2, -v1 / ceiling_clearance});
     }
+  }
+  cv::Vec3d omega(0, 0, 0), t(0, 0, 0);
+  if (floor.size() >= 20) {
+    std::vector<double> weight(floor.size(), 1.0);
+    for (int iteration = 0; iteration < 4; ++iteration) {
+      cv::Matx66d AtA = cv::Matx66d::zeros();
+      cv::Vec6d Atb(0, 0, 0, 0, 0, 0);
+      for (std::size_t i = 0; i < floor.size(); ++i) {
+        if (weight[i] == 0.0) continue;
+        const auto [u1, v1, u2, v2, w] = floor[i];
+        const cv::Vec6d row_u(u2 * v1, -u2 * u1 - 1.0, v1, -w, 0.0, u2 * w);
+        const cv::Vec6d row_v(v2 * v1 + 1.0, -v2 * u1, -u1, 0.0, -w, v2 * w);
+        AtA += row_u * row_u.t() + row_v * row_v.t();
+        Atb += row_u * (u1 - u2) + row_v * (v1 - v2);
+      }
+      cv::Vec6d x;
+      if (!cv::solve(AtA, Atb, x, cv::DECOMP_CHOLESKY)) break;
+      omega = cv::Vec3d(x[0], x[1], x[2]);
+      t = cv::Vec3d(x[3], x[4], x[5]);
+      // Residuals in pixels; keep points within 3× the median (at least 0.3 px).
+      std::vector<double> residual(floor.size());
+      for (std::size_t i = 0; i < floor.size(); ++i) {
+        const auto [u1, v1, u2, v2, w] = floor[i];
+        const cv::Vec3d a(u1 + omega[1] - omega[2] * v1 + t[0] * w,
+                          v1 + omega[2] * u1 - omega[0] + t[1] * w,
+                          1.0 + omega[0] * v1 - omega[1] * u1 + t[2] * w);
+        residual[i] = f * std::hypot(a[0] / a[2] - u2, a[1] / a[2] - v2);
+      }
+      std::vector<double> sorted = residual;
+      std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(sorted.size() / 2), sorted.end());
+      const double limit = std::max(0.3, 3.0 * sorted[sorted.size() / 2]);
+      motion.inliers = 0;
+      for (std::size_t i = 0; i < floor.size(); ++i) {
+        weight[i] = residual[i] <= limit ? 1.0 : 0.0;
+        motion.inliers += weight[i] > 0 ? 1 : 0;
+      }
+    }
+    motion.valid = motion.inliers >= 12;
   } else if (all0.size() >= 8) {
     // No floor in view: a rotation-only homography of everything tracked.
     cv::Mat inlier_mask;
@@ -100,16 +138,16 @@ FrameMotion FrameMotionEstimator::Push(const ImageView& frame, double eye_height
       motion.inliers = cv::countNonZero(inlier_mask);
       cv::Matx33d M = d.K.inv() * cv::Matx33d(H) * d.K;
       M *= 1.0 / std::cbrt(cv::determinant(M));
-      R = M;
+      omega = cv::Vec3d((M(2, 1) - M(1, 2)) / 2, (M(0, 2) - M(2, 0)) / 2, (M(1, 0) - M(0, 1)) / 2);
       motion.valid = true;
     }
   }
-  // 3. Rows of R are the new camera's axes in the old one: a nose-up pitch δ puts sin δ at
-  //    R(1,2) (y down, z ahead); a right-side-down roll φ puts sin φ at R(0,1).
-  motion.pitch_delta = std::atan2(R(1, 2), R(2, 2));
-  motion.roll_delta = std::atan2(R(0, 1), R(1, 1));
-  // x2 = R x1 + t: the camera moving up by Δz (−y) gives t_y = +Δz / d.
-  motion.vertical_delta = t_over_d[1] * eye_height;
+  // 3. R = I + [ω]× holds the new camera's axes (rows) in the old one: a nose-up pitch δ puts
+  //    sin δ at R(1,2) = −ω_x (y down, z ahead); a right-side-down roll φ puts sin φ at
+  //    R(0,1) = −ω_z. X₂ = R X₁ + t: the eye moving up by Δz (−y) gives t_y = +Δz.
+  motion.pitch_delta = -omega[0];
+  motion.roll_delta = -omega[2];
+  motion.vertical_delta = t[1];
   return motion;
 }
 
