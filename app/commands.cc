@@ -7,6 +7,7 @@ const std::vector<Command>& AllCommands() {
       {&RunSpec(), &RunCommand},
       {&GenerateSpec(), &GenerateCommand},
       {&IdentifySpec(), &IdentifyCommand},
+      {&DiagnoseSpec(), &DiagnoseCommand},
   };
   return commands;
 }

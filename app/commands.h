@@ -24,5 +24,7 @@ const CommandSpec& GenerateSpec();
 int GenerateCommand(const ParsedArgs& args);
 const CommandSpec& IdentifySpec();
 int IdentifyCommand(const ParsedArgs& args);
+const CommandSpec& DiagnoseSpec();
+int DiagnoseCommand(const ParsedArgs& args);
 
 }  // namespace pwsim::app

@@ -70,15 +70,15 @@ const std::vector<ParamSpec>& EffectParameters(EffectId id) {
   static const std::array<std::vector<ParamSpec>, kEffectCount> specs{{
       {{"caster_radius_m", 0.1, 0.0, 0.35, {0.04, 0.12}},
        {"drive_radius_m", 0.1, 0.0, 0.40, {0.04, 0.18}}},
-      {{"caster_tyre_period_s", 0.1, 0.02, 0.5, {0.04, 0.15}},
-       {"drive_tyre_period_s", 0.1, 0.02, 0.5, {0.03, 0.1}},
-       {"tyre_damping_ratio", 0.3, 0.05, 1.5, {0.3}}},
+      {{"caster_tyre_period_s", 0.1, 0.045, 0.5, {0.06, 0.15}},
+       {"drive_tyre_period_s", 0.1, 0.045, 0.5, {0.05, 0.1}},
+       {"tyre_damping_ratio", 0.3, 0.05, 1.0, {0.3}}},
       {{"cushion_loss_per_kn", 0.2, 0.0, 1.2, {0.1, 0.4}}},
       {{"stiffness_coupling", 0.2, -0.8, 0.8, {-0.2, 0.2}},
        {"damping_coupling", 0.2, -0.8, 0.8, {0.0}}},
-      {{"heave_hardening", 0.5, 0.0, 50.0, {0.3}}, {"pitch_hardening", 0.5, 0.0, 50.0, {0.3}}},
-      {{"heave_friction_n", 30.0, 0.0, 1000.0, {15.0}},
-       {"pitch_friction_nm", 5.0, 0.0, 300.0, {3.0}}},
+      {{"heave_hardening", 0.5, 0.0, 10.0, {0.3}}, {"pitch_hardening", 0.5, 0.0, 10.0, {0.3}}},
+      {{"heave_friction_n", 30.0, 0.0, 250.0, {15.0}},
+       {"pitch_friction_nm", 5.0, 0.0, 150.0, {3.0}}},
       {{"cm_lever_m", 0.2, -1.5, 1.5, {0.0}}},
       {{"marker_lever_x_m", 0.1, -1.0, 1.0, {0.0}}},
   }};
@@ -153,12 +153,12 @@ EffectParams TruthEffect(EffectId id, double strength, const Chair& chair) {
       fx.drive_radius = s * MeanRadius(chair, false);
       break;
     case EffectId::kTyreCompliance:
-      fx.caster_tyre_period = std::max(0.02, 0.07 * s);  // 14 Hz at s = 1, 4.8 Hz at s = 3
-      fx.drive_tyre_period = std::max(0.02, 0.035 * s);
+      fx.caster_tyre_period = std::max(0.045, 0.12 * s);  // 8.3 Hz at s = 1, 3.3 Hz at s = 2.5
+      fx.drive_tyre_period = std::max(0.045, 0.06 * s);   // 17 Hz at s = 1
       fx.tyre_damping = 0.25;
       break;
     case EffectId::kCushionCompliance:
-      fx.cushion_loss_per_kn = 0.25 * s;
+      fx.cushion_loss_per_kn = 0.12 * s;
       break;
     case EffectId::kHeavePitchCoupling:
       fx.stiffness_coupling = std::min(0.8, 0.3 * s);
@@ -169,8 +169,8 @@ EffectParams TruthEffect(EffectId id, double strength, const Chair& chair) {
       fx.pitch_hardening = 1.0 * s;
       break;
     case EffectId::kSuspensionFriction:
-      fx.heave_friction = 40.0 * s;
-      fx.pitch_friction = 8.0 * s;
+      fx.heave_friction = 80.0 * s;
+      fx.pitch_friction = 20.0 * s;
       break;
     case EffectId::kInertialPitch:
       fx.cm_lever = chair.cm_height * s;

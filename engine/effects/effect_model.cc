@@ -68,8 +68,19 @@ struct Rhs {
     return gm;
   }
 
+  bool use_wheel_cache{false};
+  bool use_gm_cache{false};
+
   /// Contact heights (before tyres) and their time rates at position x with speed v.
-  void Contacts(double x, double v, double* h, double* h_rate) const {
+  void Contacts(double x, double v, double* h, double* h_rate, long point) const {
+    if (use_wheel_cache && point >= 0) {
+      const double* c = trial->wheel_cache.data() + point * 2 * wheels;
+      for (int i = 0; i < wheels; ++i) {
+        h[i] = c[2 * i] * height_factor[i];
+        h_rate[i] = c[2 * i + 1] * height_factor[i] * v;
+      }
+      return;
+    }
     for (int i = 0; i < wheels; ++i) {
       const double xi = x + wheel_x[i];
       double height, slope;
@@ -88,9 +99,22 @@ struct Rhs {
   }
 
   /// ds/dt at one instant; fills gm_out with the GM output seen by the LM.
-  void Eval(double x, double v, double a, const State& s, State& ds, Gm* gm_out) const {
+  void Eval(double x, double v, double a, const State& s, State& ds, Gm* gm_out,
+            long point) const {
+    Gm gm;
+    if (use_gm_cache && point >= 0) {
+      const double* c = trial->gm_cache.data() + point * 4;
+      gm = {c[0], c[1] * v, c[2], c[3] * v};
+    } else {
+      gm = ContactGm(x, v, s, ds, point);
+    }
+    Lumped(a, s, ds, gm);
+    if (gm_out) *gm_out = gm;
+  }
+
+  Gm ContactGm(double x, double v, const State& s, State& ds, long point) const {
     std::array<double, kMaxWheels> h{}, h_rate{}, zc{}, zc_rate{};
-    Contacts(x, v, h.data(), h_rate.data());
+    Contacts(x, v, h.data(), h_rate.data(), point);
     for (int i = 0; i < wheels; ++i) {
       const int slot = tyre_slot[i];
       if (slot < 0) {
@@ -104,8 +128,10 @@ struct Rhs {
         ds[slot + 1] = omega[i] * omega[i] * (h[i] - zt) + 2.0 * zeta * omega[i] * (h_rate[i] - zt_rate);
       }
     }
-    const Gm gm = Geometric(zc.data(), zc_rate.data());
-    if (gm_out) *gm_out = gm;
+    return Geometric(zc.data(), zc_rate.data());
+  }
+
+  void Lumped(double a, const State& s, State& ds, const Gm& gm) const {
     const double dz = s[0] - gm.z, dz_rate = s[1] - gm.z_rate;
     const double dp = s[2] - gm.pitch, dp_rate = s[3] - gm.pitch_rate;
     const double qz = dz / kHeaveRef, qp = dp / kPitchRef;
@@ -225,7 +251,9 @@ PreparedTrial PrepareTrial(const Chair& chair, const Terrain& terrain, double lo
   return trial;
 }
 
-ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& params) {
+namespace {
+
+Rhs MakeRhs(const PreparedTrial& trial, const ExtendedParams& params, int* state_size) {
   const Chair& chair = trial.chair;
   const EffectParams& fx = params.fx;
   Rhs rhs;
@@ -263,15 +291,66 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
   rhs.fric_z = fx.heave_friction;
   rhs.fric_t = fx.pitch_friction;
   rhs.lever = fx.cm_lever;
+  if (state_size) *state_size = slot;
+  return rhs;
+}
 
-  // RK4 stays stable and accurate when h·|λ| is about 1 or less for the fastest added mode.
-  double max_step = trial.max_step;
+/// The largest RK4 step for these dynamics: h·|λ| about 1 or less for the fastest mode.
+double StableStep(const Rhs& rhs, double max_step) {
   for (int i = 0; i < rhs.wheels; ++i) {
     if (rhs.omega[i] > 0.0) max_step = std::min(max_step, 1.2 / (rhs.omega[i] * (1.0 + rhs.zeta)));
   }
   if (rhs.fric_z > 0.0) max_step = std::min(max_step, 1.2 * kHeaveFrictionEps * rhs.mass / rhs.fric_z);
   if (rhs.fric_t > 0.0) max_step = std::min(max_step, 1.2 * kPitchFrictionEps * rhs.inertia / rhs.fric_t);
-  max_step = std::max(max_step, 2e-4);
+  return std::max(max_step, 2e-4);
+}
+
+int StepsFor(double dt, double max_step) {
+  return std::max(1, static_cast<int>(std::ceil(dt / max_step - 1e-9)));
+}
+
+}  // namespace
+
+void CacheInputs(PreparedTrial& trial) {
+  trial.cache_step = 0.0;
+  trial.wheel_cache.clear();
+  trial.gm_cache.clear();
+  const Rhs rhs = MakeRhs(trial, ExtendedParams{}, nullptr);
+  const int w = rhs.wheels;
+  std::array<double, kMaxWheels> h{}, slope{};
+  auto add = [&](double x) {
+    rhs.Contacts(x, 1.0, h.data(), slope.data(), -1);
+    for (int i = 0; i < w; ++i) {
+      trial.wheel_cache.push_back(h[i]);
+      trial.wheel_cache.push_back(slope[i]);
+    }
+    const Rhs::Gm gm = rhs.Geometric(h.data(), slope.data());
+    trial.gm_cache.insert(trial.gm_cache.end(), {gm.z, gm.z_rate, gm.pitch, gm.pitch_rate});
+  };
+  for (std::size_t k = 0; k + 1 < trial.t.size(); ++k) {
+    const double dt = trial.t[k + 1] - trial.t[k];
+    const double v = (trial.x[k + 1] - trial.x[k]) / dt;
+    const int steps = StepsFor(dt, trial.max_step);
+    const double hstep = dt / steps;
+    for (int j = 0; j <= 2 * steps; ++j) add(trial.x[k] + v * (0.5 * hstep * j));
+  }
+  add(trial.x.back());
+  trial.cache_step = trial.max_step;
+}
+
+ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& params) {
+  const EffectParams& fx = params.fx;
+  int dim = 4;
+  Rhs rhs = MakeRhs(trial, params, &dim);
+  const double max_step = StableStep(rhs, trial.max_step);
+  const bool cached = trial.cache_step > 0.0 && trial.cache_step == max_step;
+  bool rigid_points = true, plain = true;
+  for (int i = 0; i < rhs.wheels; ++i) {
+    if (rhs.radius[i] > 0.0) rigid_points = false;
+    if (rhs.radius[i] > 0.0 || rhs.omega[i] > 0.0 || rhs.height_factor[i] != 1.0) plain = false;
+  }
+  rhs.use_wheel_cache = cached && rigid_points;
+  rhs.use_gm_cache = cached && plain;
 
   const std::size_t n = trial.t.size();
   ModelOutput out;
@@ -284,7 +363,7 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
   State s{};
   {
     std::array<double, kMaxWheels> h{}, h_rate{};
-    rhs.Contacts(trial.x[0], 0.0, h.data(), h_rate.data());
+    rhs.Contacts(trial.x[0], 0.0, h.data(), h_rate.data(), cached ? 0 : -1);
     for (int i = 0; i < rhs.wheels; ++i) {
       if (rhs.tyre_slot[i] >= 0) s[rhs.tyre_slot[i]] = h[i];
     }
@@ -303,39 +382,41 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
     out.pitch_gm[k] = gm.pitch;
   };
 
-  const int dim = slot;
   State k1{}, k2{}, k3{}, k4{}, tmp{};
+  long point = 0;  // index of the current interval's first half-step point in the caches
   for (std::size_t k = 0; k + 1 < n; ++k) {
     const double t0 = trial.t[k];
     const double dt = trial.t[k + 1] - t0;
     const double v = (trial.x[k + 1] - trial.x[k]) / dt;
     const double a0 = trial.accel[k];
     const double a_rate = (trial.accel[k + 1] - a0) / dt;
-    const int steps = std::max(1, static_cast<int>(std::ceil(dt / max_step - 1e-9)));
+    const int steps = StepsFor(dt, max_step);
     const double h = dt / steps;
     for (int step = 0; step < steps; ++step) {
       const double tau = step * h;
-      auto at = [&](double offset, const State& state, State& ds, Rhs::Gm* gm) {
-        const double u = tau + offset;
-        rhs.Eval(trial.x[k] + v * u, v, a0 + a_rate * u, state, ds, gm);
+      const long p0 = cached ? point + 2 * step : -1;
+      auto at = [&](int half, const State& state, State& ds, Rhs::Gm* gm) {
+        const double u = tau + 0.5 * h * half;
+        rhs.Eval(trial.x[k] + v * u, v, a0 + a_rate * u, state, ds, gm, cached ? p0 + half : -1);
       };
       Rhs::Gm gm0;
-      at(0.0, s, k1, &gm0);
+      at(0, s, k1, &gm0);
       if (step == 0) output(k, gm0);
       for (int d = 0; d < dim; ++d) tmp[d] = s[d] + 0.5 * h * k1[d];
-      at(0.5 * h, tmp, k2, nullptr);
+      at(1, tmp, k2, nullptr);
       for (int d = 0; d < dim; ++d) tmp[d] = s[d] + 0.5 * h * k2[d];
-      at(0.5 * h, tmp, k3, nullptr);
+      at(1, tmp, k3, nullptr);
       for (int d = 0; d < dim; ++d) tmp[d] = s[d] + h * k3[d];
-      at(h, tmp, k4, nullptr);
+      at(2, tmp, k4, nullptr);
       for (int d = 0; d < dim; ++d) s[d] += h / 6.0 * (k1[d] + 2.0 * k2[d] + 2.0 * k3[d] + k4[d]);
     }
+    point += 2 * steps + 1;
   }
   {
     Rhs::Gm gm;
     const std::size_t last = n - 1;
     const double v = (trial.x[last] - trial.x[last - 1]) / (trial.t[last] - trial.t[last - 1]);
-    rhs.Eval(trial.x[last], v, trial.accel[last], s, k1, &gm);
+    rhs.Eval(trial.x[last], v, trial.accel[last], s, k1, &gm, cached ? point : -1);
     output(last, gm);
   }
   return out;

@@ -51,8 +51,8 @@ struct EffectParams {
 
 inline constexpr double kHeaveRef = 0.01;          ///< [m] δ_ref of the heave hardening
 inline constexpr double kPitchRef = 0.01;          ///< [rad] δ_ref of the pitch hardening
-inline constexpr double kHeaveFrictionEps = 0.01;  ///< [m/s] tanh smoothing of friction
-inline constexpr double kPitchFrictionEps = 0.02;  ///< [rad/s]
+inline constexpr double kHeaveFrictionEps = 0.02;  ///< [m/s] tanh smoothing of friction
+inline constexpr double kPitchFrictionEps = 0.04;  ///< [rad/s]
 inline constexpr double kGravity = 9.81;           ///< [m/s^2]
 
 struct ExtendedParams {
@@ -70,7 +70,18 @@ struct PreparedTrial {
   std::vector<double> accel;  ///< [m/s^2] smoothed longitudinal acceleration at t
   std::vector<bool> is_caster;  ///< per wheel
   double max_step{0.004};       ///< [s] largest RK4 sub-step
+
+  /// Optional precomputed inputs on the RK4 half-step grid of `cache_step` (CacheInputs):
+  /// per wheel ground height and slope (point contact), and the rigid point-contact GM output
+  /// (Z, Ż, θ, θ̇). Used only while cache_step == the step SimulateExtended ends up using.
+  double cache_step{0.0};
+  std::vector<double> wheel_cache;  ///< [point][wheel][height, slope]
+  std::vector<double> gm_cache;     ///< [point][z, z_rate, pitch, pitch_rate]
 };
+
+/// Fills the input caches of `trial` for its current max_step (speeds up repeated
+/// simulations, e.g. in fits; results are bit-identical to uncached runs up to rounding).
+void CacheInputs(PreparedTrial& trial);
 
 /// Builds a PreparedTrial; `accel` is estimated from x by a local quadratic fit over
 /// ±`accel_window` s unless given (same size as t). @pre chair.gm set, t strictly increasing.

@@ -1,0 +1,132 @@
+// diagnose_bench: the confusion matrix of the diagnosis (hidden effect × named cause) and its
+// fitness gains, on seeded synthetic trial sets (engine/effects/synthetic_trials.h), and the
+// time to diagnose a set of 30 trials. Plain executable (no Google Benchmark: one run of each
+// diagnosis is the measurement).
+//
+//   build/bench/diagnose_bench [--seeds N] [--strengths 0.7,1.5] [--trials 8] [--timing-only]
+//
+// Prints Markdown tables (docs/diagnosis.md quotes them).
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "engine/diagnose/diagnose.h"
+#include "engine/effects/synthetic_trials.h"
+
+namespace {
+
+using pwsim::diagnose::Diagnose;
+using pwsim::diagnose::Diagnosis;
+using pwsim::effects::EffectId;
+using pwsim::effects::EffectName;
+
+std::vector<double> ParseList(const std::string& text) {
+  std::vector<double> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) out.push_back(std::atof(item.c_str()));
+  return out;
+}
+
+double Seconds(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int seeds = 3;
+  int trials = 8;
+  int timing_trials = 30;
+  std::vector<double> strengths{0.7, 1.5};
+  bool timing_only = false;
+  bool matrix_only = false;
+  std::string only;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    auto next = [&]() { return i + 1 < argc ? std::string(argv[++i]) : std::string(); };
+    if (arg == "--seeds") seeds = std::atoi(next().c_str());
+    else if (arg == "--trials") trials = std::atoi(next().c_str());
+    else if (arg == "--strengths") strengths = ParseList(next());
+    else if (arg == "--timing-only") timing_only = true;
+    else if (arg == "--matrix-only") matrix_only = true;
+    else if (arg == "--only") only = next();
+    else if (arg == "--timing-trials") timing_trials = std::atoi(next().c_str());
+    else {
+      std::fprintf(stderr, "usage: diagnose_bench [--seeds N] [--trials N] [--strengths a,b] "
+                           "[--only EFFECT|none] [--timing-only] [--matrix-only]\n");
+      return 2;
+    }
+  }
+
+  std::vector<std::optional<EffectId>> hidden{std::nullopt};
+  for (EffectId id : pwsim::effects::AllEffects()) hidden.emplace_back(id);
+  auto name = [](const std::optional<EffectId>& id) {
+    return id ? std::string(EffectName(*id)) : std::string("none");
+  };
+
+  if (!timing_only) {
+    std::map<std::string, std::map<std::string, int>> matrix;
+    std::printf("| hidden | strength | seed | named | base fit Z/pitch %% | extended fit Z/pitch %% | gain | ΔBIC | s |\n");
+    std::printf("|---|---|---|---|---|---|---|---|---|\n");
+    for (const auto& h : hidden) {
+      if (!only.empty() && only != name(h)) continue;
+      const std::vector<double> levels = h ? strengths : std::vector<double>{0.0};
+      for (double s : levels) {
+        for (int seed = 1; seed <= seeds; ++seed) {
+          pwsim::effects::SyntheticConfig config;
+          config.seed = static_cast<std::uint64_t>(seed * 1000 + static_cast<int>(s * 10));
+          config.effect = h;
+          config.strength = s;
+          config.trials = trials;
+          const pwsim::effects::SyntheticSet set = pwsim::effects::MakeSyntheticTrials(config);
+          const auto t0 = std::chrono::steady_clock::now();
+          const Diagnosis d = Diagnose(set.trials);
+          const double secs = Seconds(t0);
+          matrix[name(h)][d.cause]++;
+          const auto& top = d.ranking.front();
+          std::printf("| %s | %.1f | %d | %s | %.1f / %.1f | %.1f / %.1f | %.2f (%s) | %.0f | %.1f |\n",
+                      name(h).c_str(), s, seed, d.cause.c_str(), d.base_heldout.z,
+                      d.base_heldout.pitch, d.extended_heldout.z, d.extended_heldout.pitch,
+                      top.heldout_gain, EffectName(top.effect), top.delta_bic, secs);
+          if (!matrix_only) {
+            for (const auto& e : d.ranking)
+              std::printf("    %-22s gain %.3f dBIC %.0f earns %d\n", EffectName(e.effect),
+                          e.heldout_gain, e.delta_bic, e.earns ? 1 : 0);
+          }
+          std::fflush(stdout);
+        }
+      }
+    }
+    std::printf("\nConfusion matrix (rows: hidden effect, columns: named cause)\n\n| hidden \\ named |");
+    for (const auto& c : hidden) std::printf(" %s |", name(c).c_str());
+    std::printf("\n|---|");
+    for (std::size_t c = 0; c < hidden.size(); ++c) std::printf("---|");
+    std::printf("\n");
+    for (const auto& r : hidden) {
+      if (!only.empty() && only != name(r)) continue;
+      std::printf("| %s |", name(r).c_str());
+      for (const auto& c : hidden) std::printf(" %d |", matrix[name(r)][name(c)]);
+      std::printf("\n");
+    }
+  }
+  if (!matrix_only) {
+    pwsim::effects::SyntheticConfig config;
+    config.seed = 4242;
+    config.effect = EffectId::kTyreCompliance;
+    config.trials = timing_trials;
+    config.speeds = {0.6, 0.9, 1.2, 1.5, 1.8, 2.1, 2.4, 1.0, 2.0, 1.4};
+    const auto set = pwsim::effects::MakeSyntheticTrials(config);
+    const auto t0 = std::chrono::steady_clock::now();
+    const Diagnosis d = Diagnose(set.trials);
+    std::printf("\nTime to diagnose %zu trials: %.2f s (cause: %s)\n", set.trials.size(), Seconds(t0),
+                d.cause.c_str());
+  }
+  return 0;
+}
