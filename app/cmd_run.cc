@@ -8,6 +8,7 @@
 #include <iostream>
 
 #include "app/commands.h"
+#include "app/run_mca.h"
 #include "app/run_render.h"
 #include "app/scene_path.h"
 #include "engine/atomic_file.h"
@@ -93,7 +94,7 @@ int RunCommand(const ParsedArgs& args) {
 
   const Scene scene = LoadScene(scene_path);
   const std::vector<ChairSample> samples = SimulateScene(scene);
-  const TrialTable table = ChairColumns(scene, samples);
+  TrialTable table = ChairColumns(scene, samples);
 
   nlohmann::ordered_json summary;
   summary["format"] = "pwsim-run-summary/1";
@@ -105,6 +106,7 @@ int RunCommand(const ParsedArgs& args) {
   summary["speed_mps"] = scene.drive.speed;
   summary["peak_heave"] = Peak(table, "z_m", "m");
   summary["peak_pitch"] = Peak(table, "pitch_rad", "rad");
+  AddMotionCueing(scene, samples, table, summary, out_dir);  // mca/: platform, visual, vestibular
 
   std::filesystem::create_directories(out_dir);
   table.WriteCsv(out_dir / "trial.csv", static_cast<int>(decimate));

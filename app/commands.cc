@@ -5,6 +5,8 @@ namespace pwsim::app {
 const std::vector<Command>& AllCommands() {
   static const std::vector<Command> commands{
       {&RunSpec(), &RunCommand},
+      {&OmctSpec(), &OmctCommand},
+      {&McaValidateSpec(), &McaValidateCommand},
       {&GenerateSpec(), &GenerateCommand},
       {&IdentifySpec(), &IdentifyCommand},
       {&DiagnoseSpec(), &DiagnoseCommand},

@@ -20,6 +20,10 @@ const std::vector<Command>& AllCommands();
 // Declarations, one pair per app/cmd_<name>.cc.
 const CommandSpec& RunSpec();
 int RunCommand(const ParsedArgs& args);
+const CommandSpec& OmctSpec();
+int OmctCommand(const ParsedArgs& args);
+const CommandSpec& McaValidateSpec();
+int McaValidateCommand(const ParsedArgs& args);
 const CommandSpec& GenerateSpec();
 int GenerateCommand(const ParsedArgs& args);
 const CommandSpec& IdentifySpec();

@@ -24,12 +24,15 @@ bool Finite(const HeadMotion& m) {
   return true;
 }
 
-/// Advances a rate-limited tilt angle towards asin of the low-passed specific force.
-double TiltStep(const TiltParams& p, double angle, double force_lp, double dt) {
+/// The tilt target asin(f/g), clamped to ±max_angle.
+double TiltTarget(const TiltParams& p, double force_lp) {
   const double s_max = std::sin(p.max_angle);
-  const double target = std::asin(std::clamp(force_lp / kGravity, -s_max, s_max));
-  const double step = p.max_rate * dt;
-  return angle + std::clamp(target - angle, -step, step);
+  return std::asin(std::clamp(force_lp / kGravity, -s_max, s_max));
+}
+
+/// The tilt angle as an axis of its own: travel max_angle, speed max_rate, accel max_accel.
+DofLimits TiltLimits(const TiltParams& p) {
+  return {.present = true, .travel = p.max_angle, .speed = p.max_rate, .accel = p.max_accel};
 }
 
 void ParseTranslational(YamlMap& m, TranslationalParams& p) {
@@ -60,6 +63,8 @@ void ParseTilt(YamlMap& m, TiltParams& p) {
       kDegToRad * m.NumberOr("max_rate_degps", p.max_rate / kDegToRad, Range::Positive(90.0, "deg/s"));
   p.max_angle =
       kDegToRad * m.NumberOr("max_angle_deg", p.max_angle / kDegToRad, Range::Positive(60.0, "deg"));
+  p.max_accel = kDegToRad * m.NumberOr("max_accel_degps2", p.max_accel / kDegToRad,
+                                       Range::Positive(10000.0, "deg/s^2"));
 }
 
 }  // namespace
@@ -94,10 +99,10 @@ std::string WashoutParams::Validate() const {
     if (!(p.leak >= 0.0)) return name + ": leak must be >= 0";
   }
   for (const TiltParams* t : {&tilt_pitch, &tilt_roll}) {
-    if (!(t->scale >= 0.0) || !(t->lp_omega > 0.0) || !(t->lp_zeta > 0.0) || !(t->max_rate > 0.0) ||
+    if (!(t->scale >= 0.0) || !(t->lp_omega > 0.0) || !(t->lp_zeta > 0.0) || !(t->max_rate > 0.0) || !(t->max_accel > 0.0) ||
         !(t->max_angle > 0.0 && t->max_angle <= 60.0 * kDegToRad)) {
       return std::string(t == &tilt_pitch ? "tilt_pitch" : "tilt_roll") +
-             ": scale >= 0, low-pass > 0, max_rate > 0, max_angle in (0, 60] deg required";
+             ": scale >= 0, low-pass > 0, max_rate > 0, max_accel > 0, max_angle in (0, 60] deg required";
     }
   }
   if (!(fault.hold_time >= 0.0) || !(fault.return_speed_fraction > 0.0) ||
@@ -231,13 +236,13 @@ void ClassicalWashout::StepHealthy(const HeadMotion& input) {
   // tilt coordination: sustained surge -> pitch, sustained sway -> roll
   if (platform_.Has(Dof::kPitch) && params_.tilt_pitch.enabled) {
     const double f = mca::Step(tilt_lp_[0], state_.tilt_lp[0], params_.tilt_pitch.scale * input.fs[0]);
-    state_.tilt[0] = TiltStep(params_.tilt_pitch, state_.tilt[0], f, dt_);
-    desired[At(Dof::kPitch)] += state_.tilt[0];
+    TiltStep(0, TiltTarget(params_.tilt_pitch, f));
+    desired[At(Dof::kPitch)] += state_.tilt[0].pose;
   }
   if (platform_.Has(Dof::kRoll) && params_.tilt_roll.enabled) {
     const double f = mca::Step(tilt_lp_[1], state_.tilt_lp[1], params_.tilt_roll.scale * input.fs[1]);
-    state_.tilt[1] = TiltStep(params_.tilt_roll, state_.tilt[1], f, dt_);
-    desired[At(Dof::kRoll)] += state_.tilt[1];
+    TiltStep(1, TiltTarget(params_.tilt_roll, f));
+    desired[At(Dof::kRoll)] += state_.tilt[1].pose;
   }
   Limit(desired, state_.recovering ? params_.fault.return_speed_fraction : 1.0);
   if (state_.recovering) {
@@ -254,6 +259,7 @@ void ClassicalWashout::StepFaulted() {
   if (state_.fault_ticks == 0) {
     // hold the last safe pose; the filters restart from rest when input returns
     for (Dof dof : kAllDofs) state_.hold_pose[At(dof)] = state_.limiter[At(dof)].pose;
+    state_.tilt_hold = {state_.tilt[0].pose, state_.tilt[1].pose};
     state_.channel = {};
     state_.tilt_lp = {};
   }
@@ -263,17 +269,28 @@ void ClassicalWashout::StepFaulted() {
   DofArray desired{};
   const bool holding = state_.fault_ticks <= hold_ticks_;
   if (holding) {
+    // the tilt stops within its acceleration limit, the pose is held
+    TiltStep(0, state_.tilt_hold[0]);
+    TiltStep(1, state_.tilt_hold[1]);
     desired = state_.hold_pose;
   } else {
     // wash out to neutral; the tilt returns below the perception threshold
-    state_.tilt[0] = TiltStep(params_.tilt_pitch, state_.tilt[0], 0.0, dt_);
-    state_.tilt[1] = TiltStep(params_.tilt_roll, state_.tilt[1], 0.0, dt_);
-    desired[At(Dof::kPitch)] = platform_.Has(Dof::kPitch) ? state_.tilt[0] : 0.0;
-    desired[At(Dof::kRoll)] = platform_.Has(Dof::kRoll) ? state_.tilt[1] : 0.0;
+    TiltStep(0, 0.0);
+    TiltStep(1, 0.0);
+    desired[At(Dof::kPitch)] = platform_.Has(Dof::kPitch) ? state_.tilt[0].pose : 0.0;
+    desired[At(Dof::kRoll)] = platform_.Has(Dof::kRoll) ? state_.tilt[1].pose : 0.0;
   }
   state_.desired_prev = desired;  // targets are piecewise constant: no feed-forward
   Limit(desired, holding ? 1.0 : params_.fault.return_speed_fraction);
   command_.fault = true;
+}
+
+void ClassicalWashout::TiltStep(int axis, double target) {
+  const auto i = static_cast<std::size_t>(axis);
+  const TiltParams& p = axis == 0 ? params_.tilt_pitch : params_.tilt_roll;
+  const double target_rate = (target - state_.tilt_target[i]) / dt_;
+  state_.tilt[i] = StepLimiter(TiltLimits(p), state_.tilt[i], target, target_rate, p.max_rate, dt_);
+  state_.tilt_target[i] = target;
 }
 
 void ClassicalWashout::Limit(const DofArray& desired, double speed_fraction) {
@@ -290,8 +307,8 @@ void ClassicalWashout::Limit(const DofArray& desired, double speed_fraction) {
   }
   state_.desired_prev = desired;
   command_.desired = desired;
-  command_.tilt_pitch = state_.tilt[0];
-  command_.tilt_roll = state_.tilt[1];
+  command_.tilt_pitch = state_.tilt[0].pose;
+  command_.tilt_roll = state_.tilt[1].pose;
 }
 
 }  // namespace pwsim::mca

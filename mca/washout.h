@@ -5,7 +5,9 @@
 //                      H_hp = s²/(s²+2ζωs+ω²) (order 2) or that · s/(s+ω_b) (order 3)
 //   roll/pitch/yaw:    rate → scale, clamp ±limit → s/(s+ω) or s²/(s²+2ζωs+ω²) → 1/(s+λ) → pose
 //   tilt (pitch←surge, roll←sway): f → scale → ω²/(s²+2ζωs+ω²) → asin(f/g), clamped to
-//                      ±max_angle → rate limited to ±max_rate (default 3 deg/s) → added to pose
+//                      ±max_angle → rate limited to ±max_rate (default 3 deg/s) and acceleration
+//                      limited to ±max_accel (the head sits above the pivot: a tilt acceleration
+//                      θ̈ is felt as a tangential specific force h·θ̈) → added to pose
 //
 // Then each present axis goes through the platform limiter (mca/platform.h), so the command
 // stream never leaves the platform's limits. The specific-force channels act on the head's
@@ -63,6 +65,8 @@ struct TiltParams {
   double lp_omega{2.0};               ///< ω [rad/s] of the second-order low-pass
   double lp_zeta{1.0};                ///< ζ [-]
   double max_rate{3.0 * kDegToRad};   ///< [rad/s], below the tilt-perception threshold
+  /// [rad/s^2]; 10 deg/s² keeps h·θ̈ below 0.17 m/s² for a head up to 0.97 m above the pivot
+  double max_accel{10.0 * kDegToRad};
   double max_angle{10.0 * kDegToRad}; ///< [rad]
   bool operator==(const TiltParams&) const = default;
 };
@@ -113,10 +117,12 @@ struct McaCommand {
 struct WashoutState {
   std::array<FilterState, kDofCount> channel{};
   std::array<FilterState, 2> tilt_lp{};   ///< pitch, roll
-  std::array<double, 2> tilt{};           ///< rate-limited tilt angles [rad]
+  std::array<LimiterState, 2> tilt{};     ///< rate/acceleration-limited tilt (pitch, roll)
+  std::array<double, 2> tilt_target{};    ///< asin(low-passed force / g) of the last tick
   std::array<LimiterState, kDofCount> limiter{};
   DofArray desired_prev{};
   DofArray hold_pose{};
+  std::array<double, 2> tilt_hold{};      ///< tilt angles held during a fault's hold time
   std::int64_t fault_ticks{0};    ///< consecutive faulted ticks (0 = healthy)
   bool recovering{false};
   std::int64_t fault_total{0};    ///< faulted ticks since Reset
@@ -142,6 +148,7 @@ class ClassicalWashout {
  private:
   void StepHealthy(const HeadMotion& input);
   void StepFaulted();
+  void TiltStep(int axis, double target);
   void Limit(const DofArray& desired, double speed_fraction);
 
   WashoutParams params_;

@@ -129,7 +129,7 @@ TEST(WashoutTest, NeverLeavesLimitsForAnyInput) {
   for (const PlatformSpec& platform : {MakePw4DofPlatform(), MakeCar2DofPlatform()}) {
     for (double dt : {1e-3, 4e-3}) {
       ClassicalWashout dut(DefaultWashoutParams(), platform, dt);
-      double prev_pitch_tilt = 0.0, prev_roll_tilt = 0.0;
+      double prev_pitch_tilt = 0.0, prev_roll_tilt = 0.0, prev_tilt_rate = 0.0;
       for (int k = 0; k < 150000; ++k) {
         HeadMotion m;
         const int regime = (k / 2000) % 5;
@@ -150,6 +150,10 @@ TEST(WashoutTest, NeverLeavesLimitsForAnyInput) {
         ASSERT_LE(std::abs(c.tilt_pitch - prev_pitch_tilt), 3.0 * kDegToRad * dt * (1.0 + 1e-9));
         ASSERT_LE(std::abs(c.tilt_roll - prev_roll_tilt), 3.0 * kDegToRad * dt * (1.0 + 1e-9));
         ASSERT_LE(std::abs(c.tilt_pitch), 10.0 * kDegToRad + 1e-12);
+        // tilt acceleration limited too (10 deg/s²): no tangential jolt at the head
+        const double tilt_rate = (c.tilt_pitch - prev_pitch_tilt) / dt;
+        ASSERT_LE(std::abs(tilt_rate - prev_tilt_rate), 10.0 * kDegToRad * dt * (1.0 + 1e-6));
+        prev_tilt_rate = tilt_rate;
         prev_pitch_tilt = c.tilt_pitch;
         prev_roll_tilt = c.tilt_roll;
       }

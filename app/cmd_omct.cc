@@ -1,0 +1,101 @@
+// pwsim omct [--platform FILE] [--scene SCENE] [--out DIR]: the Objective Motion Cueing Test of
+// the MCA and platform limits (mca/omct.h). Writes DIR/omct.csv (test,frequency,gain,phase;
+// frequency in rad/s, phase in degrees) and the Bode plot DIR/omct.png.
+
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <stdexcept>
+
+#include "app/commands.h"
+#include "app/plot_png.h"
+#include "engine/atomic_file.h"
+#include "engine/number_format.h"
+#include "engine/scene.h"
+#include "mca/config.h"
+#include "mca/omct.h"
+
+namespace pwsim::app {
+
+const CommandSpec& OmctSpec() {
+  static const CommandSpec spec{
+      "omct",
+      "pwsim omct [options]",
+      "Objective Motion Cueing Test: gain and phase of the cueing chain at 12 frequencies.",
+      {
+          {"platform", "FILE", "-", "", "pwsim-platform/1 file (default: the scene's, else pw4dof)"},
+          {"scene", "SCENE", "-", "", "take the washout (mca:) and platform sections of this scene"},
+          {"out", "DIR", "-", "out/omct", "output folder (created)"},
+          {"rate-hz", "HZ", "Hz", "1000", "MCA tick rate"},
+          {"force-amplitude", "A", "m/s^2", "0.1", "input amplitude of the specific-force tests"},
+          {"rate-amplitude", "A", "deg/s", "1", "input amplitude of the angular-rate tests"},
+      },
+      ""};
+  return spec;
+}
+
+int OmctCommand(const ParsedArgs& args) {
+  if (!args.positional().empty()) throw std::invalid_argument("expected no positional arguments");
+  mca::McaConfig config;
+  if (args.Has("scene")) config = mca::LoadMcaConfig(LoadScene(args.Get("scene")));
+  if (args.Has("platform")) {
+    config.platform = mca::ReadPlatformFile(args.Get("platform"));
+    config.platform_source = args.Get("platform");
+  }
+  mca::OmctOptions options;
+  options.rate_hz = args.GetDouble("rate-hz");
+  options.force_amplitude = args.GetDouble("force-amplitude");
+  options.rate_amplitude = args.GetDouble("rate-amplitude") * mca::kDegToRad;
+  if (!(options.rate_hz >= 50.0 && options.rate_hz <= 100000.0)) {
+    throw std::invalid_argument("option --rate-hz: expected a number in [50, 100000] Hz");
+  }
+  if (!(options.force_amplitude > 0.0) || !(options.rate_amplitude > 0.0)) {
+    throw std::invalid_argument("amplitudes must be > 0");
+  }
+  const std::filesystem::path out_dir = args.Get("out");
+
+  const std::vector<mca::OmctPoint> points = mca::RunOmct(config.washout, config.platform, options);
+
+  std::ostringstream csv;
+  csv << "test,frequency,gain,phase\n";
+  for (const mca::OmctPoint& p : points) {
+    csv << p.test << "," << FormatDouble(p.frequency) << "," << FormatDouble(p.gain) << ","
+        << FormatDouble(p.phase) << "\n";
+  }
+  std::filesystem::create_directories(out_dir);
+  WriteFileAtomically(out_dir / "omct.csv", csv.str());
+
+  PngFigure figure;
+  figure.title = "OMCT, platform " + config.platform.name + " (gain: output/input, phase: deg)";
+  figure.x_label = "frequency [rad/s]";
+  figure.log_x = true;
+  PngPanel gain{"gain", "-", {}, true};
+  PngPanel phase{"phase", "deg", {}, false};
+  for (const mca::OmctTest& test : mca::OmctTests()) {
+    PngSeries g{test.name, {}, {}, 0, true};
+    for (const mca::OmctPoint& p : points) {
+      if (p.test != test.name) continue;
+      g.x.push_back(p.frequency);
+      g.y.push_back(p.gain);
+    }
+    if (g.x.empty()) continue;
+    PngSeries ph = g;
+    ph.y.clear();
+    for (const mca::OmctPoint& p : points) {
+      if (p.test == test.name) ph.y.push_back(p.phase);
+    }
+    gain.series.push_back(std::move(g));
+    phase.series.push_back(std::move(ph));
+  }
+  figure.panels = {gain, phase};
+  figure.panel_height = 420;
+  WriteFigurePng(out_dir / "omct.png", figure);
+
+  std::cout << "pwsim omct: platform '" << config.platform.name << "', " << points.size()
+            << " points (" << points.size() / 12 << " tests x 12 frequencies)\n"
+            << "  " << (out_dir / "omct.csv").string() << "\n"
+            << "  " << (out_dir / "omct.png").string() << "\n";
+  return 0;
+}
+
+}  // namespace pwsim::app
