@@ -5,6 +5,10 @@ namespace pwsim::app {
 const std::vector<Command>& AllCommands() {
   static const std::vector<Command> commands{
       {&RunSpec(), &RunCommand},
+      {&SessionSpec(), &SessionCommand},
+      {&ReplaySpec(), &ReplayCommand},
+      {&PlatformSimSpec(), &PlatformSimCommand},
+      {&HmdPeerSpec(), &HmdPeerCommand},
       {&OmctSpec(), &OmctCommand},
       {&McaValidateSpec(), &McaValidateCommand},
       {&GenerateSpec(), &GenerateCommand},

@@ -20,6 +20,14 @@ const std::vector<Command>& AllCommands();
 // Declarations, one pair per app/cmd_<name>.cc.
 const CommandSpec& RunSpec();
 int RunCommand(const ParsedArgs& args);
+const CommandSpec& PlatformSimSpec();
+int PlatformSimCommand(const ParsedArgs& args);
+const CommandSpec& HmdPeerSpec();
+int HmdPeerCommand(const ParsedArgs& args);
+const CommandSpec& SessionSpec();
+int SessionCommand(const ParsedArgs& args);
+const CommandSpec& ReplaySpec();
+int ReplayCommand(const ParsedArgs& args);
 const CommandSpec& OmctSpec();
 int OmctCommand(const ParsedArgs& args);
 const CommandSpec& McaValidateSpec();
