@@ -46,7 +46,7 @@ struct SafetyConfig {
   /// Comfort limits of the soft stop (velocity, accel, jerk; workspace unused).
   std::array<AxisLimits, 2> soft_stop{{
       {0.5061, 0.5236, 0.25, 0.3, 1.0},
-      {0.55, 0.6, 0.5, 1.0, 4.0},
+      {0.55, 0.6, 0.5, 1.0, 8.0},
   }};
   int stale_setpoint_cycles{3};
   std::array<double, 2> neutral{0.0, 0.0};
