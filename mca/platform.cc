@@ -157,12 +157,20 @@ LimiterState StepLimiter(const DofLimits& limits, const LimiterState& state, dou
                          double target_rate, double speed_cap, double dt) {
   const double brake = limits.brake_accel();
   const double accel = state.heat >= limits.steady_accel ? limits.steady_accel : limits.accel;
+  const double inv_dt = 1.0 / dt;
+  const double half_inv_brake = 0.5 / brake;
+  // v·dt + v²/(2 brake) <= distance, i.e. v <= StoppableSpeed(distance): checked without sqrt
+  auto stoppable = [&](double v, double distance) {
+    return v <= 0.0 || v * dt + v * v * half_inv_brake <= distance;
+  };
 
-  // desired rate: follow the target's motion and close the remaining gap as fast as braking allows
+  // desired rate: follow the target's motion and close the remaining gap as fast as braking
+  // allows (StoppableSpeed(d) < d/dt, and ≈ d/dt for a rounding-sized gap)
   double desired = 0.0;
   if (std::isfinite(target) && std::isfinite(target_rate)) {
     const double gap = (target - target_rate * dt) - state.pose;
-    const double close = std::min(std::abs(gap) / dt, StoppableSpeed(std::abs(gap), brake, dt));
+    const double size = std::abs(gap);
+    const double close = size < 1e-12 ? size * inv_dt : StoppableSpeed(size, brake, dt);
     desired = target_rate + std::copysign(close, gap);
   }
 
@@ -170,8 +178,12 @@ LimiterState StepLimiter(const DofLimits& limits, const LimiterState& state, dou
   double lo = state.rate - accel * dt;
   double hi = state.rate + accel * dt;
   if (std::isfinite(limits.travel)) {
-    hi = std::min(hi, StoppableSpeed(limits.travel - state.pose, brake, dt));
-    lo = std::max(lo, -StoppableSpeed(limits.travel + state.pose, brake, dt));
+    if (!stoppable(hi, limits.travel - state.pose)) {
+      hi = std::min(hi, StoppableSpeed(limits.travel - state.pose, brake, dt));
+    }
+    if (!stoppable(-lo, limits.travel + state.pose)) {
+      lo = std::max(lo, -StoppableSpeed(limits.travel + state.pose, brake, dt));
+    }
     if (lo > hi) lo = hi = 0.5 * (lo + hi);  // rounding only
   }
   const double cap = std::min(limits.speed, speed_cap);
@@ -188,10 +200,12 @@ LimiterState StepLimiter(const DofLimits& limits, const LimiterState& state, dou
   LimiterState next;
   next.pose = state.pose + rate * dt;
   if (std::isfinite(limits.travel)) next.pose = std::clamp(next.pose, -limits.travel, limits.travel);
-  next.rate = (next.pose - state.pose) / dt;
-  next.accel = (next.rate - state.rate) / dt;
-  const double alpha = dt / (limits.steady_time + dt);
-  next.heat = state.heat + alpha * (std::abs(next.accel) - state.heat);
+  next.rate = (next.pose - state.pose) * inv_dt;
+  next.accel = (next.rate - state.rate) * inv_dt;
+  if (std::isfinite(limits.steady_accel)) {
+    const double alpha = dt / (limits.steady_time + dt);
+    next.heat = state.heat + alpha * (std::abs(next.accel) - state.heat);
+  }
   return next;
 }
 

@@ -24,9 +24,8 @@ bool Finite(const HeadMotion& m) {
   return true;
 }
 
-/// The tilt target asin(f/g), clamped to ±max_angle.
-double TiltTarget(const TiltParams& p, double force_lp) {
-  const double s_max = std::sin(p.max_angle);
+/// The tilt target asin(f/g), clamped to ±max_angle (s_max = sin(max_angle)).
+double TiltTarget(double s_max, double force_lp) {
   return std::asin(std::clamp(force_lp / kGravity, -s_max, s_max));
 }
 
@@ -182,7 +181,7 @@ ContinuousSystem ChannelSystem(const WashoutParams& params, Dof dof) {
 
 ClassicalWashout::ClassicalWashout(const WashoutParams& params, const PlatformSpec& platform,
                                    double dt)
-    : params_(params), platform_(platform), dt_(dt) {
+    : params_(params), platform_(platform), dt_(dt), inv_dt_(1.0 / dt) {
   PWSIM_DEMAND(params.Validate().empty());
   PWSIM_DEMAND(platform.Validate().empty());
   PWSIM_DEMAND(dt > 0.0);
@@ -193,6 +192,8 @@ ClassicalWashout::ClassicalWashout(const WashoutParams& params, const PlatformSp
   for (Dof dof : kAllDofs) channel_[At(dof)] = Discretize(ChannelSystem(unscaled, dof), dt);
   tilt_lp_[0] = Discretize(LowPass2(params.tilt_pitch.lp_omega, params.tilt_pitch.lp_zeta), dt);
   tilt_lp_[1] = Discretize(LowPass2(params.tilt_roll.lp_omega, params.tilt_roll.lp_zeta), dt);
+  tilt_sin_max_ = {std::sin(params.tilt_pitch.max_angle), std::sin(params.tilt_roll.max_angle)};
+  tilt_limits_ = {TiltLimits(params.tilt_pitch), TiltLimits(params.tilt_roll)};
   hold_ticks_ = static_cast<std::int64_t>(std::llround(params.fault.hold_time / dt));
   Reset();
 }
@@ -236,12 +237,12 @@ void ClassicalWashout::StepHealthy(const HeadMotion& input) {
   // tilt coordination: sustained surge -> pitch, sustained sway -> roll
   if (platform_.Has(Dof::kPitch) && params_.tilt_pitch.enabled) {
     const double f = mca::Step(tilt_lp_[0], state_.tilt_lp[0], params_.tilt_pitch.scale * input.fs[0]);
-    TiltStep(0, TiltTarget(params_.tilt_pitch, f));
+    TiltStep(0, TiltTarget(tilt_sin_max_[0], f));
     desired[At(Dof::kPitch)] += state_.tilt[0].pose;
   }
   if (platform_.Has(Dof::kRoll) && params_.tilt_roll.enabled) {
     const double f = mca::Step(tilt_lp_[1], state_.tilt_lp[1], params_.tilt_roll.scale * input.fs[1]);
-    TiltStep(1, TiltTarget(params_.tilt_roll, f));
+    TiltStep(1, TiltTarget(tilt_sin_max_[1], f));
     desired[At(Dof::kRoll)] += state_.tilt[1].pose;
   }
   Limit(desired, state_.recovering ? params_.fault.return_speed_fraction : 1.0);
@@ -288,8 +289,8 @@ void ClassicalWashout::StepFaulted() {
 void ClassicalWashout::TiltStep(int axis, double target) {
   const auto i = static_cast<std::size_t>(axis);
   const TiltParams& p = axis == 0 ? params_.tilt_pitch : params_.tilt_roll;
-  const double target_rate = (target - state_.tilt_target[i]) / dt_;
-  state_.tilt[i] = StepLimiter(TiltLimits(p), state_.tilt[i], target, target_rate, p.max_rate, dt_);
+  const double target_rate = (target - state_.tilt_target[i]) * inv_dt_;
+  state_.tilt[i] = StepLimiter(tilt_limits_[i], state_.tilt[i], target, target_rate, p.max_rate, dt_);
   state_.tilt_target[i] = target;
 }
 
@@ -298,7 +299,7 @@ void ClassicalWashout::Limit(const DofArray& desired, double speed_fraction) {
     const std::size_t i = At(dof);
     const DofLimits& limits = platform_.dofs[i];
     if (!limits.present) continue;
-    const double target_rate = (desired[i] - state_.desired_prev[i]) / dt_;
+    const double target_rate = (desired[i] - state_.desired_prev[i]) * inv_dt_;
     state_.limiter[i] =
         StepLimiter(limits, state_.limiter[i], desired[i], target_rate, speed_fraction * limits.speed, dt_);
     command_.pose[i] = state_.limiter[i].pose;

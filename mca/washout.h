@@ -154,8 +154,11 @@ class ClassicalWashout {
   WashoutParams params_;
   PlatformSpec platform_;
   double dt_;
+  double inv_dt_;
   std::array<DiscreteSystem, kDofCount> channel_{};
   std::array<DiscreteSystem, 2> tilt_lp_{};
+  std::array<double, 2> tilt_sin_max_{};
+  std::array<DofLimits, 2> tilt_limits_{};
   std::int64_t hold_ticks_{0};
   WashoutState state_;
   McaCommand command_;
