@@ -106,6 +106,7 @@ std::string FormatFrameText(const CanFrame& frame) {
   text.push_back('#');
   if (frame.remote() && !frame.error()) {
     text.push_back('R');
+    if (frame.len > 0 && frame.len <= 8) text.push_back(kHex[frame.len]);  // can-utils: "R<dlc>"
     return text;
   }
   for (std::size_t i = 0; i < frame.len && i < 8; ++i) put_hex(frame.data[i], 2);

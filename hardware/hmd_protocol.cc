@@ -152,12 +152,25 @@ CodecError DecodeHmd(std::span<const std::uint8_t> in, HmdMessage* message) {
   return CodecError::kOk;
 }
 
+std::int64_t SaturatingSub(std::int64_t a, std::int64_t b) {
+  std::int64_t r = 0;
+  if (!__builtin_sub_overflow(a, b, &r)) return r;
+  return b < 0 ? std::numeric_limits<std::int64_t>::max() : std::numeric_limits<std::int64_t>::min();
+}
+
 void ClockOffsetEstimator::AddSample(std::int64_t t0, std::int64_t t1, std::int64_t t2,
                                      std::int64_t t3) {
-  const std::int64_t rtt = (t3 - t0) - (t2 - t1);
+  // Reject samples whose spans do not fit comfortably (hostile or corrupt timestamps).
+  constexpr std::int64_t kMaxSpan = std::int64_t{1} << 61;
+  const std::int64_t up = SaturatingSub(t1, t0);
+  const std::int64_t down = SaturatingSub(t2, t3);
+  const std::int64_t local = SaturatingSub(t3, t0);
+  const std::int64_t remote = SaturatingSub(t2, t1);
+  for (std::int64_t v : {up, down, local, remote})
+    if (v > kMaxSpan || v < -kMaxSpan) return;
+  const std::int64_t rtt = local - remote;
   if (rtt < 0) return;  // inconsistent (clock jump): ignore
-  // offset = ((t1 - t0) + (t2 - t3)) / 2, computed without overflow.
-  const std::int64_t offset = (t1 - t0) / 2 + (t2 - t3) / 2 + ((t1 - t0) % 2 + (t2 - t3) % 2) / 2;
+  const std::int64_t offset = up / 2 + down / 2 + (up % 2 + down % 2) / 2;
   samples_.push_back({offset, rtt});
   if (samples_.size() > window_) samples_.pop_front();
   ++total_;
@@ -189,8 +202,8 @@ bool HmdReceiveFilter::Accept(const HmdMessage& m, std::int64_t rx_ns,
     return false;
   }
   if (offset.valid() && m.header.type != HmdType::kPong && m.header.type != HmdType::kPing) {
-    const std::int64_t sent_local = m.header.t_send_ns - offset.offset_ns();
-    if (rx_ns - sent_local > stale_after_ns_) {
+    const std::int64_t sent_local = SaturatingSub(m.header.t_send_ns, offset.offset_ns());
+    if (SaturatingSub(rx_ns, sent_local) > stale_after_ns_) {
       ++counters_.stale;
       last_seq_[t] = m.header.seq;  // newer ones are still welcome
       return false;

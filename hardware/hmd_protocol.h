@@ -126,6 +126,9 @@ class HmdReceiveFilter {
   HmdRxCounters counters_;
 };
 
+/// a - b, saturated to the int64 range (peer timestamps are outside input).
+std::int64_t SaturatingSub(std::int64_t a, std::int64_t b);
+
 // --- poses ---------------------------------------------------------------------------------
 Pose ComposePose(const Pose& a, const Pose& b);  ///< a * b
 Pose InversePose(const Pose& a);

@@ -29,6 +29,7 @@ bool ParseI64(std::string_view s, std::int64_t* v) {
     i = 1;
   }
   if (i >= s.size()) return false;
+  if (s.size() - i > 18) return false;  // keeps x inside int64
   for (; i < s.size(); ++i) {
     if (s[i] < '0' || s[i] > '9') return false;
     x = x * 10 + (s[i] - '0');
@@ -198,7 +199,7 @@ void SessionCore::HandleHmd(std::int64_t tick, const RxDatagram& d, SessionOutpu
   } else if (const auto* head = std::get_if<HeadPoseMsg>(&m.body)) {
     hmd_seen_ = true;
     last_head_rx_ns_ = d.rx_ns;
-    const std::int64_t t_local = head->t_sample_ns - offset_.offset_ns();
+    const std::int64_t t_local = SaturatingSub(head->t_sample_ns, offset_.offset_ns());
     const auto q = MeasuredAt(t_local);
     const Pose comp = CompensateHeadPose(head->head, q[0], q[1]);
     out->log.push_back("P " + std::to_string(tick) + " " + std::to_string(t_local) +
@@ -207,7 +208,7 @@ void SessionCore::HandleHmd(std::int64_t tick, const RxDatagram& d, SessionOutpu
         static_cast<std::size_t>(head->last_frame) < frame_shown_ns_.size() &&
         frame_shown_ns_[static_cast<std::size_t>(head->last_frame)] < 0) {
       frame_shown_ns_[static_cast<std::size_t>(head->last_frame)] =
-          head->t_frame_rx_ns - offset_.offset_ns();
+          SaturatingSub(head->t_frame_rx_ns, offset_.offset_ns());
     }
   } else if (std::holds_alternative<ByeMsg>(m.body)) {
     hmd_bye_ = true;
@@ -219,7 +220,7 @@ void SessionCore::Step(std::int64_t tick, const SessionInputs& in, SessionOutput
   const std::int64_t ns_per_tick = 1'000'000'000LL / config_.clock_rate_hz;
   ++steps_;
   last_tick_ = tick;
-  lateness_us_.push_back(static_cast<double>(in.now_ns - in.scheduled_ns) / 1000.0);
+  lateness_us_.push_back(static_cast<double>(SaturatingSub(in.now_ns, in.scheduled_ns)) / 1000.0);
   if (in.stop_request && !stop_request_) {
     stop_request_ = true;
     out->log.push_back("E " + std::to_string(tick) + " stop requested");
@@ -249,7 +250,8 @@ void SessionCore::Step(std::int64_t tick, const SessionInputs& in, SessionOutput
     const std::int64_t period_ns = ns_per_tick * config_.drive_cycle_ticks;
     if (last_drive_now_ns_ >= 0)
       period_jitter_us_.push_back(
-          static_cast<double>(std::abs(in.now_ns - last_drive_now_ns_ - period_ns)) / 1000.0);
+          std::abs(static_cast<double>(SaturatingSub(in.now_ns, last_drive_now_ns_)) -
+                   static_cast<double>(period_ns)) / 1000.0);
     last_drive_now_ns_ = in.now_ns;
     std::array<double, 2> measured{master_.axis(0).position, master_.axis(1).position};
     if (master_.axis(0).last_tpdo_cycle >= 0) {
@@ -259,7 +261,8 @@ void SessionCore::Step(std::int64_t tick, const SessionInputs& in, SessionOutput
         report_.peak_abs_measured[i] = std::max(report_.peak_abs_measured[i], std::abs(measured[i]));
     }
     const bool hmd_ok = !config_.hmd_required ||
-                        (hmd_seen_ && !hmd_bye_ && in.now_ns - last_head_rx_ns_ <= config_.hmd_timeout_ns);
+                        (hmd_seen_ && !hmd_bye_ &&
+                         SaturatingSub(in.now_ns, last_head_rx_ns_) <= config_.hmd_timeout_ns);
     SafetyInputs si;
     si.setpoint = in.setpoint;
     si.measured = measured;
@@ -372,7 +375,7 @@ SessionReport SessionCore::Report() const {
     if (tick % config_.drive_cycle_ticks != 0) continue;
     const auto c = static_cast<std::size_t>(tick / config_.drive_cycle_ticks);
     if (c >= platform_rx_ns_.size() || platform_rx_ns_[c] < 0) continue;
-    const double s = static_cast<double>(frame_shown_ns_[f] - platform_rx_ns_[c]) / 1e6;
+    const double s = static_cast<double>(SaturatingSub(frame_shown_ns_[f], platform_rx_ns_[c])) / 1e6;
     skew.push_back(s);
     abs_skew.push_back(std::abs(s));
   }
@@ -524,6 +527,8 @@ ReplayResult ReplaySessionLog(std::istream& log) {
         if (parts.size() != 4 || !ParseI64(parts[1], &t) || !ParseI64(parts[2], &in.now_ns) ||
             !ParseI64(parts[3], &in.scheduled_ns))
           return fail(number, "bad T record");
+        // Ticks increase, by at most 10^6 at a time (the runner steps every drive cycle).
+        if (t <= tick || t > tick + 1'000'000) return fail(number, "tick out of sequence");
         tick = t;
         break;
       }
