@@ -1,0 +1,74 @@
+// Render benchmark: frames per second of the headless pipeline, encoding included (OSMesa
+// llvmpipe render + H.264 through the ffmpeg writer thread, overlapped), at 1280×720 mono and
+// stereo 2×1440×1600 (Valve Index class), plus render-only figures for the breakdown.
+// Goals on the 2-core CI machine: ≥ 60 fps at 720p, ≥ 20 fps stereo. Figures: docs/render.md.
+
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <filesystem>
+#include <memory>
+
+#include "engine/scene.h"
+#include "render/camera_rig.h"
+#include "render/offscreen_renderer.h"
+#include "render/render_scene.h"
+#include "render/video_writer.h"
+
+namespace pwsim::render {
+namespace {
+
+RenderConfig Config(bool stereo) {
+  RenderConfig config;
+  config.width = 1280;
+  config.height = 720;
+  config.stereo = stereo;
+  config.hmd.eye_width = 1440;
+  config.hmd.eye_height = 1600;
+  return config;
+}
+
+/// Renders the default trial's room while the chair drives and pitches; optionally encodes.
+void RenderFrames(benchmark::State& state, bool stereo, bool encode) {
+  const Scene scene = LoadScene(PWSIM_SOURCE_DIR "/scenes/speed_cushion.yaml");
+  const RenderConfig config = Config(stereo);
+  OffscreenRenderer renderer(BuildRenderScene(scene, config), config);
+  std::unique_ptr<VideoWriter> video;
+  const auto file = std::filesystem::temp_directory_path() / "pwsim_render_bench.mp4";
+  if (encode) {
+    video = std::make_unique<VideoWriter>(VideoConfig{file, renderer.width(), renderer.height(),
+                                                      config.fps, VideoCodec::kH264, config.crf});
+  }
+  // Warm-up (llvmpipe compiles its state variants on first use).
+  for (int k = 0; k < 5; ++k) {
+    VisualSample s;
+    renderer.Render(ChairPose(s), EyePose(s, scene.occupant.head_offset, true), 0);
+  }
+  std::int64_t k = 0;
+  for (auto _ : state) {
+    VisualSample s;
+    s.x = 0.5 + 0.024 * static_cast<double>(k % 250);
+    s.pitch = 0.03 * std::sin(0.2 * static_cast<double>(k));
+    const ImageView frame = renderer.Render(
+        ChairPose(s), EyePose(s, scene.occupant.head_offset, true), static_cast<double>(k) / 50);
+    if (video) video->Push(frame);
+    ++k;
+  }
+  if (video) video->Close();  // the encoder's tail is part of the cost
+  state.counters["fps"] = benchmark::Counter(static_cast<double>(k), benchmark::Counter::kIsRate);
+  state.counters["megapixels"] = renderer.width() * renderer.height() / 1e6;
+  std::filesystem::remove(file);
+}
+
+void BM_Mono720pWithH264(benchmark::State& state) { RenderFrames(state, false, true); }
+void BM_Stereo2x1440x1600WithH264(benchmark::State& state) { RenderFrames(state, true, true); }
+void BM_Mono720pRenderOnly(benchmark::State& state) { RenderFrames(state, false, false); }
+void BM_Stereo2x1440x1600RenderOnly(benchmark::State& state) { RenderFrames(state, true, false); }
+
+BENCHMARK(BM_Mono720pWithH264)->Iterations(300)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Stereo2x1440x1600WithH264)->Iterations(60)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Mono720pRenderOnly)->Iterations(300)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Stereo2x1440x1600RenderOnly)->Iterations(60)->UseRealTime()->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace pwsim::render
