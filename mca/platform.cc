@@ -45,7 +45,7 @@ DofLimits ParseDof(YamlMap& map, Dof dof) {
       map.Fail(steady_key, "a sustained acceleration no larger than the peak " + accel_key,
                std::to_string(limits.steady_accel / to_si));
     }
-    limits.steady_time = map.NumberOr("steady_time_s", 1.0, Range::Positive(60.0, "s"));
+    limits.peak_time = map.NumberOr("peak_time_s", 1.0, Range::Positive(60.0, "s"));
   }
   return limits;
 }
@@ -77,7 +77,7 @@ std::string PlatformSpec::Validate() const {
     if (!(l.steady_accel > 0.0) || (std::isfinite(l.steady_accel) && l.steady_accel > l.accel)) {
       return axis + ": steady accel must be in (0, accel]";
     }
-    if (!(l.steady_time > 0.0)) return axis + ": steady time must be > 0";
+    if (!(l.peak_time > 0.0)) return axis + ": peak time must be > 0";
   }
   if (!any) return "a platform needs at least one degree of freedom";
   return {};
@@ -156,7 +156,10 @@ double StoppableSpeed(double distance, double brake, double dt) {
 LimiterState StepLimiter(const DofLimits& limits, const LimiterState& state, double target,
                          double target_rate, double speed_cap, double dt) {
   const double brake = limits.brake_accel();
-  const double accel = state.heat >= limits.steady_accel ? limits.steady_accel : limits.accel;
+  const double accel = std::isfinite(limits.steady_accel) &&
+                               state.heat >= (limits.accel - limits.steady_accel) * limits.peak_time
+                           ? limits.steady_accel
+                           : limits.accel;
   const double inv_dt = 1.0 / dt;
   const double half_inv_brake = 0.5 / brake;
   // v·dt + v²/(2 brake) <= distance, i.e. v <= StoppableSpeed(distance): checked without sqrt
@@ -203,8 +206,7 @@ LimiterState StepLimiter(const DofLimits& limits, const LimiterState& state, dou
   next.rate = (next.pose - state.pose) * inv_dt;
   next.accel = (next.rate - state.rate) * inv_dt;
   if (std::isfinite(limits.steady_accel)) {
-    const double alpha = dt / (limits.steady_time + dt);
-    next.heat = state.heat + alpha * (std::abs(next.accel) - state.heat);
+    next.heat = std::max(0.0, state.heat + (std::abs(next.accel) - limits.steady_accel) * dt);
   }
   return next;
 }

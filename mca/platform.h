@@ -25,10 +25,11 @@ struct DofLimits {
   double travel{kUnlimited};   ///< |pose| <= travel [m | rad]; kUnlimited for a free axis
   double speed{0.0};           ///< |rate| <= speed [m/s | rad/s], > 0 when present
   double accel{0.0};           ///< |acceleration| <= accel (peak) [m/s^2 | rad/s^2]
-  /// Sustained acceleration [m/s^2 | rad/s^2]: the mean |acceleration| over `steady_time`
-  /// (first-order average) stays at or below it; kUnlimited = no thermal limit.
+  /// Sustained acceleration [m/s^2 | rad/s^2] (the drive's continuous current); kUnlimited =
+  /// none. Above it the axis draws on a budget of (accel - steady_accel)·peak_time, refilled
+  /// below it: the peak acceleration can be held for peak_time, then only steady_accel.
   double steady_accel{kUnlimited};
-  double steady_time{1.0};     ///< [s] averaging time constant of the steady limit
+  double peak_time{1.0};       ///< [s] how long the peak acceleration can be held
   bool operator==(const DofLimits&) const = default;
 
   /// The acceleration the limiter plans braking with: min(accel, steady_accel).
@@ -65,7 +66,7 @@ struct LimiterState {
   double pose{0.0};    ///< p_k [m | rad]
   double rate{0.0};    ///< (p_k - p_(k-1)) / dt
   double accel{0.0};   ///< (rate_k - rate_(k-1)) / dt
-  double heat{0.0};    ///< first-order average of |accel| (steady-limit state)
+  double heat{0.0};    ///< ∫ (|accel| - steady_accel) dt, floored at 0 [m/s | rad/s]
   bool operator==(const LimiterState&) const = default;
 };
 
