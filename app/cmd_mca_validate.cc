@@ -19,6 +19,8 @@
 #include "app/plot_png.h"
 #include "engine/atomic_file.h"
 #include "engine/chair.h"
+#include "engine/effects/effect_catalog.h"
+#include "engine/effects/effect_truth_model.h"
 #include "engine/measured/measured_trial.h"
 #include "engine/number_format.h"
 #include "engine/synth/generate.h"
@@ -109,6 +111,8 @@ const CommandSpec& McaValidateSpec() {
           {"smooth-ms", "MS", "ms", "20", "half-width of the moving average on tracked derivatives"},
           {"min-xcorr", "C", "-", "0.98", "exit status 1 when a cross-correlation is below this"},
           {"seed", "N", "-", "1", "seed of the generated trials (no TRIAL_DIR)"},
+          {"effect", "ID", "-", "", "generated trials: the real chair has this effect, the model not (e.g. cushion_compliance)"},
+          {"strength", "S", "-", "1", "strength of --effect (1 = moderate)"},
       },
       "TRIAL_DIR  measured-trial folders (measured-trials.md); none: generated in-process"};
   return spec;
@@ -144,8 +148,17 @@ int McaValidateCommand(const ParsedArgs& args) {
     generate.loads = {scene.load_kg};
     generate.without_cushion = false;
     generate.seed = static_cast<std::uint64_t>(args.GetInt("seed"));
-    trials = GenerateTrialSet(generate).Measured();
     source = "generated (engine/synth, truth = Table I chair)";
+    if (args.Has("effect")) {
+      const std::optional<effects::EffectId> effect = effects::ParseEffect(args.Get("effect"));
+      if (!effect) {
+        throw std::invalid_argument("option --effect: expected one of " + effects::EffectNameList());
+      }
+      generate.truth_model =
+          effects::MakeEffectTruthModel(*effect, args.GetDouble("strength"), generate.truth);
+      source += " with effect " + args.Get("effect") + " at strength " + args.Get("strength");
+    }
+    trials = GenerateTrialSet(generate).Measured();
   }
 
   nlohmann::ordered_json report;
@@ -159,8 +172,12 @@ int McaValidateCommand(const ParsedArgs& args) {
   std::vector<TrialResult> results;
   for (const MeasuredTrial& trial : trials) {
     const Chair* chair = chair_override ? &*chair_override : &trial.chair;
+    std::string model_chair = chair_override ? "--chair " + args.Get("chair") : "the trial's chair";
     const Chair table_one = MakeTableOneChair();
-    if (!chair->gm || !chair->lm) chair = &table_one;
+    if (!chair->gm || !chair->lm) {
+      chair = &table_one;
+      model_chair = "Table I (the trial's chair has no gm/lm)";
+    }
     TrialResult r = ValidateTrial(trial, *chair, config, scene.occupant.head_offset, dt, smooth_ticks);
     const bool ok = r.heave_xcorr[0] >= min_xcorr && r.pitch_xcorr[0] >= min_xcorr;
     pass = pass && ok;
@@ -169,6 +186,7 @@ int McaValidateCommand(const ParsedArgs& args) {
                                 {"heave_lag_s", r.heave_xcorr[1]},
                                 {"pitch_xcorr", r.pitch_xcorr[0]},
                                 {"pitch_lag_s", r.pitch_xcorr[1]},
+                                {"model_chair", model_chair},
                                 {"pass", ok}});
     TrialTable table(r.t.size());
     table.Add("t_s", r.t);
