@@ -1,6 +1,8 @@
 #include "engine/effects/effect_catalog.h"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 
 #include "engine/check.h"
 
@@ -70,8 +72,8 @@ const std::vector<ParamSpec>& EffectParameters(EffectId id) {
   static const std::array<std::vector<ParamSpec>, kEffectCount> specs{{
       {{"caster_radius_m", 0.1, 0.0, 0.35, {0.04, 0.12}},
        {"drive_radius_m", 0.1, 0.0, 0.40, {0.04, 0.18}}},
-      {{"caster_tyre_period_s", 0.1, 0.045, 0.5, {0.06, 0.15}},
-       {"drive_tyre_period_s", 0.1, 0.045, 0.5, {0.05, 0.1}},
+      {{"caster_tyre_period_s", 0.1, 0.045, 1.0, {0.06, 0.15, 0.4}},
+       {"drive_tyre_period_s", 0.1, 0.045, 1.0, {0.05, 0.15}},
        {"tyre_damping_ratio", 0.3, 0.05, 1.0, {0.3}}},
       {{"cushion_loss_per_kn", 0.2, 0.0, 1.2, {0.1, 0.4}}},
       {{"stiffness_coupling", 0.2, -0.8, 0.8, {-0.2, 0.2}},
@@ -153,9 +155,10 @@ EffectParams TruthEffect(EffectId id, double strength, const Chair& chair) {
       fx.drive_radius = s * MeanRadius(chair, false);
       break;
     case EffectId::kTyreCompliance:
-      fx.caster_tyre_period = std::max(0.045, 0.12 * s);  // 8.3 Hz at s = 1, 3.3 Hz at s = 2.5
-      fx.drive_tyre_period = std::max(0.045, 0.06 * s);   // 17 Hz at s = 1
-      fx.tyre_damping = 0.25;
+      // Casters 5 Hz and drive wheels 12.5 Hz at s = 1; softer and less damped above.
+      fx.caster_tyre_period = std::clamp(0.2 * s, 0.045, 1.0);
+      fx.drive_tyre_period = std::clamp(0.08 * s, 0.045, 1.0);
+      fx.tyre_damping = std::max(0.05, 0.25 / std::pow(std::max(1.0, s), 1.75));
       break;
     case EffectId::kCushionCompliance:
       fx.cushion_loss_per_kn = 0.12 * s;
@@ -169,8 +172,8 @@ EffectParams TruthEffect(EffectId id, double strength, const Chair& chair) {
       fx.pitch_hardening = 1.0 * s;
       break;
     case EffectId::kSuspensionFriction:
-      fx.heave_friction = 80.0 * s;
-      fx.pitch_friction = 20.0 * s;
+      fx.heave_friction = 150.0 * s;
+      fx.pitch_friction = 40.0 * s;
       break;
     case EffectId::kInertialPitch:
       fx.cm_lever = chair.cm_height * s;
