@@ -2,12 +2,14 @@
 // measured-trials.md (engine/synth/generate.h), from a truth chair and the paper's protocol.
 
 #include <filesystem>
+#include <map>
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
 
 #include "app/commands.h"
 #include "engine/chair.h"
+#include "engine/effects/effect_truth_model.h"
 #include "engine/synth/generate.h"
 
 namespace pwsim::app {
@@ -60,6 +62,9 @@ const CommandSpec& GenerateSpec() {
           {"body", "NAME", "-", "wheelchair", "6D body name in QTM files"},
           {"prefix", "TEXT", "-", "", "prefix of every trial folder name"},
           {"seed", "N", "-", "1", "random seed (same seed, same files)"},
+          {"effect", "ID", "-", "", "hidden effect in the truth (an effect id of measured-trials.md)"},
+          {"strength", "S", "-", "1", "strength of the hidden effect (1 = moderate, 0 = off)"},
+          {"effect-params", "LIST", "-", "", "NAME=VALUE,... overrides of the hidden effect's parameters"},
       },
       ""};
   return spec;
@@ -100,6 +105,27 @@ int GenerateCommand(const ParsedArgs& args) {
   const long long seed = args.GetInt("seed");
   if (seed < 0) throw std::invalid_argument("option --seed: expected an integer >= 0");
   config.seed = static_cast<std::uint64_t>(seed);
+  if (args.Has("effect")) {  // hidden effect (diagnosis tests): the extended model as truth
+    const auto effect = effects::ParseEffect(args.Get("effect"));
+    if (!effect) {
+      throw std::invalid_argument("option --effect: expected one of " + effects::EffectNameList() +
+                                  ", got '" + args.Get("effect") + "'");
+    }
+    const double strength = args.GetDouble("strength");
+    if (!(strength >= 0.0 && strength <= 10.0)) {
+      throw std::invalid_argument("option --strength: expected a number in [0, 10]");
+    }
+    std::map<std::string, double> overrides;
+    std::stringstream items(args.Get("effect-params"));
+    for (std::string item; std::getline(items, item, ',');) {
+      const std::size_t eq = item.find('=');
+      if (eq == std::string::npos) {
+        throw std::invalid_argument("option --effect-params: expected NAME=VALUE, got '" + item + "'");
+      }
+      overrides[item.substr(0, eq)] = std::stod(item.substr(eq + 1));
+    }
+    config.truth_model = effects::MakeEffectTruthModel(*effect, strength, config.truth, overrides);
+  }
 
   const TrialSet set = GenerateTrialSet(config);
   const std::filesystem::path out = args.Get("out");
