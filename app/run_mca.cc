@@ -69,11 +69,10 @@ void AddMotionCueing(const Scene& scene, const std::vector<ChairSample>& samples
     table.Add(std::string("head_plat_w_") + kAxis[i] + "_radps",
               Column(n, [&](std::size_t k) { return trace.delivered[k].w[i]; }));
   }
-  std::vector<mca::HeadPose> eye(n);
-  for (std::size_t k = 0; k < n; ++k) eye[k] = mca::HeadPoseFromChair(samples[k], scene.occupant.head_offset);
-  table.Add("vis_x_m", Column(n, [&](std::size_t k) { return eye[k].x; }));
-  table.Add("vis_z_m", Column(n, [&](std::size_t k) { return eye[k].z; }));
-  table.Add("vis_pitch_rad", Column(n, [&](std::size_t k) { return eye[k].pitch; }));
+  // the vehicle motion to show: the chair pose X_WV (render/ puts the eyes at head_offset on it)
+  table.Add("vis_x_m", Column(n, [&](std::size_t k) { return samples[k].drive.x; }));
+  table.Add("vis_z_m", Column(n, [&](std::size_t k) { return samples[k].lm.z; }));
+  table.Add("vis_pitch_rad", Column(n, [&](std::size_t k) { return samples[k].lm.pitch; }));
   table.Add("vis_tilt_pitch_rad", Column(n, [&](std::size_t k) { return trace.commands[k].tilt_pitch; }));
   table.Add("vis_tilt_roll_rad", Column(n, [&](std::size_t k) { return trace.commands[k].tilt_roll; }));
   for (const char* who : {"true", "plat"}) {

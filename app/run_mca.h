@@ -5,7 +5,9 @@
 //   head_fs_{x,y,z}_mps2, head_w_{x,y,z}_radps         vehicle motion at the head (MCA input)
 //   plat_<dof>_<m|rad>                                  platform pose setpoint per present axis
 //   head_plat_fs_{x,y,z}_mps2, head_plat_w_{x,y,z}_radps  what the platform delivers at the head
-//   vis_x_m, vis_z_m, vis_pitch_rad                     vehicle (eye) pose the visuals show
+//   vis_x_m, vis_z_m, vis_pitch_rad                     vehicle pose the visuals show: the chair
+//                                                       pose X_WV (O_V and θ); the eyes sit at
+//                                                       occupant.head_offset_m on it
 //   vis_tilt_pitch_rad, vis_tilt_roll_rad               tilt-coordination angle NOT to show
 //   vest_{true,plat}_oto_{x,y,z}_mps2, vest_{true,plat}_scc_{x,y,z}_radps
 //   mca_fault                                           1 on ticks with non-finite input
