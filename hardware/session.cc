@@ -78,6 +78,18 @@ std::string SessionConfig::ToHeader() const {
     << " run_ticks=" << run_ticks << " max_stop_ticks=" << max_stop_ticks
     << " hmd_timeout_ns=" << hmd_timeout_ns << " hmd_required=" << (hmd_required ? 1 : 0)
     << " session_id=" << session_id;
+  // Everything else the core's behaviour depends on, so a replay rebuilds the same core.
+  s << " safety=" << F(safety.dt);
+  for (const auto* set : {&safety.axes, &safety.soft_stop})
+    for (const AxisLimits& a : *set)
+      s << "," << F(a.workspace) << "," << F(a.hard_limit) << "," << F(a.velocity) << ","
+        << F(a.accel) << "," << F(a.jerk);
+  s << "," << safety.stale_setpoint_cycles << "," << F(safety.neutral[0]) << ","
+    << F(safety.neutral[1]) << "," << F(safety.park_position_tolerance);
+  s << " master=" << master.heartbeat_period_cycles << "," << master.heartbeat_timeout_cycles
+    << "," << master.tpdo_timeout_cycles << "," << master.boot_timeout_cycles << ","
+    << static_cast<int>(master.master_node);
+  for (const AxisConfig& a : master.axes) s << "," << static_cast<int>(a.node) << "," << F(a.counts_per_unit);
   return s.str();
 }
 
@@ -85,9 +97,25 @@ std::optional<SessionConfig> SessionConfig::FromHeader(const std::string& header
                                                        std::string* error) {
   SessionConfig c;
   std::map<std::string, std::int64_t> kv;
+  std::vector<double> safety_values;
+  std::vector<double> master_values;
   for (const std::string& w : Split(header)) {
     const std::size_t eq = w.find('=');
     if (eq == std::string::npos) continue;
+    if (w.compare(0, eq, "safety") == 0 || w.compare(0, eq, "master") == 0) {
+      auto& values = w[0] == 's' ? safety_values : master_values;
+      std::string item;
+      std::istringstream list(w.substr(eq + 1));
+      while (std::getline(list, item, ',')) {
+        double v = 0.0;
+        if (!ParseF64(item, &v) || !std::isfinite(v)) {
+          *error = "bad header value: " + w;
+          return std::nullopt;
+        }
+        values.push_back(v);
+      }
+      continue;
+    }
     std::int64_t v = 0;
     if (!ParseI64(w.substr(eq + 1), &v)) {
       *error = "bad header value: " + w;
@@ -127,6 +155,45 @@ std::optional<SessionConfig> SessionConfig::FromHeader(const std::string& header
   get("session_id", &v);
   c.session_id = static_cast<std::uint32_t>(v);
   c.safety.dt = static_cast<double>(c.drive_cycle_ticks) / c.clock_rate_hz;
+  if (safety_values.size() != 25 || master_values.size() != 9) {
+    *error = "log header lacks the safety= (25 values) or master= (9 values) configuration";
+    return std::nullopt;
+  }
+  std::size_t k = 0;
+  c.safety.dt = safety_values[k++];
+  for (auto* set : {&c.safety.axes, &c.safety.soft_stop})
+    for (AxisLimits& a : *set) {
+      a.workspace = safety_values[k++];
+      a.hard_limit = safety_values[k++];
+      a.velocity = safety_values[k++];
+      a.accel = safety_values[k++];
+      a.jerk = safety_values[k++];
+    }
+  if (!(safety_values[k] >= 1 && safety_values[k] <= 1e6)) {
+    *error = "safety= stale setpoint cycles must be in 1..10^6";
+    return std::nullopt;
+  }
+  c.safety.stale_setpoint_cycles = static_cast<int>(safety_values[k++]);
+  c.safety.neutral = {safety_values[k], safety_values[k + 1]};
+  c.safety.park_position_tolerance = safety_values[k + 2];
+  auto in_range = [](double x, double lo, double hi) { return x >= lo && x <= hi && x == std::floor(x); };
+  for (std::size_t i = 0; i < 4; ++i)
+    if (!in_range(master_values[i], 1, 1e6)) {
+      *error = "master= timing values must be whole numbers in 1..10^6";
+      return std::nullopt;
+    }
+  if (!in_range(master_values[4], 1, 127) || !in_range(master_values[5], 1, 127) ||
+      !in_range(master_values[7], 1, 127) || !(master_values[6] > 0) || !(master_values[8] > 0)) {
+    *error = "master= node ids must be 1..127 and counts per unit > 0";
+    return std::nullopt;
+  }
+  c.master.heartbeat_period_cycles = static_cast<int>(master_values[0]);
+  c.master.heartbeat_timeout_cycles = static_cast<int>(master_values[1]);
+  c.master.tpdo_timeout_cycles = static_cast<int>(master_values[2]);
+  c.master.boot_timeout_cycles = static_cast<int>(master_values[3]);
+  c.master.master_node = static_cast<std::uint8_t>(master_values[4]);
+  c.master.axes[0] = {static_cast<std::uint8_t>(master_values[5]), master_values[6]};
+  c.master.axes[1] = {static_cast<std::uint8_t>(master_values[7]), master_values[8]};
   const std::string bad = c.Validate();
   if (!bad.empty()) {
     *error = bad;

@@ -21,14 +21,16 @@ Pose CameraPose(double x, double z, double pitch) {
 SessionStreams BuildSessionStreams(const Scene& scene, const SessionConfig& config,
                                    std::string* description) {
   mca::McaConfig mca_config = mca::LoadMcaConfig(scene);
-  if (scene.section("platform") == nullptr) {
+  // The hardware link drives the 2-DoF rail + yaw platform of seed 001. A scene platform with
+  // both axes is used as given; otherwise (e.g. the 4-DoF PW platform) the MCA is re-targeted
+  // to the car platform, and the description says so.
+  std::string note;
+  if (scene.section("platform") == nullptr || !mca_config.platform.Has(mca::Dof::kSurge) ||
+      !mca_config.platform.Has(mca::Dof::kYaw)) {
+    if (scene.section("platform") != nullptr)
+      note = " (scene platform '" + mca_config.platform.name + "' lacks surge or yaw: replaced)";
     mca_config.platform = mca::MakeCar2DofPlatform();
-    mca_config.platform_source = "built-in car 2-DoF (seed 001)";
-  }
-  if (!mca_config.platform.Has(mca::Dof::kSurge) || !mca_config.platform.Has(mca::Dof::kYaw)) {
-    throw std::invalid_argument("platform '" + mca_config.platform.name +
-                                "' lacks surge or yaw: the hardware link drives the 2-DoF "
-                                "rail + yaw platform of seed 001");
+    mca_config.platform_source = "built-in car 2-DoF (seed 001)" + note;
   }
   if (scene.clock.rate_hz != config.clock_rate_hz) {
     throw std::invalid_argument("scene clock " + std::to_string(scene.clock.rate_hz) +

@@ -12,7 +12,8 @@
 
 namespace pwsim::hw {
 
-/// @throws InputError (scene sections) or std::invalid_argument (a platform without rail/yaw).
+/// A scene platform without surge and yaw is replaced by the car 2-DoF platform (noted in
+/// `description`). @throws InputError (scene sections), std::invalid_argument (clock mismatch).
 SessionStreams BuildSessionStreams(const Scene& scene, const SessionConfig& config,
                                    std::string* description);
 
