@@ -34,6 +34,7 @@ struct VideoConfig {
   int fps{50};     ///< [frames/s]
   VideoCodec codec{VideoCodec::kH264};
   int crf{20};     ///< H.264 quality (lower is better)
+  std::string preset{"ultrafast"};  ///< x264 speed preset (ultrafast … veryslow)
   int queue_frames{3};  ///< frames buffered between the renderer and the encoder
 };
 
@@ -69,6 +70,8 @@ class VideoWriter final {
   std::condition_variable changed_;
   std::deque<std::vector<std::uint8_t>> queue_;
   std::vector<std::vector<std::uint8_t>> spare_;
+  bool yuv420_{false};                   ///< convert to I420 before the pipe
+  std::vector<std::uint8_t> yuv_bytes_;  ///< writer thread's conversion buffer
   bool closing_{false};
   bool write_failed_{false};
   bool closed_{false};
