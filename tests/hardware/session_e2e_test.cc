@@ -174,5 +174,20 @@ TEST(SessionEndToEnd, PlatformVanishingLeadsToASoftStopAndACleanExit) {
   EXPECT_EQ(r.report["final_state"], "parked");
 }
 
+TEST(SessionEndToEnd, SocketCanOnAKernelWithoutCanFailsWithAClearMessage) {
+  if (!fs::exists(kPwsim)) GTEST_SKIP() << kPwsim << " not built";
+  E2e e("socketcan");
+  const pid_t s = Spawn({kPwsim, "session", "--can", "socketcan:vcan0", "--hmd", "none", "--duration", "0.1",
+                         "--out", (e.dir / "out").string()},
+                        e.dir / "session.out");
+  const int rc = Wait(s, 30.0);
+  const std::string out = ReadText(e.dir / "session.out");
+  if (out.find("EAFNOSUPPORT") == std::string::npos) {
+    GTEST_SKIP() << "this kernel has AF_CAN; the session said: " << out;
+  }
+  EXPECT_EQ(rc, 1) << out;
+  EXPECT_NE(out.find("udp:HOST:PORT"), std::string::npos) << out;
+}
+
 }  // namespace
 }  // namespace pwsim::hw
