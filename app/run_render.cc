@@ -91,16 +91,30 @@ class VisualChannel {
   const std::vector<double>* tilt_roll_{nullptr};
 };
 
-/// The vestibular pitch-rate cue to compare with: an MCA `vest_*pitch*rate*` column when there
-/// is one, else the chair's true pitch rate.
-std::string VestibularPitchRateColumn(const TrialTable& table) {
-  for (const std::string& name : table.names()) {
-    if (name.rfind("vest_", 0) == 0 && name.find("pitch") != std::string::npos &&
-        (name.find("rate") != std::string::npos || name.find("radps") != std::string::npos)) {
-      return name;
-    }
+/// A vestibular pitch-rate cue to compare with: `sign` × column is a nose-up rate [rad/s].
+struct VestibularCue {
+  std::string key;     ///< summary key suffix
+  std::string column;  ///< trial.csv column
+  double sign{1.0};
+  std::string label;
+};
+
+/// The MCA's semicircular-canal outputs about y (y points left, so a nose-up pitch rate is
+/// −w_y): felt on the platform and felt in the real chair. Without them, the chair's pitch rate.
+std::vector<VestibularCue> VestibularCues(const TrialTable& table) {
+  std::vector<VestibularCue> cues;
+  if (table.Has("vest_plat_scc_y_radps")) {
+    cues.push_back({"vestibular_platform", "vest_plat_scc_y_radps", -1.0,
+                    "-vest_plat_scc_y_radps (canal cue felt on the platform, nose-up)"});
   }
-  return "pitch_rate_radps";
+  if (table.Has("vest_true_scc_y_radps")) {
+    cues.push_back({"vestibular_true", "vest_true_scc_y_radps", -1.0,
+                    "-vest_true_scc_y_radps (canal cue of the real chair, nose-up)"});
+  }
+  if (cues.empty()) {
+    cues.push_back({"chair", "pitch_rate_radps", 1.0, "pitch_rate_radps (chair; no vest_ columns)"});
+  }
+  return cues;
 }
 
 /// A terminal progress bar on stderr (redrawn in place on a terminal, sparse lines otherwise).
@@ -264,18 +278,20 @@ void RenderTrial(const Scene& scene, const TrialTable& table, const ParsedArgs& 
   }
 
   // Pixel check: motion between frames k-1 and k belongs to the mid time (k - 1/2)/fps; the
-  // references are the pose log differenced the same way and the vestibular cue at that time.
-  const std::string vest_column = VestibularPitchRateColumn(table);
-  const std::vector<double>& vest = table.Column(vest_column);
+  // references are the pose log differenced the same way and the vestibular cues at that time.
+  const std::vector<VestibularCue> cues = VestibularCues(table);
   std::vector<double> t_mid(frame_count, kNaN), pose_pitch_rate(frame_count, kNaN);
-  std::vector<double> pose_vertical_rate(frame_count, kNaN), vest_pitch_rate(frame_count, kNaN);
+  std::vector<double> pose_vertical_rate(frame_count, kNaN);
+  std::vector<std::vector<double>> cue_rate(cues.size(), std::vector<double>(frame_count, kNaN));
   for (std::size_t k = 1; k < frame_count; ++k) {
     t_mid[k] = (time[k] + time[k - 1]) / 2.0;
     pose_pitch_rate[k] = (cam_pitch[k] - cam_pitch[k - 1]) / frame_dt;
     pose_vertical_rate[k] = (cam_z[k] - cam_z[k - 1]) / frame_dt;
     const std::size_t mid_row = k * static_cast<std::size_t>(ticks_per_frame) -
                                 static_cast<std::size_t>(ticks_per_frame) / 2;
-    vest_pitch_rate[k] = vest[mid_row];
+    for (std::size_t c = 0; c < cues.size(); ++c) {
+      cue_rate[c][k] = cues[c].sign * table.Column(cues[c].column)[mid_row];
+    }
   }
   t_mid[0] = time[0];
   TrialTable check(frame_count);
@@ -283,37 +299,46 @@ void RenderTrial(const Scene& scene, const TrialTable& table, const ParsedArgs& 
   check.Add("t_mid_s", t_mid);
   check.Add("est_pitch_rate_radps", est_pitch_rate);
   check.Add("pose_pitch_rate_radps", pose_pitch_rate);
-  check.Add("vest_pitch_rate_radps", vest_pitch_rate);
+  for (std::size_t c = 0; c < cues.size(); ++c) {
+    check.Add(cues[c].key + "_pitch_rate_radps", cue_rate[c]);
+  }
   check.Add("est_vertical_rate_mps", est_vertical_rate);
   check.Add("pose_vertical_rate_mps", pose_vertical_rate);
   check.WriteCsv(out_dir / "visual_check.csv");
 
   const int max_lag = std::max(2, config.fps / 2);  // ±0.5 s
   const auto vs_pose = render::CompareSeries(est_pitch_rate, pose_pitch_rate, frame_dt, max_lag);
-  const auto vs_vest = render::CompareSeries(est_pitch_rate, vest_pitch_rate, frame_dt, max_lag);
   const auto vertical =
       render::CompareSeries(est_vertical_rate, pose_vertical_rate, frame_dt, max_lag);
-  const auto pose_vs_vest =
-      render::CompareSeries(pose_pitch_rate, vest_pitch_rate, frame_dt, max_lag);
   int valid = 0;
   for (double v : est_pitch_rate) valid += std::isfinite(v) ? 1 : 0;
+  std::vector<render::PlotSeries> pitch_series{
+      {"pixels (optical flow, plane fit)", est_pitch_rate, 0xd62728},
+      {"camera pose log", pose_pitch_rate, 0x1f77b4}};
+  const unsigned cue_colors[] = {0x2ca02c, 0x9467bd, 0x8c564b};
+  for (std::size_t c = 0; c < cues.size(); ++c) {
+    pitch_series.push_back({cues[c].label, cue_rate[c], cue_colors[c % 3]});
+  }
   render::WritePlotPng(
       out_dir / "visual_check.png", t_mid,
-      {{"Pitch rate: from the pixels vs camera pose log vs vestibular cue", "rad/s",
-        {{"pixels (optical flow + homography)", est_pitch_rate, 0xd62728},
-         {"camera pose log", pose_pitch_rate, 0x1f77b4},
-         {vest_column, vest_pitch_rate, 0x2ca02c}}},
+      {{"Pitch rate (nose-up): pixels vs camera pose log vs vestibular cues", "rad/s",
+        pitch_series},
        {"Vertical velocity of the eye: pixels vs pose log", "m/s",
-        {{"pixels (floor homography)", est_vertical_rate, 0xd62728},
+        {{"pixels (floor and ceiling plane fit)", est_vertical_rate, 0xd62728},
          {"camera pose log", pose_vertical_rate, 0x1f77b4}}}});
-  summary["visual_check"] = {
+  nlohmann::ordered_json check_json{
       {"csv", "visual_check.csv"},
       {"plot", "visual_check.png"},
       {"frames_estimated", valid},
       {"pitch_rate_vs_pose", ComparisonJson(vs_pose, "cam_pitch_rad (frames.csv), differenced")},
-      {"pitch_rate_vs_vestibular", ComparisonJson(vs_vest, vest_column)},
-      {"pose_pitch_rate_vs_vestibular", ComparisonJson(pose_vs_vest, vest_column)},
       {"vertical_rate_vs_pose", ComparisonJson(vertical, "cam_z_m (frames.csv), differenced")}};
+  for (std::size_t c = 0; c < cues.size(); ++c) {
+    check_json["pitch_rate_vs_" + cues[c].key] = ComparisonJson(
+        render::CompareSeries(est_pitch_rate, cue_rate[c], frame_dt, max_lag), cues[c].label);
+    check_json["pose_pitch_rate_vs_" + cues[c].key] = ComparisonJson(
+        render::CompareSeries(pose_pitch_rate, cue_rate[c], frame_dt, max_lag), cues[c].label);
+  }
+  summary["visual_check"] = check_json;
 }
 
 }  // namespace pwsim::app

@@ -75,9 +75,9 @@ void WritePlotPng(const std::filesystem::path& file, const std::vector<double>& 
                  Bgr(series.color), 2, cv::LINE_AA);
       }
       const int ly = y0 + top + 16 + 16 * static_cast<int>(s);
-      cv::line(image, {left + plot_w - 230, ly - 4}, {left + plot_w - 205, ly - 4},
+      cv::line(image, {left + plot_w - 360, ly - 4}, {left + plot_w - 335, ly - 4},
                Bgr(series.color), 2);
-      cv::putText(image, series.label, {left + plot_w - 200, ly}, cv::FONT_HERSHEY_SIMPLEX, 0.4,
+      cv::putText(image, series.label, {left + plot_w - 330, ly}, cv::FONT_HERSHEY_SIMPLEX, 0.4,
                   ink, 1, cv::LINE_AA);
     }
   }
