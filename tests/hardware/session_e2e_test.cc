@@ -11,6 +11,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -147,6 +148,26 @@ TEST(SessionEndToEnd, ThreeProcessesOnLoopbackStayInStepAndInsideTheLimits) {
   EXPECT_NEAR(r.report["clock_offset_ns"].get<double>(), 25e6, 2e6);  // hmd-peer runs 25 ms ahead
   // Parked at neutral on the drives' side too.
   EXPECT_NEAR(r.platform_report["final_position"][1].get<double>(), 0.0, 2e-3);
+  // Motion compensation: the headset reports its head in the room, carried by the platform;
+  // with the measured platform pose removed, the seated head stays put (x within 1 cm).
+  std::ifstream log(e.dir / "out" / "session.log");
+  std::string line;
+  double raw_x = 0.0, comp_x = 0.0;
+  int poses = 0;
+  while (std::getline(log, line)) {
+    if (line.rfind("P ", 0) != 0) continue;
+    std::istringstream in(line);
+    std::string kind;
+    double v[16];
+    in >> kind;
+    for (double& x : v) in >> x;
+    raw_x = std::max(raw_x, std::abs(v[2]));
+    comp_x = std::max(comp_x, std::abs(v[9]));
+    ++poses;
+  }
+  EXPECT_GT(poses, 100);
+  EXPECT_GT(raw_x, 0.02);
+  EXPECT_LT(comp_x, 0.01);
   // The log replays bit for bit.
   const pid_t rp = Spawn({kPwsim, "replay", (e.dir / "out" / "session.log").string()}, e.dir / "replay.out");
   EXPECT_EQ(Wait(rp, 20.0), 0) << ReadText(e.dir / "replay.out");
