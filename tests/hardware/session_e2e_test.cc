@@ -25,10 +25,12 @@ namespace fs = std::filesystem;
 
 const std::string kPwsim = std::string(PWSIM_BINARY_DIR) + "/pwsim";
 
-int FreeUdpPort() {
-  UdpSocket s;
-  if (!s.Bind(*ParseUdpAddress("127.0.0.1:0")).empty()) return 0;
-  return s.local_port();
+/// Two distinct free UDP ports (both probed while bound, so they differ).
+std::pair<int, int> FreeUdpPorts() {
+  UdpSocket a, b;
+  if (!a.Bind(*ParseUdpAddress("127.0.0.1:0")).empty() || !b.Bind(*ParseUdpAddress("127.0.0.1:0")).empty())
+    return {0, 0};
+  return {a.local_port(), b.local_port()};
 }
 
 pid_t Spawn(const std::vector<std::string>& args, const fs::path& out) {
@@ -73,8 +75,9 @@ std::string ReadText(const fs::path& file) {
 
 struct E2e {
   fs::path dir;
-  int can_port = FreeUdpPort();
-  int hmd_port = FreeUdpPort();
+  std::pair<int, int> ports = FreeUdpPorts();
+  int can_port = ports.first;
+  int hmd_port = ports.second;
   explicit E2e(const std::string& name)
       : dir(fs::temp_directory_path() / ("pwsim_e2e_" + name + "_" + std::to_string(::getpid()))) {
     fs::remove_all(dir);
