@@ -158,9 +158,10 @@ int SessionCommand(const ParsedArgs& args) {
             << " ms, jitter (sd) " << report.skew_ms.stddev << " ms over " << report.skew_ms.n << " frames\n"
             << "  limits " << (report.limits_ok ? "respected" : "EXCEEDED") << "; "
             << (out_dir / "session.log").string() << ", " << (out_dir / "report.json").string() << "\n";
-  const bool clean = report.limits_ok && (report.final_state == "parked" || report.final_state == "fault") &&
-                     report.parked_tick >= 0;
-  return clean ? 0 : 3;
+  // 0: parked at neutral; 4: a latched fault (at rest, drives disabled); 3: anything else
+  // (never started, timed out waiting to park, or a limit exceeded).
+  if (!report.limits_ok || report.parked_tick < 0) return 3;
+  return report.final_state == "parked" ? 0 : 4;
 }
 
 }  // namespace pwsim::app

@@ -198,6 +198,18 @@ TEST(SessionEndToEnd, PlatformVanishingLeadsToASoftStopAndACleanExit) {
   EXPECT_EQ(r.report["final_state"], "parked");
 }
 
+TEST(SessionEndToEnd, DriveFaultOverTheLinkLatchesAFaultAndStopsAtRest) {
+  if (!fs::exists(kPwsim)) GTEST_SKIP() << kPwsim << " not built";
+  E2e e("drive_fault");
+  const E2e::Result r = e.Run({"--fault-at", "1.2"}, {}, 5.0);
+  ASSERT_EQ(r.session, 4) << e.Outputs();  // 4 = latched fault, at rest
+  ExpectWithinLimits(r);
+  EXPECT_EQ(r.report["stop_reason"], "drive fault") << e.Outputs();
+  EXPECT_EQ(r.report["final_state"], "fault");
+  EXPECT_EQ(r.platform_report["rail_state"], "fault");
+  EXPECT_LT(std::abs(r.platform_report["final_velocity"][1].get<double>()), 1e-3);
+}
+
 TEST(SessionEndToEnd, SocketCanOnAKernelWithoutCanFailsWithAClearMessage) {
   if (!fs::exists(kPwsim)) GTEST_SKIP() << kPwsim << " not built";
   E2e e("socketcan");
