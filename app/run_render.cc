@@ -112,7 +112,8 @@ std::vector<VestibularCue> VestibularCues(const TrialTable& table) {
                     "-vest_true_scc_y_radps (canal cue of the real chair, nose-up)"});
   }
   if (cues.empty()) {
-    cues.push_back({"chair", "pitch_rate_radps", 1.0, "pitch_rate_radps (chair; no vest_ columns)"});
+    cues.push_back(
+        {"chair", "pitch_rate_radps", 1.0, "pitch_rate_radps (chair; no vest_ columns)"});
   }
   return cues;
 }
@@ -142,8 +143,9 @@ class ProgressBar {
 };
 
 nlohmann::ordered_json ComparisonJson(const render::SeriesComparison& c, const std::string& ref) {
-  return {{"reference", ref},       {"gain", c.gain},           {"lag_s", c.lag},
-          {"correlation", c.correlation}, {"rms_error", c.rms_error}, {"samples", c.samples}};
+  return {{"reference", ref},         {"gain", c.gain},
+          {"lag_s", c.lag},           {"correlation", c.correlation},
+          {"rms_error", c.rms_error}, {"samples", c.samples}};
 }
 
 }  // namespace
@@ -157,7 +159,8 @@ void RenderTrial(const Scene& scene, const TrialTable& table, const ParsedArgs& 
   }
   const bool video = true;
   const int ticks_per_frame = config.TicksPerFrame(scene.clock);
-  const std::size_t frame_count = (table.rows() - 1) / static_cast<std::size_t>(ticks_per_frame) + 1;
+  const std::size_t frame_count =
+      (table.rows() - 1) / static_cast<std::size_t>(ticks_per_frame) + 1;
   const double frame_dt = 1.0 / config.fps;
   const VisualChannel channel(table);
   const auto& head = scene.occupant.head_offset;
@@ -215,7 +218,8 @@ void RenderTrial(const Scene& scene, const TrialTable& table, const ParsedArgs& 
       render::WritePng(out_dir / "frames" / name, frame);
     }
     if (estimator) {
-      const render::FrameMotion motion = estimator->Push(frame, cam_z[k], scene.room.height - cam_z[k]);
+      const render::FrameMotion motion =
+          estimator->Push(frame, cam_z[k], scene.room.height - cam_z[k]);
       if (motion.valid) {
         est_pitch_rate[k] = motion.pitch_delta / frame_dt;
         est_vertical_rate[k] = motion.vertical_delta / frame_dt;
@@ -227,7 +231,8 @@ void RenderTrial(const Scene& scene, const TrialTable& table, const ParsedArgs& 
   }
   if (h264) h264->Close();
   if (lossless) lossless->Close();
-  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   TrialTable frames(frame_count);
   frames.Add("frame", frame_index);
@@ -319,13 +324,13 @@ void RenderTrial(const Scene& scene, const TrialTable& table, const ParsedArgs& 
   for (std::size_t c = 0; c < cues.size(); ++c) {
     pitch_series.push_back({cues[c].label, cue_rate[c], cue_colors[c % 3]});
   }
-  render::WritePlotPng(
-      out_dir / "visual_check.png", t_mid,
-      {{"Pitch rate (nose-up): pixels vs camera pose log vs vestibular cues", "rad/s",
-        pitch_series},
-       {"Vertical velocity of the eye: pixels vs pose log", "m/s",
-        {{"pixels (floor and ceiling plane fit)", est_vertical_rate, 0xd62728},
-         {"camera pose log", pose_vertical_rate, 0x1f77b4}}}});
+  render::WritePlotPng(out_dir / "visual_check.png", t_mid,
+                       {{"Pitch rate (nose-up): pixels vs camera pose log vs vestibular cues",
+                         "rad/s", pitch_series},
+                        {"Vertical velocity of the eye: pixels vs pose log",
+                         "m/s",
+                         {{"pixels (floor and ceiling plane fit)", est_vertical_rate, 0xd62728},
+                          {"camera pose log", pose_vertical_rate, 0x1f77b4}}}});
   nlohmann::ordered_json check_json{
       {"csv", "visual_check.csv"},
       {"plot", "visual_check.png"},

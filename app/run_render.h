@@ -5,9 +5,8 @@
 // DIR/frames/*.png, the pixel check DIR/visual_check.{csv,png}, and summary["render"] and
 // summary["visual_check"]. Frame k is tick k·N, N = clock rate / fps.
 
-#include <nlohmann/json.hpp>
-
 #include <filesystem>
+#include <nlohmann/json.hpp>
 
 #include "app/cli.h"
 #include "engine/scene.h"

@@ -86,9 +86,15 @@ void BM_Mono720pRenderOnly(benchmark::State& state) { RenderFrames(state, false,
 void BM_Stereo2x1440x1600RenderOnly(benchmark::State& state) { RenderFrames(state, true, false); }
 
 BENCHMARK(BM_Mono720pWithH264)->Iterations(300)->UseRealTime()->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_Stereo2x1440x1600WithH264)->Iterations(60)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Stereo2x1440x1600WithH264)
+    ->Iterations(60)
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Mono720pRenderOnly)->Iterations(300)->UseRealTime()->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_Stereo2x1440x1600RenderOnly)->Iterations(60)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Stereo2x1440x1600RenderOnly)
+    ->Iterations(60)
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace pwsim::render

@@ -8,7 +8,6 @@
 //   Eigen::Isometry3d X_WC = EyePose(s, head_offset, /*remove_tilt=*/true, Eye::kCentre, ipd);
 
 #include <Eigen/Geometry>
-
 #include <array>
 
 namespace pwsim::render {

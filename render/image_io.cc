@@ -1,11 +1,10 @@
 #include "render/image_io.h"
 
+#include <algorithm>
+#include <cstdlib>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-
-#include <algorithm>
-#include <cstdlib>
 #include <stdexcept>
 
 namespace pwsim::render {

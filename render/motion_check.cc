@@ -1,13 +1,12 @@
 #include "render/motion_check.h"
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
-
-#include <algorithm>
-#include <cmath>
-#include <limits>
 
 namespace pwsim::render {
 namespace {
@@ -22,12 +21,11 @@ constexpr double kCeilingMinSlope = 0.25;
 struct FrameMotionEstimator::Impl {
   int scale_shifts{0};  ///< the frame is halved this many times
   cv::Matx33d K;
-  cv::Mat previous;     ///< grey, scaled
+  cv::Mat previous;  ///< grey, scaled
   cv::Mat grey, small;
 };
 
-FrameMotionEstimator::FrameMotionEstimator(int width, int height, double fov_y_deg,
-                                           int max_width)
+FrameMotionEstimator::FrameMotionEstimator(int width, int height, double fov_y_deg, int max_width)
     : impl_(std::make_unique<Impl>()) {
   int w = width, h = height;
   while (w > max_width) {
@@ -62,8 +60,8 @@ FrameMotion FrameMotionEstimator::Push(const ImageView& frame, double eye_height
   std::vector<unsigned char> status;
   std::vector<float> error;
   if (corners.size() >= 8) {
-    cv::calcOpticalFlowPyrLK(d.previous, d.grey, corners, tracked, status, error,
-                             cv::Size(21, 21), 3);
+    cv::calcOpticalFlowPyrLK(d.previous, d.grey, corners, tracked, status, error, cv::Size(21, 21),
+                             3);
   }
   std::vector<cv::Point2f> all0, all1;
   for (std::size_t i = 0; i < status.size(); ++i) {
@@ -121,7 +119,8 @@ FrameMotion FrameMotionEstimator::Push(const ImageView& frame, double eye_height
         residual[i] = f * std::hypot(a[0] / a[2] - u2, a[1] / a[2] - v2);
       }
       std::vector<double> sorted = residual;
-      std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(sorted.size() / 2), sorted.end());
+      std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(sorted.size() / 2),
+                       sorted.end());
       const double limit = std::max(0.3, 3.0 * sorted[sorted.size() / 2]);
       motion.inliers = 0;
       for (std::size_t i = 0; i < floor.size(); ++i) {
@@ -192,7 +191,8 @@ SeriesComparison CompareSeries(const std::vector<double>& estimate,
   double sum = 0;
   int m = 0;
   for (int k = 0; k < n; ++k) {
-    const double e = estimate[static_cast<std::size_t>(k)], r = reference[static_cast<std::size_t>(k)];
+    const double e = estimate[static_cast<std::size_t>(k)],
+                 r = reference[static_cast<std::size_t>(k)];
     if (std::isfinite(e) && std::isfinite(r)) sum += (e - r) * (e - r), ++m;
   }
   out.rms_error = m > 0 ? std::sqrt(sum / m) : 0.0;

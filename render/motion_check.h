@@ -37,8 +37,7 @@ class FrameMotionEstimator final {
   /// Takes the next frame; the first call returns an invalid motion. `eye_height` [m] is the
   /// camera's height above the floor, which sets the scale of the vertical displacement;
   /// `ceiling_clearance` [m] the ceiling's height above the eye (0: do not use the ceiling).
-  FrameMotion Push(const ImageView& frame, double eye_height = 1.3,
-                   double ceiling_clearance = 0.0);
+  FrameMotion Push(const ImageView& frame, double eye_height = 1.3, double ceiling_clearance = 0.0);
 
  private:
   struct Impl;

@@ -1,16 +1,16 @@
 #include "render/offscreen_renderer.h"
 
 #include <GL/osmesa.h>
+
+#include <cmath>
+#include <cstring>
+#include <map>
 #include <osg/Geode>
 #include <osg/Geometry>
 #include <osg/GraphicsContext>
 #include <osg/MatrixTransform>
 #include <osg/Texture2D>
 #include <osgViewer/Viewer>
-
-#include <cmath>
-#include <cstring>
-#include <map>
 #include <vector>
 
 #include "render/textures.h"
@@ -30,9 +30,17 @@ class OsmesaGraphicsContext final : public osg::GraphicsContext {
   }
   bool valid() const override { return true; }
   bool realizeImplementation() override {
-    const int attributes[] = {OSMESA_FORMAT, OSMESA_BGRA, OSMESA_DEPTH_BITS, 24,
-                              OSMESA_STENCIL_BITS, 8, OSMESA_ACCUM_BITS, 0,
-                              OSMESA_PROFILE, OSMESA_COMPAT_PROFILE, 0};
+    const int attributes[] = {OSMESA_FORMAT,
+                              OSMESA_BGRA,
+                              OSMESA_DEPTH_BITS,
+                              24,
+                              OSMESA_STENCIL_BITS,
+                              8,
+                              OSMESA_ACCUM_BITS,
+                              0,
+                              OSMESA_PROFILE,
+                              OSMESA_COMPAT_PROFILE,
+                              0};
     context_ = OSMesaCreateContextAttribs(attributes, nullptr);
     buffer_.assign(static_cast<std::size_t>(_traits->width) * _traits->height * 4, 0);
     realized_ = context_ != nullptr;
@@ -209,9 +217,8 @@ OffscreenRenderer::OffscreenRenderer(const RenderScene& scene, const RenderConfi
     master->setViewport(0, 0, width, height);
     master->setDrawBuffer(GL_FRONT);
     master->setReadBuffer(GL_FRONT);
-    master->setProjectionMatrixAsPerspective(config.fov_y_deg,
-                                             static_cast<double>(width) / height, config.near,
-                                             config.far);
+    master->setProjectionMatrixAsPerspective(config.fov_y_deg, static_cast<double>(width) / height,
+                                             config.near, config.far);
   } else {
     // Two slave eyes side by side on one context; the master projection is the identity and
     // each eye's offset carries its full (asymmetric) projection and its IPD shift.
@@ -233,8 +240,9 @@ OffscreenRenderer::OffscreenRenderer(const RenderScene& scene, const RenderConfi
   }
   viewer.realize();
   if (!d.gc->isRealized()) {
-    throw RenderError("render: could not create an OSMesa context (OSMesaCreateContextAttribs, "
-                      "compatibility profile, BGRA)");
+    throw RenderError(
+        "render: could not create an OSMesa context (OSMesaCreateContextAttribs, "
+        "compatibility profile, BGRA)");
   }
 
   // Start-up self-check: GL_RENDERER must name a real renderer. NULL means gl* bound to a

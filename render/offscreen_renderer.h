@@ -12,7 +12,6 @@
 // with a clear error instead of writing empty frames.
 
 #include <Eigen/Geometry>
-
 #include <cstdint>
 #include <memory>
 #include <stdexcept>

@@ -10,7 +10,7 @@ namespace pwsim::render {
 
 struct PlotSeries {
   std::string label;
-  std::vector<double> y;  ///< same length as the panel's x; NaN leaves a gap
+  std::vector<double> y;     ///< same length as the panel's x; NaN leaves a gap
   unsigned color{0x1f77b4};  ///< 0xRRGGBB
 };
 

@@ -33,19 +33,19 @@ struct StereoConfig {
 };
 
 struct RenderConfig {
-  int width{1280};          ///< [px] mono image
-  int height{720};          ///< [px]
-  int fps{50};              ///< [frames/s]; clock.rate_hz must be a multiple
-  double fov_y_deg{60.0};   ///< [deg] mono vertical field of view
-  double near{0.05};        ///< [m] fixed near clip plane
-  double far{100.0};        ///< [m] fixed far clip plane
-  int warmup_frames{3};     ///< frames drawn and discarded before the first real one
-  bool stereo{false};       ///< side-by-side HMD eyes instead of the mono view
+  int width{1280};         ///< [px] mono image
+  int height{720};         ///< [px]
+  int fps{50};             ///< [frames/s]; clock.rate_hz must be a multiple
+  double fov_y_deg{60.0};  ///< [deg] mono vertical field of view
+  double near{0.05};       ///< [m] fixed near clip plane
+  double far{100.0};       ///< [m] fixed far clip plane
+  int warmup_frames{3};    ///< frames drawn and discarded before the first real one
+  bool stereo{false};      ///< side-by-side HMD eyes instead of the mono view
   StereoConfig hmd;
-  bool remove_tilt{true};   ///< remove the tilt-coordination angle from the view
+  bool remove_tilt{true};                ///< remove the tilt-coordination angle from the view
   std::uint32_t texture_seed{20240601};  ///< procedural textures (deterministic)
-  double cushion_width{1.8};  ///< [m] across the path
-  int crf{20};              ///< H.264 constant rate factor (0 = best, 51 = worst)
+  double cushion_width{1.8};             ///< [m] across the path
+  int crf{20};                           ///< H.264 constant rate factor (0 = best, 51 = worst)
 
   /// Image size actually produced: mono size, or both eyes side by side.
   int image_width() const { return stereo ? 2 * hmd.eye_width : width; }

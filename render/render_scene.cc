@@ -17,12 +17,18 @@ Quad MakeQuad(Vector3d a, Vector3d b, Vector3d c, Vector3d d, Rgb color, Texture
 void AddBox(std::vector<Quad>* quads, const Vector3d& lo, const Vector3d& hi, Rgb color) {
   const double x0 = lo.x(), y0 = lo.y(), z0 = lo.z(), x1 = hi.x(), y1 = hi.y(), z1 = hi.z();
   const auto none = TextureKind::kNone;
-  quads->push_back(MakeQuad({x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1}, color, none, 1));
-  quads->push_back(MakeQuad({x0, y1, z0}, {x0, y0, z0}, {x0, y0, z1}, {x0, y1, z1}, color, none, 1));
-  quads->push_back(MakeQuad({x0, y1, z0}, {x1, y1, z0}, {x1, y1, z1}, {x0, y1, z1}, color, none, 1));
-  quads->push_back(MakeQuad({x1, y0, z0}, {x0, y0, z0}, {x0, y0, z1}, {x1, y0, z1}, color, none, 1));
-  quads->push_back(MakeQuad({x0, y0, z1}, {x1, y0, z1}, {x1, y1, z1}, {x0, y1, z1}, color, none, 1));
-  quads->push_back(MakeQuad({x0, y1, z0}, {x1, y1, z0}, {x1, y0, z0}, {x0, y0, z0}, color, none, 1));
+  quads->push_back(
+      MakeQuad({x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1}, color, none, 1));
+  quads->push_back(
+      MakeQuad({x0, y1, z0}, {x0, y0, z0}, {x0, y0, z1}, {x0, y1, z1}, color, none, 1));
+  quads->push_back(
+      MakeQuad({x0, y1, z0}, {x1, y1, z0}, {x1, y1, z1}, {x0, y1, z1}, color, none, 1));
+  quads->push_back(
+      MakeQuad({x1, y0, z0}, {x0, y0, z0}, {x0, y0, z1}, {x1, y0, z1}, color, none, 1));
+  quads->push_back(
+      MakeQuad({x0, y0, z1}, {x1, y0, z1}, {x1, y1, z1}, {x0, y1, z1}, color, none, 1));
+  quads->push_back(
+      MakeQuad({x0, y1, z0}, {x1, y1, z0}, {x1, y0, z0}, {x0, y0, z0}, color, none, 1));
 }
 
 /// A wheel as a thin octagonal disc standing in the x-z plane, centred at (x, y, r).
@@ -38,11 +44,12 @@ void AddWheel(std::vector<Quad>* quads, double x, double y, double radius, doubl
     const Vector3d centre(x, y, radius);
     const Vector3d q0 = p0 + Vector3d(0, y, 0), q1 = p1 + Vector3d(0, y, 0);
     // Tread strip and the two flat sides (as degenerate quads: a triangle fan slice each).
-    quads->push_back(MakeQuad(q0 + half, q0 - half, q1 - half, q1 + half, tyre, TextureKind::kNone, 1));
-    quads->push_back(MakeQuad(centre + half, q0 + half, q1 + half, centre + half, tyre,
-                              TextureKind::kNone, 1));
-    quads->push_back(MakeQuad(centre - half, q1 - half, q0 - half, centre - half, tyre,
-                              TextureKind::kNone, 1));
+    quads->push_back(
+        MakeQuad(q0 + half, q0 - half, q1 - half, q1 + half, tyre, TextureKind::kNone, 1));
+    quads->push_back(
+        MakeQuad(centre + half, q0 + half, q1 + half, centre + half, tyre, TextureKind::kNone, 1));
+    quads->push_back(
+        MakeQuad(centre - half, q1 - half, q0 - half, centre - half, tyre, TextureKind::kNone, 1));
   }
 }
 
@@ -111,7 +118,8 @@ RenderScene BuildRenderScene(const Scene& scene, const RenderConfig& config) {
   AddBox(&out.chair, {-0.20, 0.24, 0.70}, {0.20, 0.30, 0.75}, frame);
   AddBox(&out.chair, {-0.20, -0.30, 0.70}, {0.20, -0.24, 0.75}, frame);
   AddBox(&out.chair, {front - 0.05, -0.18, 0.10}, {front + 0.10, 0.18, 0.14}, frame);
-  AddBox(&out.chair, {0.16, -0.32, 0.75}, {0.20, -0.28, 0.85}, Rgb{0.05F, 0.05F, 0.05F});  // joystick
+  AddBox(&out.chair, {0.16, -0.32, 0.75}, {0.20, -0.28, 0.85},
+         Rgb{0.05F, 0.05F, 0.05F});  // joystick
   return out;
 }
 

@@ -8,7 +8,6 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-
 #include <array>
 #include <cstdint>
 #include <string>

@@ -62,7 +62,8 @@ TextureImage MakeTexture(TextureKind kind, std::uint32_t seed, int size) {
   std::vector<double> speckle(static_cast<std::size_t>(size * size), 0.0);
   const int speckles = size * size / 150;
   for (int s = 0; s < speckles; ++s) {
-    const int r = static_cast<int>(rng.Uniform() * size), c = static_cast<int>(rng.Uniform() * size);
+    const int r = static_cast<int>(rng.Uniform() * size),
+              c = static_cast<int>(rng.Uniform() * size);
     const double value = rng.Uniform() < 0.5 ? -0.35 : 0.35;
     for (int dr = 0; dr < 2; ++dr) {
       for (int dc = 0; dc < 2; ++dc) {

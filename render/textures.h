@@ -10,8 +10,8 @@
 namespace pwsim::render {
 
 struct TextureImage {
-  int size{0};                     ///< [px] square edge
-  std::vector<std::uint8_t> rgb;   ///< size * size * 3, row 0 first
+  int size{0};                    ///< [px] square edge
+  std::vector<std::uint8_t> rgb;  ///< size * size * 3, row 0 first
 };
 
 /// The texture for `kind` (kNone gives an empty image). Same kind and seed, same bytes.

@@ -1,11 +1,10 @@
 #include "render/video_writer.h"
 
-#include <opencv2/core.hpp>
-#include <opencv2/imgproc.hpp>
-
 #include <csignal>
 #include <cstring>
 #include <fstream>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 #include <sstream>
 #include <stdexcept>
 
@@ -74,19 +73,17 @@ VideoWriter::VideoWriter(VideoConfig config) : config_(std::move(config)) {
       codec_args = "-c:v ffv1 -pix_fmt bgr0";
     }
   }
-  std::filesystem::create_directories(config_.file.parent_path().empty()
-                                          ? std::filesystem::path(".")
-                                          : config_.file.parent_path());
+  std::filesystem::create_directories(
+      config_.file.parent_path().empty() ? std::filesystem::path(".") : config_.file.parent_path());
   partial_ = config_.file;
   partial_ += ".partial";
   log_ = config_.file;
   log_ += ".ffmpeg.log";
   const std::string command =
       "ffmpeg -hide_banner -loglevel error -nostdin -y -f rawvideo -pix_fmt " +
-      std::string(yuv420_ ? "yuv420p" : "bgra") + " -s " +
-      std::to_string(config_.width) + "x" + std::to_string(config_.height) + " -framerate " +
-      std::to_string(config_.fps) + " -i - -an " + codec_args + " -f " + container + " " +
-      Quoted(partial_) + " 2>" + Quoted(log_);
+      std::string(yuv420_ ? "yuv420p" : "bgra") + " -s " + std::to_string(config_.width) + "x" +
+      std::to_string(config_.height) + " -framerate " + std::to_string(config_.fps) + " -i - -an " +
+      codec_args + " -f " + container + " " + Quoted(partial_) + " 2>" + Quoted(log_);
   // A dead ffmpeg must surface as a write error, not kill pwsim with SIGPIPE.
   std::signal(SIGPIPE, SIG_IGN);
   pipe_ = ::popen(command.c_str(), "w");

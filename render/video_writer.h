@@ -29,13 +29,13 @@ enum class VideoCodec {
 
 struct VideoConfig {
   std::filesystem::path file;
-  int width{0};    ///< [px] even
-  int height{0};   ///< [px] even
-  int fps{50};     ///< [frames/s]
+  int width{0};   ///< [px] even
+  int height{0};  ///< [px] even
+  int fps{50};    ///< [frames/s]
   VideoCodec codec{VideoCodec::kH264};
-  int crf{20};     ///< H.264 quality (lower is better)
+  int crf{20};                      ///< H.264 quality (lower is better)
   std::string preset{"ultrafast"};  ///< x264 speed preset (ultrafast … veryslow)
-  int queue_frames{3};  ///< frames buffered between the renderer and the encoder
+  int queue_frames{3};              ///< frames buffered between the renderer and the encoder
 };
 
 /// True when this machine's ffmpeg lists `encoder` (e.g. "libx264") under -encoders.

@@ -30,8 +30,8 @@ TEST(CameraRigTest, EyeAtHeadOnChair) {
   s.z = 0.05;
   s.pitch = 0.2;
   const Eigen::Isometry3d X_WC = EyePose(s, kHead, true);
-  const Eigen::Vector3d expected =
-      Eigen::Vector3d(2.0, 0.0, 0.05) + PitchRollRotation(0.2, 0.0) * Eigen::Vector3d(0.05, 0, 1.25);
+  const Eigen::Vector3d expected = Eigen::Vector3d(2.0, 0.0, 0.05) +
+                                   PitchRollRotation(0.2, 0.0) * Eigen::Vector3d(0.05, 0, 1.25);
   EXPECT_TRUE(X_WC.translation().isApprox(expected, 1e-12));
   EXPECT_NEAR(PitchRollOf(X_WC.linear())[0], 0.2, 1e-12);
 }

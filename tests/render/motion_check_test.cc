@@ -58,9 +58,9 @@ TEST(FrameMotionEstimatorTest, RecoversRenderedPitchOscillation) {
     sample.x = 0.5;
     sample.pitch = amplitude * std::sin(omega * k * dt);
     const auto X_WC = EyePose(sample, scene.occupant.head_offset, true);
-    const FrameMotion motion = dut.Push(renderer.Render(ChairPose(sample), X_WC, k * dt),
-                                        X_WC.translation().z(),
-                                        scene.room.height - X_WC.translation().z());
+    const FrameMotion motion =
+        dut.Push(renderer.Render(ChairPose(sample), X_WC, k * dt), X_WC.translation().z(),
+                 scene.room.height - X_WC.translation().z());
     if (k > 0) {
       ASSERT_TRUE(motion.valid) << "frame " << k;
       estimated.push_back(motion.pitch_delta / dt);
@@ -86,9 +86,9 @@ TEST(FrameMotionEstimatorTest, RecoversVerticalMotion) {
     sample.x = 0.5;
     sample.z = 0.005 * k;
     const auto X_WC = EyePose(sample, scene.occupant.head_offset, true);
-    const FrameMotion motion = dut.Push(renderer.Render(ChairPose(sample), X_WC, k * 0.02),
-                                        X_WC.translation().z() - 0.005,
-                                        scene.room.height - X_WC.translation().z() + 0.005);
+    const FrameMotion motion =
+        dut.Push(renderer.Render(ChairPose(sample), X_WC, k * 0.02), X_WC.translation().z() - 0.005,
+                 scene.room.height - X_WC.translation().z() + 0.005);
     if (k == 0) continue;
     ASSERT_TRUE(motion.valid);
     EXPECT_NEAR(motion.vertical_delta, 0.005, 0.001) << "frame " << k;
@@ -107,9 +107,9 @@ TEST(FrameMotionEstimatorTest, ForwardMotionIsNotPitchOrHeave) {
     VisualSample sample;
     sample.x = 4.5 + 0.024 * k;
     const auto X_WC = EyePose(sample, scene.occupant.head_offset, true);
-    const FrameMotion motion = dut.Push(renderer.Render(ChairPose(sample), X_WC, k * 0.02),
-                                        X_WC.translation().z(),
-                                        scene.room.height - X_WC.translation().z());
+    const FrameMotion motion =
+        dut.Push(renderer.Render(ChairPose(sample), X_WC, k * 0.02), X_WC.translation().z(),
+                 scene.room.height - X_WC.translation().z());
     if (k == 0) continue;
     ASSERT_TRUE(motion.valid);
     EXPECT_NEAR(motion.vertical_delta, 0.0, 0.001) << "frame " << k;

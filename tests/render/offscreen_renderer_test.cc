@@ -20,8 +20,8 @@ namespace {
 // (bit-identical frames for any LP_NUM_THREADS); the tolerances absorb a Mesa/LLVM update that
 // moves texture filtering or edge coverage a little, while a moved camera or a missing object
 // changes many pixels a lot.
-constexpr int kMaxPixelDelta = 96;        ///< a few edge pixels may flip between rasterisers
-constexpr double kMeanPixelDelta = 1.5;   ///< the image as a whole must stay the same
+constexpr int kMaxPixelDelta = 96;       ///< a few edge pixels may flip between rasterisers
+constexpr double kMeanPixelDelta = 1.5;  ///< the image as a whole must stay the same
 
 const std::filesystem::path kTestData = PWSIM_SOURCE_DIR "/tests/render/testdata";
 
@@ -77,8 +77,9 @@ TEST(OffscreenRendererTest, MonoMatchesGolden) {
   const RenderConfig config = Small(false);
   OffscreenRenderer dut(BuildRenderScene(scene, config), config);
   const VisualSample sample = StartSample();
-  ExpectMatchesGolden(dut.Render(ChairPose(sample), EyePose(sample, scene.occupant.head_offset, true), 0),
-                      "default_mono_160x90.png");
+  ExpectMatchesGolden(
+      dut.Render(ChairPose(sample), EyePose(sample, scene.occupant.head_offset, true), 0),
+      "default_mono_160x90.png");
 }
 
 // Tests the side-by-side stereo view (two 80×90 eyes, IPD, asymmetric FOV) against its golden.
@@ -88,8 +89,9 @@ TEST(OffscreenRendererTest, StereoMatchesGolden) {
   OffscreenRenderer dut(BuildRenderScene(scene, config), config);
   EXPECT_EQ(dut.width(), 160);
   const VisualSample sample = StartSample();
-  ExpectMatchesGolden(dut.Render(ChairPose(sample), EyePose(sample, scene.occupant.head_offset, true), 0),
-                      "default_stereo_2x80x90.png");
+  ExpectMatchesGolden(
+      dut.Render(ChairPose(sample), EyePose(sample, scene.occupant.head_offset, true), 0),
+      "default_stereo_2x80x90.png");
 }
 
 // Tests that the golden tolerances are tight enough to see a half-degree change of pitch.
@@ -98,8 +100,8 @@ TEST(OffscreenRendererTest, GoldenToleranceSeesHalfDegreePitch) {
   const RenderConfig config = Small(false);
   OffscreenRenderer dut(BuildRenderScene(scene, config), config);
   VisualSample sample = StartSample();
-  const Image reference =
-      CopyImage(dut.Render(ChairPose(sample), EyePose(sample, scene.occupant.head_offset, true), 0));
+  const Image reference = CopyImage(
+      dut.Render(ChairPose(sample), EyePose(sample, scene.occupant.head_offset, true), 0));
   sample.pitch += 0.5 * M_PI / 180.0;
   const PixelDelta delta = ComparePixels(
       dut.Render(ChairPose(sample), EyePose(sample, scene.occupant.head_offset, true), 0),

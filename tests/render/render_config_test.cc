@@ -41,9 +41,9 @@ TEST(RenderConfigTest, DefaultsWithoutSection) {
 
 // Tests that the render: section sets size, fps, field of view and the HMD eyes.
 TEST(RenderConfigTest, ReadsSection) {
-  const RenderConfig dut = ParseRenderConfig(SceneWithRender(
-      "render: {size: [640, 360], fps: 25, fov_y_deg: 75, stereo: true,\n"
-      "         hmd: {eye_size: [1440, 1600], ipd_m: 0.063, inner_deg: 40}}\n"));
+  const RenderConfig dut = ParseRenderConfig(
+      SceneWithRender("render: {size: [640, 360], fps: 25, fov_y_deg: 75, stereo: true,\n"
+                      "         hmd: {eye_size: [1440, 1600], ipd_m: 0.063, inner_deg: 40}}\n"));
   EXPECT_EQ(dut.width, 640);
   EXPECT_EQ(dut.fps, 25);
   EXPECT_DOUBLE_EQ(dut.fov_y_deg, 75);

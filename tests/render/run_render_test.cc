@@ -3,11 +3,11 @@
 // pitch rate seen in the pixels against the camera-pose log.
 
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -23,8 +23,7 @@ std::filesystem::path RunPwsim(const std::string& name, const std::string& optio
   const auto dir = std::filesystem::temp_directory_path() / ("pwsim_run_render_test_" + name);
   std::filesystem::remove_all(dir);
   const std::string command = "cd '" PWSIM_SOURCE_DIR "' && '" + kPwsim + "' run --out '" +
-                              dir.string() + "' " + options + " > '" + dir.string() +
-                              ".log' 2>&1";
+                              dir.string() + "' " + options + " > '" + dir.string() + ".log' 2>&1";
   EXPECT_EQ(std::system(command.c_str()), 0) << command;
   return dir;
 }
@@ -95,8 +94,8 @@ TEST(RunRenderTest, NoVideoSkipsRendering) {
 // Tests that a frame rate that does not divide the clock rate is refused with a clear message.
 TEST(RunRenderTest, FpsMustDivideClockRate) {
   const auto dir = std::filesystem::temp_directory_path() / "pwsim_run_render_test_fps";
-  const std::string command = "'" + kPwsim + "' run --fps 60 --out '" + dir.string() +
-                              "' > '" + dir.string() + ".log' 2>&1";
+  const std::string command = "'" + kPwsim + "' run --fps 60 --out '" + dir.string() + "' > '" +
+                              dir.string() + ".log' 2>&1";
   EXPECT_NE(std::system(command.c_str()), 0);
   std::ifstream log(dir.string() + ".log");
   std::stringstream text;

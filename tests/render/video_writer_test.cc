@@ -22,7 +22,8 @@ std::filesystem::path TempDir(const std::string& name) {
 
 /// Frame k: a colour ramp that shifts with k (so every frame differs).
 Image TestFrame(int k, int width = 64, int height = 48) {
-  Image image{width, height, std::vector<std::uint8_t>(static_cast<std::size_t>(width * height * 4))};
+  Image image{width, height,
+              std::vector<std::uint8_t>(static_cast<std::size_t>(width * height * 4))};
   for (int r = 0; r < height; ++r) {
     for (int c = 0; c < width; ++c) {
       std::uint8_t* p = &image.bgra[static_cast<std::size_t>((r * width + c) * 4)];
