@@ -5,11 +5,16 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -17,7 +22,7 @@ namespace fs = std::filesystem;
 
 const fs::path kPwsim = fs::path(PWSIM_BINARY_DIR) / "pwsim";
 
-int Run(const std::string& args, const fs::path& log) {
+int RunPwsim(const std::string& args, const fs::path& log) {
   const std::string command = kPwsim.string() + " " + args + " > " + log.string() + " 2>&1";
   const int status = std::system(command.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -54,17 +59,17 @@ class DiagnoseCliTest : public testing::Test {
 
 TEST_F(DiagnoseCliTest, GenerateHiddenEffectThenDiagnose) {
   const fs::path trials = root_ / "trials", out = root_ / "diag";
-  ASSERT_EQ(Run("generate --out " + trials.string() +
-                    " --effect marker_offset --strength 1 --speeds 0.6,1.2,2.4 --loads 0,100"
+  ASSERT_EQ(RunPwsim("generate --out " + trials.string() +
+                    " --effect inertial_pitch --strength 1 --speeds 0.6,1.2,2.4 --loads 0,100"
                     " --cushion with --mocap-format alternate --seed 9",
                 root_ / "gen.log"),
             0)
       << Read(root_ / "gen.log");
-  ASSERT_EQ(Run("diagnose" + TrialDirs(trials) + " --out " + out.string(), root_ / "diag.log"), 0)
+  ASSERT_EQ(RunPwsim("diagnose" + TrialDirs(trials) + " --out " + out.string(), root_ / "diag.log"), 0)
       << Read(root_ / "diag.log");
   const nlohmann::json j = nlohmann::json::parse(Read(out / "diagnosis.json"));
   EXPECT_EQ(j["format"], "pwsim-diagnosis/1");
-  EXPECT_EQ(j["cause"], "marker_offset");
+  EXPECT_EQ(j["cause"], "inertial_pitch");
   ASSERT_EQ(j["ranking"].size(), 8u);
   for (const auto& e : j["ranking"]) {
     for (const char* key : {"effect", "evidence", "delta_bic", "heldout_fit_pct", "parameters"}) {
@@ -74,18 +79,18 @@ TEST_F(DiagnoseCliTest, GenerateHiddenEffectThenDiagnose) {
     EXPECT_TRUE(e["heldout_fit_pct"].contains("pitch"));
     EXPECT_TRUE(e["evidence"].is_string());
   }
-  EXPECT_EQ(j["ranking"][0]["effect"], "marker_offset");
-  EXPECT_NEAR(j["ranking"][0]["parameters"]["marker_lever_x_m"].get<double>(), 0.15, 0.02);
+  ASSERT_EQ(j["ranking"][0]["effect"], "inertial_pitch");
+  EXPECT_NEAR(j.at("ranking").at(0).at("parameters").at("cm_lever_m").get<double>(), 0.43, 0.05);
   for (const char* model : {"base", "extended"}) {
     EXPECT_TRUE(j["heldout_fit_pct"][model]["z"].is_number());
     EXPECT_TRUE(j["heldout_fit_pct"][model]["pitch"].is_number());
   }
-  EXPECT_GT(j["heldout_fit_pct"]["extended"]["z"].get<double>(),
-            j["heldout_fit_pct"]["base"]["z"].get<double>());
+  EXPECT_GT(j["heldout_fit_pct"]["extended"]["pitch"].get<double>(),
+            j["heldout_fit_pct"]["base"]["pitch"].get<double>() + 1.0);
   ASSERT_EQ(j["heldout_trials"].size(), 2u);  // speed 1.2 m/s × 2 loads
   EXPECT_EQ(j["heldout_trials"][0], "v1.20_m0_cushion_r1");
   const std::string md = Read(out / "diagnosis.md");
-  EXPECT_NE(md.find("## Cause: **marker_offset**"), std::string::npos);
+  EXPECT_NE(md.find("## Cause: **inertial_pitch**"), std::string::npos);
   EXPECT_NE(md.find("| # | effect |"), std::string::npos);
   EXPECT_TRUE(fs::exists(out / "plots" / "located-residual.png"));
   EXPECT_TRUE(fs::exists(out / "plots" / "residual-v1.20_m0_cushion_r1.png"));
@@ -93,7 +98,7 @@ TEST_F(DiagnoseCliTest, GenerateHiddenEffectThenDiagnose) {
 
 TEST_F(DiagnoseCliTest, BadInputFailsWithoutAReport) {
   const fs::path trials = root_ / "trials", out = root_ / "diag";
-  ASSERT_EQ(Run("generate --out " + trials.string() + " --speeds 0.6,1.2 --loads 0 --cushion with",
+  ASSERT_EQ(RunPwsim("generate --out " + trials.string() + " --speeds 0.6,1.2 --loads 0 --cushion with",
                 root_ / "gen.log"),
             0);
   // A stale complete report from an earlier run must not survive a failed one either.
@@ -103,17 +108,17 @@ TEST_F(DiagnoseCliTest, BadInputFailsWithoutAReport) {
   std::string yaml = Read(broken);
   yaml.replace(yaml.find("load_kg:"), 8, "load_kg: heavy #");
   std::ofstream(broken) << yaml;
-  EXPECT_EQ(Run("diagnose" + TrialDirs(trials) + " --out " + out.string(), root_ / "bad.log"), 1);
+  EXPECT_EQ(RunPwsim("diagnose" + TrialDirs(trials) + " --out " + out.string(), root_ / "bad.log"), 1);
   const std::string log = Read(root_ / "bad.log");
   EXPECT_NE(log.find("trial.yaml"), std::string::npos) << log;
   EXPECT_NE(log.find("load_kg"), std::string::npos) << log;
   EXPECT_TRUE(fs::exists(out / "diagnosis.json")) << "read errors stop before any write";
   // Unknown effect ids and too few trials are usage errors (exit 2).
-  EXPECT_EQ(Run("diagnose" + TrialDirs(trials) + " --effects caster_shimmy --out " + out.string(),
+  EXPECT_EQ(RunPwsim("diagnose" + TrialDirs(trials) + " --effects caster_shimmy --out " + out.string(),
                 root_ / "usage.log"),
             2);
   EXPECT_NE(Read(root_ / "usage.log").find("wheel_radius"), std::string::npos);
-  EXPECT_EQ(Run("diagnose " + (trials / "v0.60_m0_cushion_r1").string(), root_ / "one.log"), 2);
+  EXPECT_EQ(RunPwsim("diagnose " + (trials / "v0.60_m0_cushion_r1").string(), root_ / "one.log"), 2);
 }
 
 }  // namespace

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <ostream>
 #include <string>
 
 #include "engine/effects/effect_truth_model.h"
@@ -56,6 +58,11 @@ struct HiddenCase {
   double strength;
   std::uint64_t seed;
 };
+
+void PrintTo(const HiddenCase& c, std::ostream* os) {
+  *os << (c.effect ? EffectName(*c.effect) : "none") << " strength " << c.strength << " seed "
+      << c.seed;
+}
 
 std::string CaseName(const testing::TestParamInfo<HiddenCase>& info) {
   const std::string id = info.param.effect ? EffectName(*info.param.effect) : "none";
