@@ -43,7 +43,7 @@ const char* EffectDescription(EffectId id) {
   static constexpr std::array<const char*, kEffectCount> text{
       "finite wheel radius: wheel centres ride the rolling-disc envelope of the ground",
       "vertical tyre compliance: series spring-damper (with unsprung mass) per wheel",
-      "the obstacle yields under wheel load: effective height falls with load",
+      "the obstacle yields under wheel load: effective height h (g - c W) falls with load",
       "off-diagonal stiffness and damping between heave and pitch",
       "progressive (hardening) suspension stiffness",
       "dry (Coulomb) friction in the suspension",
@@ -75,7 +75,8 @@ const std::vector<ParamSpec>& EffectParameters(EffectId id) {
       {{"caster_tyre_period_s", 0.1, 0.045, 1.0, {0.06, 0.15, 0.4}},
        {"drive_tyre_period_s", 0.1, 0.045, 1.0, {0.05, 0.15}},
        {"tyre_damping_ratio", 0.3, 0.05, 1.0, {0.3}}},
-      {{"cushion_loss_per_kn", 0.2, 0.0, 1.2, {0.1, 0.4}}},
+      {{"cushion_loss_per_kn", 0.2, 0.0, 1.2, {0.1, 0.4}},
+       {"cushion_height_gain", 0.2, 0.5, 1.5, {1.0}}},
       {{"stiffness_coupling", 0.2, -0.8, 0.8, {-0.2, 0.2}},
        {"damping_coupling", 0.2, -0.8, 0.8, {0.0}}},
       {{"heave_hardening", 0.5, 0.0, 10.0, {0.3}}, {"pitch_hardening", 0.5, 0.0, 10.0, {0.3}}},
@@ -101,6 +102,7 @@ void SetEffectValues(EffectId id, std::span<const double> v, EffectParams& fx) {
       break;
     case EffectId::kCushionCompliance:
       fx.cushion_loss_per_kn = v[0];
+      fx.cushion_height_gain = v[1];
       break;
     case EffectId::kHeavePitchCoupling:
       fx.stiffness_coupling = v[0];
@@ -130,7 +132,7 @@ std::vector<double> GetEffectValues(EffectId id, const EffectParams& fx) {
     case EffectId::kTyreCompliance:
       return {fx.caster_tyre_period, fx.drive_tyre_period, fx.tyre_damping};
     case EffectId::kCushionCompliance:
-      return {fx.cushion_loss_per_kn};
+      return {fx.cushion_loss_per_kn, fx.cushion_height_gain};
     case EffectId::kHeavePitchCoupling:
       return {fx.stiffness_coupling, fx.damping_coupling};
     case EffectId::kNonlinearStiffness:

@@ -271,7 +271,8 @@ Rhs MakeRhs(const PreparedTrial& trial, const ExtendedParams& params, int* state
     rhs.omega[i] = period > 1e-6 ? 2.0 * std::numbers::pi / period : 0.0;
     rhs.tyre_slot[i] = rhs.omega[i] > 0.0 ? slot : -1;
     if (rhs.omega[i] > 0.0) slot += 2;
-    rhs.height_factor[i] = std::max(0.0, 1.0 - fx.cushion_loss_per_kn * loads[i] * 1e-3);
+    rhs.height_factor[i] =
+        std::max(0.0, fx.cushion_height_gain - fx.cushion_loss_per_kn * loads[i] * 1e-3);
   }
   for (const PairWeight& p : chair.gm->beta) {
     if (p.weight == 0.0) continue;

@@ -31,8 +31,10 @@ struct EffectParams {
   double caster_tyre_period{0.0};  ///< [s] 1/f of the caster tyre mode (0 = rigid)
   double drive_tyre_period{0.0};   ///< [s] 1/f of the drive tyre mode (0 = rigid)
   double tyre_damping{0.5};        ///< [-] damping ratio of the tyre modes
-  // cushion_compliance: the obstacle height falls with the static wheel load W_i = α_i M g.
-  double cushion_loss_per_kn{0.0};  ///< [1/kN] fraction of obstacle height lost per kN
+  // cushion_compliance: the obstacle height falls with the static wheel load W_i = α_i M g:
+  // h_eff = h (g - c W_i), g the unloaded height relative to the terrain file.
+  double cushion_loss_per_kn{0.0};  ///< c [1/kN] fraction of obstacle height lost per kN
+  double cushion_height_gain{1.0};  ///< g [-]
   // heave_pitch_coupling: off-diagonal K, C as a fraction of sqrt(K_Z K_θ), sqrt(C_Z C_θ).
   double stiffness_coupling{0.0};  ///< [-] in (-1, 1)
   double damping_coupling{0.0};    ///< [-] in (-1, 1)
