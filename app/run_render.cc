@@ -157,7 +157,6 @@ void RenderTrial(const Scene& scene, const TrialTable& table, const ParsedArgs& 
     summary["render"] = {{"skipped", "--no-video"}};
     return;
   }
-  const bool video = true;
   const int ticks_per_frame = config.TicksPerFrame(scene.clock);
   const std::size_t frame_count =
       (table.rows() - 1) / static_cast<std::size_t>(ticks_per_frame) + 1;
@@ -172,23 +171,19 @@ void RenderTrial(const Scene& scene, const TrialTable& table, const ParsedArgs& 
   std::vector<double> tilt_shown(frame_count);
   std::vector<double> est_pitch_rate(frame_count, kNaN), est_vertical_rate(frame_count, kNaN);
 
-  std::unique_ptr<render::OffscreenRenderer> renderer;
-  std::unique_ptr<render::VideoWriter> h264, lossless;
-  std::unique_ptr<render::FrameMotionEstimator> estimator;
-  if (video) {
-    renderer = std::make_unique<render::OffscreenRenderer>(render::BuildRenderScene(scene, config),
-                                                           config);
-    const int width = renderer->width(), height = renderer->height();
-    h264 = std::make_unique<render::VideoWriter>(render::VideoConfig{
-        out_dir / "video.mp4", width, height, config.fps, render::VideoCodec::kH264, config.crf});
-    if (args.Flag("lossless")) {
-      lossless = std::make_unique<render::VideoWriter>(
-          render::VideoConfig{out_dir / "video_lossless.mkv", width, height, config.fps,
-                              render::VideoCodec::kLossless, 0});
-    }
-    if (!config.stereo) {
-      estimator = std::make_unique<render::FrameMotionEstimator>(width, height, config.fov_y_deg);
-    }
+  render::OffscreenRenderer renderer(render::BuildRenderScene(scene, config), config);
+  const int width = renderer.width(), height = renderer.height();
+  render::VideoWriter h264(
+      {out_dir / "video.mp4", width, height, config.fps, render::VideoCodec::kH264, config.crf});
+  std::unique_ptr<render::VideoWriter> lossless;
+  if (args.Flag("lossless")) {
+    lossless = std::make_unique<render::VideoWriter>(
+        render::VideoConfig{out_dir / "video_lossless.mkv", width, height, config.fps,
+                            render::VideoCodec::kLossless, 0});
+  }
+  std::unique_ptr<render::FrameMotionEstimator> estimator;  // mono views only
+  if (!config.stereo) {
+    estimator = std::make_unique<render::FrameMotionEstimator>(width, height, config.fov_y_deg);
   }
 
   ProgressBar progress(static_cast<std::int64_t>(frame_count));
@@ -207,10 +202,9 @@ void RenderTrial(const Scene& scene, const TrialTable& table, const ParsedArgs& 
     cam_pitch[k] = pitch_roll[0];
     cam_roll[k] = pitch_roll[1];
     tilt_shown[k] = config.remove_tilt ? 0.0 : sample.tilt_pitch;
-    if (!video) continue;
 
-    const render::ImageView frame = renderer->Render(render::ChairPose(sample), X_WC, time[k]);
-    h264->Push(frame);
+    const render::ImageView frame = renderer.Render(render::ChairPose(sample), X_WC, time[k]);
+    h264.Push(frame);
     if (lossless) lossless->Push(frame);
     if (args.Flag("png-frames")) {
       char name[32];
@@ -229,7 +223,7 @@ void RenderTrial(const Scene& scene, const TrialTable& table, const ParsedArgs& 
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     progress.Update(static_cast<std::int64_t>(k + 1), static_cast<double>(k + 1) / elapsed);
   }
-  if (h264) h264->Close();
+  h264.Close();
   if (lossless) lossless->Close();
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -247,19 +241,22 @@ void RenderTrial(const Scene& scene, const TrialTable& table, const ParsedArgs& 
   frames.Add("tilt_pitch_shown_rad", tilt_shown);
   frames.WriteCsv(out_dir / "frames.csv");
 
-  nlohmann::ordered_json render_json{
-      {"frames_csv", "frames.csv"},
-      {"frames", frame_count},
-      {"fps", config.fps},
-      {"ticks_per_frame", ticks_per_frame},
-      {"duration_s", static_cast<double>(frame_count) * frame_dt},
-      {"visual_source", channel.source()},
-      {"tilt_removed", config.remove_tilt},
-      {"stereo", config.stereo},
-      {"width_px", config.image_width()},
-      {"height_px", config.image_height()},
-      {"fov_y_deg", config.fov_y_deg},
-      {"video", video ? nlohmann::ordered_json("video.mp4") : nlohmann::ordered_json(nullptr)}};
+  nlohmann::ordered_json render_json{{"frames_csv", "frames.csv"},
+                                     {"frames", frame_count},
+                                     {"fps", config.fps},
+                                     {"ticks_per_frame", ticks_per_frame},
+                                     {"duration_s", static_cast<double>(frame_count) * frame_dt},
+                                     {"visual_source", channel.source()},
+                                     {"tilt_removed", config.remove_tilt},
+                                     {"stereo", config.stereo},
+                                     {"width_px", config.image_width()},
+                                     {"height_px", config.image_height()},
+                                     {"fov_y_deg", config.fov_y_deg},
+                                     {"video", "video.mp4"},
+                                     {"encoder", h264.encoder()},
+                                     {"gl_renderer", renderer.gl_renderer()},
+                                     {"wall_s", wall_s},
+                                     {"frames_per_s", static_cast<double>(frame_count) / wall_s}};
   if (config.stereo) {
     render_json["hmd"] = {{"eye_width_px", config.hmd.eye_width},
                           {"eye_height_px", config.hmd.eye_height},
@@ -269,16 +266,10 @@ void RenderTrial(const Scene& scene, const TrialTable& table, const ParsedArgs& 
                           {"up_deg", config.hmd.fov.up_deg},
                           {"down_deg", config.hmd.fov.down_deg}};
   }
-  if (video) {
-    render_json["encoder"] = h264->encoder();
-    if (lossless) render_json["lossless_video"] = "video_lossless.mkv";
-    render_json["gl_renderer"] = renderer->gl_renderer();
-    render_json["wall_s"] = wall_s;
-    render_json["frames_per_s"] = static_cast<double>(frame_count) / wall_s;
-  }
+  if (lossless) render_json["lossless_video"] = "video_lossless.mkv";
   summary["render"] = render_json;
   if (!estimator) {
-    summary["visual_check"] = {{"skipped", video ? "stereo view" : "--no-video"}};
+    summary["visual_check"] = {{"skipped", "stereo view"}};
     return;
   }
 

@@ -72,7 +72,6 @@ RenderConfig ParseRenderConfig(const Scene& scene) {
   if (const std::string error = config.Validate(scene.clock); !error.empty()) {
     throw InputError(section->file.string(), section->line, "render", error, "an invalid value");
   }
-  if (config.far <= config.near) map.Fail("far_m", "a number > near_m", std::to_string(config.far));
   return config;
 }
 
