@@ -105,11 +105,11 @@ std::vector<VestibularCue> VestibularCues(const TrialTable& table) {
   std::vector<VestibularCue> cues;
   if (table.Has("vest_plat_scc_y_radps")) {
     cues.push_back({"vestibular_platform", "vest_plat_scc_y_radps", -1.0,
-                    "-vest_plat_scc_y_radps (canal cue felt on the platform, nose-up)"});
+                    "-vest_plat_scc_y_radps (felt on the platform)"});
   }
   if (table.Has("vest_true_scc_y_radps")) {
     cues.push_back({"vestibular_true", "vest_true_scc_y_radps", -1.0,
-                    "-vest_true_scc_y_radps (canal cue of the real chair, nose-up)"});
+                    "-vest_true_scc_y_radps (felt in the real chair)"});
   }
   if (cues.empty()) {
     cues.push_back(
