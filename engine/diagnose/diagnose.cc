@@ -1,10 +1,8 @@
 #include "engine/diagnose/diagnose.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <map>
 
 #include "engine/check.h"
@@ -466,7 +464,6 @@ Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records,
   dx.residuals = Analyse(dx.trials, dx.chair, records);
 
   for (EffectId id : options.candidates) {
-    const auto started = std::chrono::steady_clock::now();
     RankEntry e;
     e.effect = id;
     e.fit = FitModel(training, id, dx.base.params.lm, w, options.fit);
@@ -477,11 +474,6 @@ Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records,
     e.heldout = PooledFitPct(heldout_ext, e.fit.params);
     e.earns = e.delta_bic < options.bic_threshold && e.heldout_gain >= options.min_heldout_gain;
     e.parameters = NamedParameters(e.fit);
-    if (std::getenv("PWSIM_DIAGNOSE_TRACE")) {
-      std::fprintf(stderr, "diagnose: %-22s iterations %d gain %.3f dBIC %.1f %.2f s\n",
-                   effects::EffectName(id), e.fit.iterations, e.heldout_gain, e.delta_bic,
-                   std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
-    }
     e.evidence = dx.residuals.evidence[static_cast<int>(id)] +
                  Format("; extension removes %.0f %% of the held-out error", 100.0 * e.heldout_gain);
     dx.ranking.push_back(std::move(e));
