@@ -113,9 +113,11 @@ int RunCommand(const ParsedArgs& args) {
   RenderTrial(scene, table, args, summary, out_dir);  // render/: video, frames.csv
   WriteFileAtomically(out_dir / "summary.json", summary.dump(2) + "\n");
   std::cout << "pwsim run: scene '" << scene.name << "' (" << scene_path.string() << "), "
-            << samples.size() << " ticks at " << scene.clock.rate_hz << " Hz\n"
-            << "  " << (out_dir / "trial.csv").string() << "\n"
-            << "  " << (out_dir / "summary.json").string() << "\n";
+            << samples.size() << " ticks at " << scene.clock.rate_hz << " Hz; wrote:\n";
+  for (const char* name : {"trial.csv", "summary.json", "mca.png", "video.mp4", "video_lossless.mkv",
+                           "frames.csv", "visual_check.csv", "visual_check.png"}) {
+    if (std::filesystem::exists(out_dir / name)) std::cout << "  " << (out_dir / name).string() << "\n";
+  }
   return 0;
 }
 
