@@ -169,10 +169,11 @@ ResidualReport Analyse(const std::vector<TrialAnalysis>& trials, const Chair& ch
         double best = 1e9;
         for (double b : breaks)
           if (std::abs(xi - b) < std::abs(best)) best = xi - b;
+        if (std::abs(best) >= 0.5 * bins * space_bin) continue;  // flat ground or far away
         const int bx = static_cast<int>(std::floor(best / space_bin)) + bins / 2;
         (slow ? slow_x : fast_x).Add(bx, wp * ep[k]);
         (slow ? slow_xz : fast_xz).Add(bx, wz * ez[k]);
-        if (v > 0.05) {
+        if (v > 0.05 && std::abs(best / v) < 0.5 * bins * time_bin) {
           const int bt = static_cast<int>(std::floor(best / v / time_bin)) + bins / 2;
           (slow ? slow_t : fast_t).Add(bt, ep[k]);
         }
