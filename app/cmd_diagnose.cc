@@ -148,9 +148,9 @@ void PlotLocated(const diagnose::LocatedResidual& loc, const std::filesystem::pa
     return v;
   };
   std::vector<render::PlotPanel> panels{
-      {"pitch residual vs wheel position from a terrain breakpoint (x axis: m)", "mrad",
+      {"pitch residual x sign of slope change vs wheel position from a terrain breakpoint (x axis: m)", "mrad",
        {{"slow trials", milli(loc.slow_pitch), 0x1f77b4}, {"fast trials", milli(loc.fast_pitch), 0xd62728}}},
-      {"Z residual vs wheel position from a terrain breakpoint (x axis: m)", "mm",
+      {"Z residual x sign of slope change vs wheel position from a terrain breakpoint (x axis: m)", "mm",
        {{"slow trials", milli(loc.slow_z), 0x1f77b4}, {"fast trials", milli(loc.fast_z), 0xd62728}}}};
   render::WritePlotPng(file, loc.distance, panels, 1000, 260);
 }

@@ -41,15 +41,19 @@ std::vector<std::pair<std::string, double>> NamedParameters(const FitResult& fit
   return out;
 }
 
-/// Terrain points where the slope changes (the outside of the listed span is flat at 0).
-std::vector<double> Breakpoints(const Terrain& terrain) {
-  std::vector<double> out;
+/// Terrain points where the slope changes (the outside of the listed span is flat at 0), with
+/// the sign of the change (+1 concave up, e.g. the foot of a ramp; -1 at a crest).
+std::vector<std::pair<double, double>> Breakpoints(const Terrain& terrain) {
+  std::vector<std::pair<double, double>> out;
   const std::size_t n = terrain.x.size();
   for (std::size_t j = 0; j < n; ++j) {
     const double left = j == 0 ? 0.0 : (terrain.z[j] - terrain.z[j - 1]) / (terrain.x[j] - terrain.x[j - 1]);
     const double right = j + 1 == n ? 0.0 : (terrain.z[j + 1] - terrain.z[j]) / (terrain.x[j + 1] - terrain.x[j]);
     const bool jump = (j == 0 || j + 1 == n) && terrain.z[j] != 0.0;
-    if (std::abs(left - right) > 1e-9 || jump) out.push_back(terrain.x[j]);
+    if (std::abs(left - right) > 1e-9 || jump) {
+      const double change = jump ? (j == 0 ? terrain.z[j] : -terrain.z[j]) : right - left;
+      out.emplace_back(terrain.x[j], change > 0.0 ? 1.0 : -1.0);
+    }
   }
   return out;
 }
@@ -117,6 +121,27 @@ ResidualReport Analyse(const std::vector<TrialAnalysis>& trials, const Chair& ch
   int drive = 0;
   for (int i = 0; i < chair.wheel_count(); ++i)
     if (chair.wheels[i].radius > chair.wheels[drive].radius) drive = i;
+  // ∂θ_GM/∂Z_Oi (small-angle) and α_i decide which wheels the located residual follows:
+  // sign(∂θ/∂Z_Oi) for wheels with at least 30 % of the largest lever, α_i ≥ 30 % of the largest.
+  std::vector<double> pitch_lever(chair.wheel_count(), 0.0);
+  std::vector<bool> heave_share(chair.wheel_count(), false);
+  {
+    std::vector<double> g(chair.wheel_count(), 0.0);
+    for (const PairWeight& p : chair.gm->beta) {
+      const double dx = chair.wheels[p.i].x - chair.wheels[p.j].x;
+      g[p.i] += p.weight / dx;
+      g[p.j] -= p.weight / dx;
+    }
+    double gmax = 0.0, amax = 0.0;
+    for (int i = 0; i < chair.wheel_count(); ++i) {
+      gmax = std::max(gmax, std::abs(g[i]));
+      amax = std::max(amax, chair.gm->alpha[i]);
+    }
+    for (int i = 0; i < chair.wheel_count(); ++i) {
+      if (std::abs(g[i]) >= 0.3 * gmax && gmax > 0.0) pitch_lever[i] = g[i] > 0.0 ? 1.0 : -1.0;
+      heave_share[i] = chair.gm->alpha[i] >= 0.3 * amax;
+    }
+  }
 
   for (std::size_t r = 0; r < trials.size(); ++r) {
     const TrialAnalysis& t = trials[r];
@@ -159,23 +184,27 @@ ResidualReport Analyse(const std::vector<TrialAnalysis>& trials, const Chair& ch
     }
     // Located residual: each wheel against the nearest slope breakpoint.
     const effects::TrialRecord& rec = records[r];
-    const std::vector<double> breaks = Breakpoints(rec.terrain);
+    const std::vector<std::pair<double, double>> breaks = Breakpoints(rec.terrain);
     const bool slow = t.speed <= median_speed;
-    const double wz = 1.0, wp = 1.0;
     for (std::size_t k = 1; k + 1 < n; ++k) {
       const double v = (t.x[k + 1] - t.x[k - 1]) / (t.t[k + 1] - t.t[k - 1]);
-      for (const Wheel& wheel : chair.wheels) {
-        const double xi = t.x[k] + wheel.x;
-        double best = 1e9;
-        for (double b : breaks)
-          if (std::abs(xi - b) < std::abs(best)) best = xi - b;
+      for (int i = 0; i < chair.wheel_count(); ++i) {
+        const double xi = t.x[k] + chair.wheels[i].x;
+        double best = 1e9, sign = 1.0;
+        for (const auto& [b, s] : breaks) {
+          if (std::abs(xi - b) < std::abs(best)) {
+            best = xi - b;
+            sign = s;
+          }
+        }
         if (std::abs(best) >= 0.5 * bins * space_bin) continue;  // flat ground or far away
         const int bx = static_cast<int>(std::floor(best / space_bin)) + bins / 2;
-        (slow ? slow_x : fast_x).Add(bx, wp * ep[k]);
-        (slow ? slow_xz : fast_xz).Add(bx, wz * ez[k]);
-        if (v > 0.05 && std::abs(best / v) < 0.5 * bins * time_bin) {
+        // Only the wheels that move a channel much, signed by how they move it.
+        if (pitch_lever[i] != 0.0) (slow ? slow_x : fast_x).Add(bx, pitch_lever[i] * sign * ep[k]);
+        if (heave_share[i]) (slow ? slow_xz : fast_xz).Add(bx, sign * ez[k]);
+        if (pitch_lever[i] != 0.0 && v > 0.05 && std::abs(best / v) < 0.5 * bins * time_bin) {
           const int bt = static_cast<int>(std::floor(best / v / time_bin)) + bins / 2;
-          (slow ? slow_t : fast_t).Add(bt, ep[k]);
+          (slow ? slow_t : fast_t).Add(bt, pitch_lever[i] * sign * ep[k]);
         }
       }
       // Phases.

@@ -65,7 +65,10 @@ struct TrialAnalysis {
   std::vector<double> z_gm, pitch_gm;           ///< base GM output
 };
 
-/// Residual averaged against the distance of a wheel to the nearest terrain breakpoint.
+/// Residual averaged against the distance of a wheel to the nearest terrain breakpoint, signed
+/// by the breakpoint's slope change and by the wheel's effect on the channel (pitch: front
+/// wheels +, rear wheels -; heave: the wheels with a large α), so that the signatures of ramp
+/// feet and crests, front and rear wheels add up instead of cancelling.
 struct LocatedResidual {
   std::vector<double> distance;  ///< [m] bin centres (wheel x - breakpoint x)
   std::vector<double> slow_pitch, fast_pitch;  ///< [rad] mean pitch residual, slow/fast trials
