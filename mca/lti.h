@@ -83,4 +83,49 @@ double Step(const DiscreteSystem& system, FilterState& state, double u);
 /// The output for the current state and input (no advance).
 double Output(const DiscreteSystem& system, const FilterState& state);
 
+// Inline definitions: filters step on every tick.
+
+namespace internal {
+
+/// One step of an order-N system: fully unrolled fixed-size loops.
+template <std::size_t N>
+inline double StepOrder(const DiscreteSystem& system, FilterState& state, double u) {
+  std::array<double, N> next{};
+  for (std::size_t r = 0; r < N; ++r) {
+    double acc = system.g0[r] * state.u + system.g1[r] * u;
+    for (std::size_t c = 0; c < N; ++c) acc += system.phi[r * kMaxOrder + c] * state.x[c];
+    next[r] = acc;
+  }
+  double y = system.d * u;
+  for (std::size_t r = 0; r < N; ++r) {
+    state.x[r] = next[r];
+    y += system.c[r] * next[r];
+  }
+  state.u = u;
+  return y;
+}
+
+}  // namespace internal
+
+inline double Step(const DiscreteSystem& system, FilterState& state, double u) {
+  static_assert(kMaxOrder == 6, "extend the dispatch below");
+  switch (system.order) {
+    case 0: state.u = u; return system.d * u;
+    case 1: return internal::StepOrder<1>(system, state, u);
+    case 2: return internal::StepOrder<2>(system, state, u);
+    case 3: return internal::StepOrder<3>(system, state, u);
+    case 4: return internal::StepOrder<4>(system, state, u);
+    case 5: return internal::StepOrder<5>(system, state, u);
+    default: return internal::StepOrder<6>(system, state, u);
+  }
+}
+
+inline double Output(const DiscreteSystem& system, const FilterState& state) {
+  double y = system.d * state.u;
+  for (int r = 0; r < system.order; ++r) {
+    y += system.c[static_cast<std::size_t>(r)] * state.x[static_cast<std::size_t>(r)];
+  }
+  return y;
+}
+
 }  // namespace pwsim::mca

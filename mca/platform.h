@@ -7,7 +7,9 @@
 //   PlatformSpec pw = ReadPlatformFile("scenes/platforms/pw4dof.yaml");
 //   LimiterState s;  s = StepLimiter(pw.dofs[Index(Dof::kHeave)], s, target, target_rate, cap, dt);
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <filesystem>
 #include <limits>
 #include <string>
@@ -80,5 +82,72 @@ LimiterState StepLimiter(const DofLimits& limits, const LimiterState& state, dou
 
 /// Largest speed from which braking at `brake` over discrete ticks stops within `distance`.
 double StoppableSpeed(double distance, double brake, double dt);
+
+// Inline definitions: the limiter runs on every tick for every degree of freedom.
+
+inline double StoppableSpeed(double distance, double brake, double dt) {
+  if (!(distance > 0.0)) return 0.0;
+  // Braking at `brake` each tick covers at most v²/(2 brake) after this tick's v·dt
+  // (a right Riemann sum of a decreasing ramp): v·dt + v²/(2 brake) <= distance.
+  return brake * (std::sqrt(dt * dt + 2.0 * distance / brake) - dt);
+}
+
+inline LimiterState StepLimiter(const DofLimits& limits, const LimiterState& state, double target,
+                         double target_rate, double speed_cap, double dt) {
+  const double brake = limits.brake_accel();
+  const double accel = std::isfinite(limits.steady_accel) &&
+                               state.heat >= (limits.accel - limits.steady_accel) * limits.peak_time
+                           ? limits.steady_accel
+                           : limits.accel;
+  const double inv_dt = 1.0 / dt;
+  const double half_inv_brake = 0.5 / brake;
+  // v·dt + v²/(2 brake) <= distance, i.e. v <= StoppableSpeed(distance): checked without sqrt
+  auto stoppable = [&](double v, double distance) {
+    return v <= 0.0 || v * dt + v * v * half_inv_brake <= distance;
+  };
+
+  // desired rate: follow the target's motion and close the remaining gap as fast as braking
+  // allows (StoppableSpeed(d) < d/dt, and ≈ d/dt for a rounding-sized gap)
+  double desired = 0.0;
+  if (std::isfinite(target) && std::isfinite(target_rate)) {
+    const double gap = (target - target_rate * dt) - state.pose;
+    const double size = std::abs(gap);
+    const double close = size < 1e-12 ? size * inv_dt : StoppableSpeed(size, brake, dt);
+    desired = target_rate + std::copysign(close, gap);
+  }
+
+  // feasible window: acceleration, then travel (always compatible), then speed
+  double lo = state.rate - accel * dt;
+  double hi = state.rate + accel * dt;
+  if (std::isfinite(limits.travel)) {
+    if (!stoppable(hi, limits.travel - state.pose)) {
+      hi = std::min(hi, StoppableSpeed(limits.travel - state.pose, brake, dt));
+    }
+    if (!stoppable(-lo, limits.travel + state.pose)) {
+      lo = std::max(lo, -StoppableSpeed(limits.travel + state.pose, brake, dt));
+    }
+    if (lo > hi) lo = hi = 0.5 * (lo + hi);  // rounding only
+  }
+  const double cap = std::min(limits.speed, speed_cap);
+  if (hi < -cap) {
+    lo = hi;
+  } else if (lo > cap) {
+    hi = lo;
+  } else {
+    lo = std::max(lo, -cap);
+    hi = std::min(hi, cap);
+  }
+  const double rate = std::clamp(desired, lo, hi);
+
+  LimiterState next;
+  next.pose = state.pose + rate * dt;
+  if (std::isfinite(limits.travel)) next.pose = std::clamp(next.pose, -limits.travel, limits.travel);
+  next.rate = (next.pose - state.pose) * inv_dt;
+  next.accel = (next.rate - state.rate) * inv_dt;
+  if (std::isfinite(limits.steady_accel)) {
+    next.heat = std::max(0.0, state.heat + (std::abs(next.accel) - limits.steady_accel) * dt);
+  }
+  return next;
+}
 
 }  // namespace pwsim::mca
