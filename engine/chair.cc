@@ -104,8 +104,7 @@ Chair ParseChair(YamlMap& map) {
 Chair ReadChairFile(const std::filesystem::path& file) {
   const YamlDocument document = LoadYamlFile(file);
   YamlMap root(document.root, document.file, "");
-  const std::string format = root.String("format");
-  if (format != "pwsim-chair/1") root.Fail("format", "\"pwsim-chair/1\"", "\"" + format + "\"");
+  root.RequireFormat("pwsim-chair/1");
   Chair chair = ParseChair(root);
   root.Finish();
   return chair;

@@ -31,8 +31,7 @@ Scene ParseSceneRoot(const YamlDocument& document) {
   scene.file = document.file;
   YamlMap root(document.root, document.file, "");
 
-  const std::string format = root.String("format");
-  if (format != "pwsim-scene/1") root.Fail("format", "\"pwsim-scene/1\"", "\"" + format + "\"");
+  root.RequireFormat("pwsim-scene/1");
   scene.name = root.String("name");
   root.StringOr("description", "");
 

@@ -79,8 +79,7 @@ Terrain ParseTerrainProfile(YamlMap& map) {
 Terrain ReadTerrainFile(const std::filesystem::path& file) {
   const YamlDocument document = LoadYamlFile(file);
   YamlMap root(document.root, document.file, "");
-  const std::string format = root.String("format");
-  if (format != "pwsim-terrain/1") root.Fail("format", "\"pwsim-terrain/1\"", "\"" + format + "\"");
+  root.RequireFormat("pwsim-terrain/1");
   Terrain terrain = ParseTerrainProfile(root);
   root.Finish();
   return terrain;

@@ -230,6 +230,11 @@ YAML::Node YamlMap::Sequence(const std::string& key) {
 
 YAML::Node YamlMap::Raw(const std::string& key) { return Get(key); }
 
+void YamlMap::RequireFormat(const std::string& tag) {
+  const std::string format = String("format");
+  if (format != tag) Fail("format", "\"" + tag + "\"", "\"" + format + "\"");
+}
+
 void YamlMap::Finish() const {
   for (const auto& entry : node_) {
     const std::string key = entry.first.Scalar();

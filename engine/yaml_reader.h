@@ -78,6 +78,9 @@ class YamlMap {
   /// The raw node (marked as read). Throws if absent.
   YAML::Node Raw(const std::string& key);
 
+  /// Reads `format:` and fails unless it is exactly `tag` (e.g. "pwsim-chair/1").
+  void RequireFormat(const std::string& tag);
+
   /// @throws InputError for the first key that was never read.
   void Finish() const;
 

@@ -137,10 +137,7 @@ PlatformSpec ParsePlatform(YamlMap& map) {
 PlatformSpec ReadPlatformFile(const std::filesystem::path& file) {
   const YamlDocument document = LoadYamlFile(file);
   YamlMap root(document.root, document.file, "");
-  const std::string format = root.String("format");
-  if (format != "pwsim-platform/1") {
-    root.Fail("format", "\"pwsim-platform/1\"", "\"" + format + "\"");
-  }
+  root.RequireFormat("pwsim-platform/1");
   PlatformSpec p = ParsePlatform(root);
   root.Finish();
   return p;

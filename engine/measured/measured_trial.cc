@@ -41,8 +41,7 @@ MeasuredTrial ReadMeasuredTrial(const std::filesystem::path& folder_or_file,
 
   const YamlDocument document = LoadYamlFile(trial.trial_file);
   YamlMap root(document.root, document.file, "");
-  const std::string format = root.String("format");
-  if (format != "pwsim-trial/1") root.Fail("format", "\"pwsim-trial/1\"", "\"" + format + "\"");
+  root.RequireFormat("pwsim-trial/1");
   trial.chair_file = ResolveRelative(trial.trial_file, root.String("chair"));
   trial.terrain_file = ResolveRelative(trial.trial_file, root.String("terrain"));
   trial.load_kg = root.Number("load_kg", Range::Closed(0.0, 500.0, "kg"));
