@@ -6,6 +6,7 @@
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <memory>
@@ -29,16 +30,17 @@ RenderConfig Config(bool stereo) {
   return config;
 }
 
-/// CPU seconds used so far by this process (all threads) and its waited-for children (ffmpeg).
-double CpuSeconds() {
-  double total = 0.0;
-  for (const int who : {RUSAGE_SELF, RUSAGE_CHILDREN}) {
-    rusage usage{};
-    getrusage(who, &usage);
-    total += static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
-             1e-6 * static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
-  }
-  return total;
+/// CPU seconds used so far by this process (all threads: render, llvmpipe, writer) or by its
+/// waited-for children (ffmpeg).
+double CpuSeconds(int who) {
+  rusage usage{};
+  getrusage(who, &usage);
+  return static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+}
+
+double Since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 /// Renders the default trial's room while the chair drives and pitches; optionally encodes.
@@ -58,25 +60,51 @@ void RenderFrames(benchmark::State& state, bool stereo, bool encode) {
     renderer.Render(ChairPose(s), EyePose(s, scene.occupant.head_offset, true), 0);
   }
   std::int64_t k = 0;
-  const double cpu_start = CpuSeconds();
+  const double self_start = CpuSeconds(RUSAGE_SELF), children_start = CpuSeconds(RUSAGE_CHILDREN);
+  double render_s = 0.0, push_s = 0.0;
   for (auto _ : state) {
     VisualSample s;
     s.x = 0.5 + 0.024 * static_cast<double>(k % 250);
     s.pitch = 0.03 * std::sin(0.2 * static_cast<double>(k));
+    const auto render_start = std::chrono::steady_clock::now();
     const ImageView frame = renderer.Render(
         ChairPose(s), EyePose(s, scene.occupant.head_offset, true), static_cast<double>(k) / 50);
-    if (video) video->Push(frame);
+    render_s += Since(render_start);
+    if (video) {
+      const auto push_start = std::chrono::steady_clock::now();
+      video->Push(frame);
+      push_s += Since(push_start);
+    }
     ++k;
   }
   if (video) video->Close();  // the encoder's tail is part of the cost
+  const double self_cpu = CpuSeconds(RUSAGE_SELF) - self_start;
+  const double ffmpeg_cpu = CpuSeconds(RUSAGE_CHILDREN) - children_start;
   // fps is wall-clock (the goal's measure). cpu_ms is the CPU time per frame of the renderer,
   // its llvmpipe threads and ffmpeg together; 2000 / cpu_ms is the rate two otherwise idle
   // cores could sustain with rendering and encoding fully overlapped.
-  const double cpu_ms = 1e3 * (CpuSeconds() - cpu_start) / static_cast<double>(k);
+  const double per_frame_ms = 1e3 / static_cast<double>(k);
+  const double cpu_ms = (self_cpu + ffmpeg_cpu) * per_frame_ms;
   state.counters["fps"] = benchmark::Counter(static_cast<double>(k), benchmark::Counter::kIsRate);
   state.counters["cpu_ms"] = cpu_ms;
   state.counters["fps_2core_bound"] = 2000.0 / cpu_ms;
   state.counters["megapixels"] = renderer.width() * renderer.height() / 1e6;
+  // Breakdown per frame. render_ms: wall time of Render() (draw + llvmpipe rasterisation +
+  // OSMesa's copy of its colour buffer into ours; there is no glReadPixels). pwsim_cpu_ms: CPU
+  // of this process (render thread, llvmpipe threads, writer thread); ffmpeg_cpu_ms: the
+  // encoder process. copy_ms: Push's copy into the queue (render thread); wait_ms: Push
+  // blocked on a full queue (the encoder is behind); convert_ms, write_ms: the writer
+  // thread's BGRA→I420 and its pipe writes (blocking while ffmpeg is busy).
+  state.counters["render_ms"] = render_s * per_frame_ms;
+  state.counters["pwsim_cpu_ms"] = self_cpu * per_frame_ms;
+  if (video) {
+    const VideoWriterStats stats = video->stats();
+    state.counters["ffmpeg_cpu_ms"] = ffmpeg_cpu * per_frame_ms;
+    state.counters["copy_ms"] = stats.copy_s * per_frame_ms;
+    state.counters["wait_ms"] = (push_s - stats.copy_s) * per_frame_ms;
+    state.counters["convert_ms"] = stats.convert_s * per_frame_ms;
+    state.counters["write_ms"] = stats.write_s * per_frame_ms;
+  }
   std::filesystem::remove(file);
 }
 

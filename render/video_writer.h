@@ -41,6 +41,13 @@ struct VideoConfig {
 /// True when this machine's ffmpeg lists `encoder` (e.g. "libx264") under -encoders.
 bool FfmpegHasEncoder(const std::string& encoder);
 
+/// Where the writer's time went (wall seconds, summed over frames), for the benchmark breakdown.
+struct VideoWriterStats {
+  double copy_s{0.0};     ///< Push: copying frames into the queue (caller's thread)
+  double convert_s{0.0};  ///< writer thread: BGRA → I420 (H.264 only)
+  double write_s{0.0};    ///< writer thread: fwrite to ffmpeg (blocks while ffmpeg encodes)
+};
+
 class VideoWriter final {
  public:
   /// Starts ffmpeg. @throws std::runtime_error if ffmpeg cannot be started.
@@ -56,6 +63,11 @@ class VideoWriter final {
 
   const std::string& encoder() const { return encoder_; }  ///< e.g. "libx264"
   std::int64_t frames() const { return pushed_; }
+  /// Time spent so far; complete after Close().
+  VideoWriterStats stats() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return stats_;
+  }
 
  private:
   void WriterLoop();
@@ -66,7 +78,7 @@ class VideoWriter final {
   std::string encoder_;
   std::FILE* pipe_{nullptr};
   std::thread thread_;
-  std::mutex mutex_;
+  mutable std::mutex mutex_;
   std::condition_variable changed_;
   std::deque<std::vector<std::uint8_t>> queue_;
   std::vector<std::vector<std::uint8_t>> spare_;
@@ -76,6 +88,7 @@ class VideoWriter final {
   bool write_failed_{false};
   bool closed_{false};
   std::int64_t pushed_{0};
+  VideoWriterStats stats_;
 };
 
 }  // namespace pwsim::render
