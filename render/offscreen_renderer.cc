@@ -223,12 +223,20 @@ struct OffscreenRenderer::Impl {
   std::string renderer;
   std::string version;
   bool warmed_up{false};
+  std::vector<osg::Camera*> clearing;  ///< the cameras that clear: master (mono) or the eyes
+  Eigen::Vector3d room_min_W, room_max_W;
+  double eye_margin{0.0};  ///< [m] how far inside the room the head must be to skip the clear
 };
 
 OffscreenRenderer::OffscreenRenderer(const RenderScene& scene, const RenderConfig& config)
     : impl_(std::make_unique<Impl>()) {
   Impl& d = *impl_;
   d.config = config;
+  d.room_min_W = scene.room_min_W;
+  d.room_max_W = scene.room_max_W;
+  // The near plane's corners lie within 0.25 m of the eye for any field of view under ±75°;
+  // the stereo eyes are ipd/2 off the head.
+  d.eye_margin = 0.25 + (config.stereo ? 0.5 * config.hmd.ipd : 0.0);
   const int width = config.image_width(), height = config.image_height();
 
   osg::ref_ptr<osg::GraphicsContext::Traits> traits = new osg::GraphicsContext::Traits;
@@ -257,6 +265,7 @@ OffscreenRenderer::OffscreenRenderer(const RenderScene& scene, const RenderConfi
     master->setGraphicsContext(d.gc.get());
     master->setViewport(0, 0, width, height);
     master->setDrawBuffer(GL_FRONT);
+    d.clearing.push_back(master);
     master->setReadBuffer(GL_FRONT);
     master->setProjectionMatrixAsPerspective(config.fov_y_deg, static_cast<double>(width) / height,
                                              config.near, config.far);
@@ -273,6 +282,7 @@ OffscreenRenderer::OffscreenRenderer(const RenderScene& scene, const RenderConfi
       camera->setDrawBuffer(GL_FRONT);
       camera->setReadBuffer(GL_FRONT);
       camera->setClearColor(clear);
+      d.clearing.push_back(camera.get());
       camera->setComputeNearFarMode(osg::CullSettings::DO_NOT_COMPUTE_NEAR_FAR);
       const double shift = (left ? 0.5 : -0.5) * config.hmd.ipd;
       viewer.addSlave(camera.get(), EyeProjection(config.hmd.fov, left, config.near, config.far),
@@ -315,6 +325,17 @@ ImageView OffscreenRenderer::Render(const Eigen::Isometry3d& X_WV, const Eigen::
   d.chair->setMatrix(ToOsg(X_WV.matrix()));
   const Eigen::Matrix4d X_WG = X_WC.matrix() * GlEyeInCamera();
   d.viewer.getCamera()->setViewMatrix(ToOsg(X_WG.inverse()));
+  // With the head well inside the closed room every pixel is drawn by a room face, so clearing
+  // the colour buffer (4.6 Mpx of stores in stereo, ≈ 5 % of a frame) is wasted: clear depth
+  // only. The warm-up frames and any head near or beyond a wall clear both.
+  const Eigen::Vector3d head = X_WC.translation();
+  const bool room_covers_view =
+      d.warmed_up && (head - d.room_min_W).minCoeff() > d.eye_margin &&
+      (d.room_max_W - head).minCoeff() > d.eye_margin;
+  for (osg::Camera* camera : d.clearing) {
+    camera->setClearMask(room_covers_view ? GL_DEPTH_BUFFER_BIT
+                                          : GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  }
   if (!d.warmed_up) {
     // llvmpipe compiles shader variants on first use: draw a few frames before the real one,
     // then check that the clear actually reached the buffer (alpha of a cleared pixel = 255).

@@ -68,6 +68,8 @@ RenderScene BuildRenderScene(const Scene& scene, const RenderConfig& config) {
   const double x0 = -2.0, x1 = scene.room.length - 2.0;
   const double y0 = -scene.room.width / 2.0, y1 = scene.room.width / 2.0;
   const double z1 = scene.room.height;
+  out.room_min_W = Eigen::Vector3d(x0, y0, 0.0);
+  out.room_max_W = Eigen::Vector3d(x1, y1, z1);
   const Rgb floor{0.85F, 0.80F, 0.72F}, wall{0.90F, 0.90F, 0.88F}, ceiling{0.95F, 0.95F, 0.95F};
   out.world.push_back(MakeQuad({x0, y0, 0}, {x1, y0, 0}, {x1, y1, 0}, {x0, y1, 0}, floor,
                                TextureKind::kFloor, 1.0));

@@ -41,6 +41,10 @@ struct RenderScene {
   Rgb clear_color{0.55F, 0.62F, 0.70F};
   std::uint32_t texture_seed{0};
   Eigen::Vector3d light_dir_W{0.3, 0.2, 1.0};  ///< towards the light; shading is baked per quad
+  /// [m] the room's box in W (floor, walls and ceiling close it without gaps). An eye inside it
+  /// sees a room face in every pixel, so the renderer need not clear the colour buffer.
+  Eigen::Vector3d room_min_W{0.0, 0.0, 0.0};
+  Eigen::Vector3d room_max_W{0.0, 0.0, 0.0};
 };
 
 /// Room (floor, four walls, ceiling) from scene.room, the cushion from scene.terrain (profile

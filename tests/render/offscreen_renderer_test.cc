@@ -143,5 +143,29 @@ TEST(OffscreenRendererTest, WrongTiltCompensationIsCaught) {
   EXPECT_NEAR(without_removal.pitch_delta, tilted.tilt_pitch, 0.05 * tilted.tilt_pitch);
 }
 
+// Tests that skipping the colour clear (head inside the room) leaves no stale pixel: a frame
+// drawn after a very different one equals, pixel for pixel, the same view from a fresh renderer
+// (whose first frame clears colour too), in mono and in stereo.
+TEST(OffscreenRendererTest, DepthOnlyClearLeavesNoStalePixels) {
+  const Scene scene = DefaultScene();
+  const auto& head = scene.occupant.head_offset;
+  VisualSample before = StartSample();
+  before.pitch = 0.35;  // looking at the ceiling
+  VisualSample after = StartSample();
+  after.x = 3.0;
+  after.pitch = -0.30;  // on the cushion, looking at the floor
+  for (const bool stereo : {false, true}) {
+    RenderConfig config = Small(stereo);
+    const RenderScene render_scene = BuildRenderScene(scene, config);
+    OffscreenRenderer reused(render_scene, config);
+    reused.Render(ChairPose(before), EyePose(before, head, true), 0);
+    reused.Render(ChairPose(before), EyePose(before, head, true), 0);
+    const Image second = CopyImage(reused.Render(ChairPose(after), EyePose(after, head, true), 0));
+    OffscreenRenderer fresh(render_scene, config);
+    const Image first = CopyImage(fresh.Render(ChairPose(after), EyePose(after, head, true), 0));
+    EXPECT_EQ(ComparePixels(second.view(), first.view()).max, 0) << (stereo ? "stereo" : "mono");
+  }
+}
+
 }  // namespace
 }  // namespace pwsim::render
