@@ -21,7 +21,7 @@
 #include "engine/diagnose/diagnose.h"
 #include "engine/effects/effect_catalog.h"
 #include "engine/measured/measured_trial.h"
-#include "render/plot.h"
+#include "app/plot_png.h"
 
 namespace pwsim::app {
 namespace {
@@ -132,14 +132,14 @@ void PlotResiduals(const diagnose::TrialAnalysis& t, const std::string& cause,
     eep[k] = 1e3 * (t.pitch[k] - t.pitch_ext[k]);
   }
   const std::string ext = "extended (" + cause + ")";
-  std::vector<render::PlotPanel> panels{
+  std::vector<PlotPanel> panels{
       {"Z: measured vs models", "mm",
        {{"measured", mz, 0x222222}, {"base", bz, 0x1f77b4}, {ext, xz, 0xd62728}}},
       {"Z residual before/after", "mm", {{"base", ebz, 0x1f77b4}, {ext, eez, 0xd62728}}},
       {"pitch: measured vs models", "mrad",
        {{"measured", mp, 0x222222}, {"base", bp, 0x1f77b4}, {ext, xp, 0xd62728}}},
       {"pitch residual before/after", "mrad", {{"base", ebp, 0x1f77b4}, {ext, eep, 0xd62728}}}};
-  render::WritePlotPng(file, tz, panels, 1000, 220);
+  WritePlotPng(file, tz, panels, "t [s]", 1000, 220);
 }
 
 void PlotLocated(const diagnose::LocatedResidual& loc, const std::filesystem::path& file) {
@@ -147,12 +147,12 @@ void PlotLocated(const diagnose::LocatedResidual& loc, const std::filesystem::pa
     for (double& x : v) x *= 1e3;
     return v;
   };
-  std::vector<render::PlotPanel> panels{
-      {"pitch residual x sign of slope change vs wheel position from a terrain breakpoint (x axis: m)", "mrad",
+  std::vector<PlotPanel> panels{
+      {"pitch residual x sign of slope change vs wheel position from a terrain breakpoint", "mrad",
        {{"slow trials", milli(loc.slow_pitch), 0x1f77b4}, {"fast trials", milli(loc.fast_pitch), 0xd62728}}},
-      {"Z residual x sign of slope change vs wheel position from a terrain breakpoint (x axis: m)", "mm",
+      {"Z residual x sign of slope change vs wheel position from a terrain breakpoint", "mm",
        {{"slow trials", milli(loc.slow_z), 0x1f77b4}, {"fast trials", milli(loc.fast_z), 0xd62728}}}};
-  render::WritePlotPng(file, loc.distance, panels, 1000, 260);
+  WritePlotPng(file, loc.distance, panels, "wheel position from the terrain breakpoint [m]", 1000, 260);
 }
 
 std::string Markdown(const Diagnosis& d, const std::string& base_source,

@@ -18,7 +18,7 @@
 #include "engine/chair.h"
 #include "engine/identify/identify.h"
 #include "engine/measured/measured_trial.h"
-#include "render/plot.h"
+#include "app/plot_png.h"
 
 namespace pwsim::app {
 namespace {
@@ -153,7 +153,7 @@ void PlotTrial(const MeasuredTrial& trial, const Chair& chair, const TrialCompar
     p_meas.push_back(kRadToDeg * cmp.pitch_measured[k]);
     p_model.push_back(kRadToDeg * cmp.pitch_model[k]);
   }
-  std::vector<render::PlotPanel> panels;
+  std::vector<PlotPanel> panels;
   panels.push_back({"(a) ground under O_V and under the front wheel: the model input",
                     "z [mm]",
                     {{"ground at O_V", ground, 0x7f7f7f}, {"ground at front wheel", front, 0xbcbd22}}});
@@ -163,7 +163,7 @@ void PlotTrial(const MeasuredTrial& trial, const Chair& chair, const TrialCompar
   panels.push_back({"(c) pitch, fit " + Fixed(cmp.fit_pitch, 1) + " %",
                     "theta [deg]",
                     {{"measured (mocap, centred)", p_meas, 0x1f77b4}, {"model GM+LM", p_model, 0xd62728}}});
-  render::WritePlotPng(file, cmp.t, panels, 1000, 260);
+  WritePlotPng(file, cmp.t, panels, "t [s]", 1000, 260);
 }
 
 }  // namespace

@@ -146,4 +146,21 @@ void WriteFigurePng(const std::filesystem::path& file, const PngFigure& figure) 
   WriteFileAtomically(file, std::string(png.begin(), png.end()));
 }
 
+void WritePlotPng(const std::filesystem::path& file, const std::vector<double>& x,
+                  const std::vector<PlotPanel>& panels, const std::string& x_label, int width,
+                  int panel_height) {
+  PngFigure figure;
+  figure.x_label = x_label;
+  figure.width = width;
+  figure.panel_height = panel_height;
+  for (const PlotPanel& panel : panels) {
+    PngPanel png{panel.title, panel.y_label, {}, false};
+    for (const PlotSeries& series : panel.series) {
+      png.series.push_back({series.label, x, series.y, series.color, false});
+    }
+    figure.panels.push_back(std::move(png));
+  }
+  WriteFigurePng(file, figure);
+}
+
 }  // namespace pwsim::app

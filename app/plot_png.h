@@ -40,4 +40,22 @@ struct PngFigure {
 /// @throws std::runtime_error naming the file when it cannot be written.
 void WriteFigurePng(const std::filesystem::path& file, const PngFigure& figure);
 
+/// The common case: every series of every panel over one shared x axis.
+struct PlotSeries {
+  std::string label;
+  std::vector<double> y;  ///< same length as x; non-finite values leave a gap
+  unsigned color{0};      ///< 0xRRGGBB; 0 = next colour of the palette
+};
+
+struct PlotPanel {
+  std::string title;
+  std::string y_label;
+  std::vector<PlotSeries> series;
+};
+
+/// Panels stacked vertically over the shared `x`, labelled `x_label`.
+void WritePlotPng(const std::filesystem::path& file, const std::vector<double>& x,
+                  const std::vector<PlotPanel>& panels, const std::string& x_label = "t [s]",
+                  int width = 1000, int panel_height = 300);
+
 }  // namespace pwsim::app

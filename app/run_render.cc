@@ -16,7 +16,7 @@
 #include "render/image_io.h"
 #include "render/motion_check.h"
 #include "render/offscreen_renderer.h"
-#include "render/plot.h"
+#include "app/plot_png.h"
 #include "render/render_config.h"
 #include "render/render_scene.h"
 #include "render/video_writer.h"
@@ -308,14 +308,14 @@ void RenderTrial(const Scene& scene, const TrialTable& table, const ParsedArgs& 
       render::CompareSeries(est_vertical_rate, pose_vertical_rate, frame_dt, max_lag);
   int valid = 0;
   for (double v : est_pitch_rate) valid += std::isfinite(v) ? 1 : 0;
-  std::vector<render::PlotSeries> pitch_series{
+  std::vector<PlotSeries> pitch_series{
       {"pixels (optical flow, plane fit)", est_pitch_rate, 0xd62728},
       {"camera pose log", pose_pitch_rate, 0x1f77b4}};
   const unsigned cue_colors[] = {0x2ca02c, 0x9467bd, 0x8c564b};
   for (std::size_t c = 0; c < cues.size(); ++c) {
     pitch_series.push_back({cues[c].label, cue_rate[c], cue_colors[c % 3]});
   }
-  render::WritePlotPng(out_dir / "visual_check.png", t_mid,
+  WritePlotPng(out_dir / "visual_check.png", t_mid,
                        {{"Pitch rate (nose-up): pixels vs camera pose log vs vestibular cues",
                          "rad/s", pitch_series},
                         {"Vertical velocity of the eye: pixels vs pose log",
