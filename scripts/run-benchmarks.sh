@@ -1,9 +1,15 @@
 #!/usr/bin/env bash
-# Runs every benchmark target of a build folder and prints their figures (quoted in README.md).
+# Runs every benchmark of a build folder and prints the figures quoted in README.md:
+# the Google Benchmark targets, the identification benchmark against scipy, and the time to
+# diagnose 30 trials (the full confusion matrix is scripts/confusion-matrix.sh).
 set -euo pipefail
-build=${1:-build}
-for bench in "$build"/bench/*_bench; do
-  [ -x "$bench" ] || continue
-  echo "== $(basename "$bench")"
-  "$bench" --benchmark_min_time=0.5
+root=$(cd "$(dirname "$0")/.." && pwd)
+build=${1:-$root/build}
+for name in chair_model_bench mca_bench render_bench can_codec_bench; do
+  echo "== $name"
+  "$build/bench/$name" --benchmark_min_time=0.5
 done
+echo "== identify_bench (pwsim vs scipy)"
+"$root/scripts/bench-identify.sh" "$build"
+echo "== diagnose_bench (time to diagnose 30 trials)"
+"$build/bench/diagnose_bench" --timing-only
