@@ -102,12 +102,7 @@ Chair ParseChair(YamlMap& map) {
 }
 
 Chair ReadChairFile(const std::filesystem::path& file) {
-  const YamlDocument document = LoadYamlFile(file);
-  YamlMap root(document.root, document.file, "");
-  root.RequireFormat("pwsim-chair/1");
-  Chair chair = ParseChair(root);
-  root.Finish();
-  return chair;
+  return ReadTaggedYamlFile(file, "pwsim-chair/1", ParseChair);
 }
 
 std::string ChairToYaml(const Chair& chair) {

@@ -77,12 +77,7 @@ Terrain ParseTerrainProfile(YamlMap& map) {
 }
 
 Terrain ReadTerrainFile(const std::filesystem::path& file) {
-  const YamlDocument document = LoadYamlFile(file);
-  YamlMap root(document.root, document.file, "");
-  root.RequireFormat("pwsim-terrain/1");
-  Terrain terrain = ParseTerrainProfile(root);
-  root.Finish();
-  return terrain;
+  return ReadTaggedYamlFile(file, "pwsim-terrain/1", ParseTerrainProfile);
 }
 
 void WriteTerrainFile(const Terrain& terrain, const std::filesystem::path& file) {

@@ -102,6 +102,18 @@ class YamlMap {
   std::set<std::string> read_;
 };
 
+/// Reads a whole file tagged `format: tag`: `parse(YamlMap&)` reads the fields, then any key it
+/// did not read is an error. Returns what `parse` returns.
+template <typename Parse>
+auto ReadTaggedYamlFile(const std::filesystem::path& file, const std::string& tag, Parse parse) {
+  const YamlDocument document = LoadYamlFile(file);
+  YamlMap root(document.root, document.file, "");
+  root.RequireFormat(tag);
+  auto value = parse(root);
+  root.Finish();
+  return value;
+}
+
 /// A number from a scalar node with field naming done by the caller.
 double ScalarNumber(const YAML::Node& node, const std::filesystem::path& file,
                     const std::string& field, const Range& range);

@@ -135,12 +135,7 @@ PlatformSpec ParsePlatform(YamlMap& map) {
 }
 
 PlatformSpec ReadPlatformFile(const std::filesystem::path& file) {
-  const YamlDocument document = LoadYamlFile(file);
-  YamlMap root(document.root, document.file, "");
-  root.RequireFormat("pwsim-platform/1");
-  PlatformSpec p = ParsePlatform(root);
-  root.Finish();
-  return p;
+  return ReadTaggedYamlFile(file, "pwsim-platform/1", ParsePlatform);
 }
 
 }  // namespace pwsim::mca
