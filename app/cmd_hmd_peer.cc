@@ -8,17 +8,11 @@
 #include <iostream>
 
 #include "app/commands.h"
+#include "app/stop_signal.h"
 #include "hardware/hmd_protocol.h"
 #include "hardware/udp_socket.h"
 
 namespace pwsim::app {
-namespace {
-
-volatile std::sig_atomic_t g_stop = 0;
-void OnSignal(int) { g_stop = 1; }
-
-}  // namespace
-
 const CommandSpec& HmdPeerSpec() {
   static const CommandSpec spec{
       "hmd-peer",
@@ -50,8 +44,7 @@ int HmdPeerCommand(const ParsedArgs& args) {
     std::cerr << "pwsim hmd-peer: " << error << "\n";
     return 1;
   }
-  std::signal(SIGINT, OnSignal);
-  std::signal(SIGTERM, OnSignal);
+  InstallStopSignalHandlers();
   std::cout << "pwsim hmd-peer: listening on " << listen->ToString() << "\n" << std::flush;
 
   auto peer_now = [&] { return hw::MonotonicNs() + offset_ns; };
@@ -64,7 +57,7 @@ int HmdPeerCommand(const ParsedArgs& args) {
   std::array<std::uint8_t, 512> buffer{};
   std::array<std::uint8_t, hw::kHmdMaxSize> reply{};
   for (;;) {
-    if (g_stop) break;
+    if (StopRequested()) break;
     const double t = static_cast<double>(hw::MonotonicNs() - start) / 1e9;
     if (duration > 0 && t >= duration) {
       why = "duration reached";

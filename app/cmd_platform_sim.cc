@@ -7,19 +7,13 @@
 #include <iostream>
 
 #include "app/commands.h"
+#include "app/stop_signal.h"
 #include "engine/number_format.h"
 #include "hardware/candump_log.h"
 #include "hardware/simulated_drives.h"
 #include "hardware/udp_can_bus.h"
 
 namespace pwsim::app {
-namespace {
-
-volatile std::sig_atomic_t g_stop = 0;
-void OnSignal(int) { g_stop = 1; }
-
-}  // namespace
-
 const CommandSpec& PlatformSimSpec() {
   static const CommandSpec spec{
       "platform-sim",
@@ -66,8 +60,7 @@ int PlatformSimCommand(const ParsedArgs& args) {
   hw::DriveSimConfig config;
   config.cycle_s = cycle_ms / 1000.0;
   hw::SimulatedDrives drives(config);
-  std::signal(SIGINT, OnSignal);
-  std::signal(SIGTERM, OnSignal);
+  InstallStopSignalHandlers();
   std::cout << "pwsim platform-sim: drives 1 (yaw) and 2 (rail) on " << bus.name() << "\n"
             << std::flush;
 
@@ -78,7 +71,7 @@ int PlatformSimCommand(const ParsedArgs& args) {
   std::vector<hw::CanFrame> out;
   std::string why = "signal";
   for (;;) {
-    if (g_stop) break;
+    if (StopRequested()) break;
     const std::int64_t now = hw::MonotonicNs();
     const double t = static_cast<double>(now - start) / 1e9;
     if (duration > 0 && t >= duration) {

@@ -10,6 +10,7 @@
 #include <iostream>
 
 #include "app/commands.h"
+#include "app/stop_signal.h"
 #include "app/scene_path.h"
 #include "engine/atomic_file.h"
 #include "engine/scene.h"
@@ -19,9 +20,6 @@
 
 namespace pwsim::app {
 namespace {
-
-std::atomic<bool> g_stop{false};
-void OnSignal(int) { g_stop.store(true); }
 
 int TicksFromMs(double ms, int rate_hz, const char* option) {
   const double ticks = ms * rate_hz / 1000.0;
@@ -122,8 +120,7 @@ int SessionCommand(const ParsedArgs& args) {
   std::filesystem::create_directories(out_dir);
   AtomicFileWriter log(out_dir / "session.log");
   AtomicFileWriter can_log(out_dir / "can.log");
-  std::signal(SIGINT, OnSignal);
-  std::signal(SIGTERM, OnSignal);
+  InstallStopSignalHandlers();
   std::cout << "pwsim session: scene '" << scene.name << "', " << source << "\n"
             << "  CAN " << bus.bus->name() << ", HMD " << (config.hmd_required ? hmd_peer.ToString() : "none")
             << ", drive cycle " << config.drive_cycle_ticks << " ticks, frame " << config.frame_ticks
@@ -135,7 +132,7 @@ int SessionCommand(const ParsedArgs& args) {
   io.hmd_peer = hmd_peer;
   io.log = &log.stream();
   io.candump = &can_log.stream();
-  io.stop = &g_stop;
+  io.stop = &StopRequested();
   const long long rt = args.GetInt("rt-priority");
   if (rt < 0 || rt > 99) throw std::invalid_argument("option --rt-priority: expected 0..99");
   io.rt_priority = static_cast<int>(rt);
