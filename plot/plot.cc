@@ -1,0 +1,316 @@
+#include "plot/plot.h"
+
+#include <spawn.h>
+#include <sys/wait.h>
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "engine/atomic_file.h"
+#include "engine/number_format.h"
+
+extern char** environ;
+
+namespace pwsim::plot {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A colour-blind-safe palette (Okabe & Ito, 2008), then gnuplot's defaults.
+constexpr unsigned kPalette[] = {0x0072B2, 0xD55E00, 0x009E73, 0xCC79A7,
+                                 0xE69F00, 0x56B4E9, 0x000000, 0xF0E442};
+
+// gnuplot string literal in single quotes: only the quote itself needs doubling.
+std::string Quote(const std::string& text) {
+  std::string out = "'";
+  for (char c : text) {
+    if (c == '\'') out += "''";
+    else if (c == '\n') out += ' ';
+    else out += c;
+  }
+  return out + "'";
+}
+
+std::string Hex(unsigned rgb) {
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "#%06X", rgb & 0xFFFFFFu);
+  return buf;
+}
+
+std::string CsvField(const std::string& text) {
+  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char c : text) out += (c == '"') ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+void Validate(const Figure& figure) {
+  if (figure.panels.empty()) throw std::invalid_argument("plot: a figure needs at least one panel");
+  for (const Panel& panel : figure.panels)
+    for (const Series& s : panel.series)
+      if (s.x.size() != s.y.size())
+        throw std::invalid_argument("plot: series '" + s.label + "' has " +
+                                    std::to_string(s.x.size()) + " x values and " +
+                                    std::to_string(s.y.size()) + " y values");
+}
+
+// The data file: one gnuplot dataset (separated by two blank lines) per series or box, in
+// figure order, so `index k` addresses the k-th. A non-finite y becomes one blank line: a gap.
+std::string DataText(const Figure& figure) {
+  std::ostringstream out;
+  for (const Panel& panel : figure.panels) {
+    if (!panel.boxes.empty()) {
+      for (std::size_t b = 0; b < panel.boxes.size(); ++b) {
+        for (double v : panel.boxes[b].values)
+          if (std::isfinite(v)) out << (b + 1) << ' ' << FormatDouble(v) << '\n';
+        out << "\n\n";
+      }
+      continue;
+    }
+    for (const Series& s : panel.series) {
+      bool any = false;
+      for (std::size_t i = 0; i < s.x.size(); ++i) {
+        if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) {
+          out << '\n';
+          continue;
+        }
+        out << FormatDouble(s.x[i]) << ' ' << FormatDouble(s.y[i]) << '\n';
+        any = true;
+      }
+      // gnuplot refuses an empty dataset; an undefined point keeps the index numbering.
+      if (!any) out << "0 NaN\n";
+      out << "\n\n";
+    }
+  }
+  return out.str();
+}
+
+std::string CsvText(const Figure& figure) {
+  std::ostringstream out;
+  out << "panel,series,x,y\n";
+  for (const Panel& panel : figure.panels) {
+    const std::string p = CsvField(panel.title);
+    if (!panel.boxes.empty()) {
+      for (const BoxGroup& box : panel.boxes)
+        for (double v : box.values) out << p << ',' << CsvField(box.label) << ",," << FormatDouble(v) << '\n';
+      continue;
+    }
+    for (const Series& s : panel.series)
+      for (std::size_t i = 0; i < s.x.size(); ++i)
+        out << p << ',' << CsvField(s.label) << ',' << FormatDouble(s.x[i]) << ','
+            << FormatDouble(s.y[i]) << '\n';
+  }
+  return out.str();
+}
+
+const char* StyleText(Style style) {
+  switch (style) {
+    case Style::kPoints: return "points pt 7 ps 0.6";
+    case Style::kLinesPoints: return "linespoints pt 7 ps 0.6";
+    case Style::kSteps: return "steps";
+    case Style::kLines: break;
+  }
+  return "lines";
+}
+
+// The plotting commands, written once and replayed for each terminal.
+std::string PlotBody(const Figure& figure, const std::string& data_file) {
+  std::ostringstream gp;
+  const std::size_t n = figure.panels.size();
+  gp << "set termoption noenhanced\n"
+     << "set datafile missing 'NaN'\n"
+     << "set grid xtics ytics lc rgb '#DDDDDD' lw 1\n"
+     << "set border lw 1\n"
+     << "set key outside right top vertical Left reverse samplen 2 spacing 1.1\n"
+     << "set lmargin 12\nset rmargin at screen 0.78\n";
+  if (!figure.title.empty() || n > 1)
+    gp << "set multiplot layout " << n << ",1 title " << Quote(figure.title) << "\n";
+  std::size_t index = 0;
+  for (std::size_t p = 0; p < n; ++p) {
+    const Panel& panel = figure.panels[p];
+    gp << "unset logscale\nunset xtics\nunset ytics\nset xtics\nset ytics\nset autoscale\n";
+    gp << "set title " << Quote(panel.title) << "\n";
+    gp << "set ylabel " << Quote(panel.y_label) << "\n";
+    if (panel.log_y) gp << "set logscale y\n";
+    if (panel.y_min < panel.y_max)
+      gp << "set yrange [" << FormatDouble(panel.y_min) << ":" << FormatDouble(panel.y_max) << "]\n";
+    else
+      gp << "set yrange [*:*]\n";
+    if (!panel.boxes.empty()) {
+      gp << "set xlabel ''\nset style data boxplot\n"
+         << "set style boxplot outliers pointtype 7\nset style fill solid 0.35 border -1\n"
+         << "set boxwidth 0.5\nset xrange [0.4:" << panel.boxes.size() << ".6]\n"
+         << "set xtics (";
+      for (std::size_t b = 0; b < panel.boxes.size(); ++b)
+        gp << (b ? ", " : "") << Quote(panel.boxes[b].label) << " " << b + 1;
+      gp << ") scale 0\nset key off\nplot ";
+      for (std::size_t b = 0; b < panel.boxes.size(); ++b, ++index) {
+        const unsigned color = kPalette[b % std::size(kPalette)];
+        gp << (b ? ", \\\n     " : "") << Quote(data_file) << " index " << index
+           << " using (" << b + 1 << "):2 with boxplot lc rgb '" << Hex(color) << "' notitle";
+      }
+      gp << "\nset key\nunset style data\nset style fill empty\n";
+      continue;
+    }
+    gp << "set xrange [*:*]\n";
+    if (figure.log_x) gp << "set logscale x\n";
+    gp << "set xlabel " << Quote(p + 1 == n ? figure.x_label : std::string()) << "\n";
+    gp << "plot ";
+    for (std::size_t s = 0; s < panel.series.size(); ++s, ++index) {
+      const Series& series = panel.series[s];
+      const unsigned color = series.color ? series.color : kPalette[s % std::size(kPalette)];
+      gp << (s ? ", \\\n     " : "") << Quote(data_file) << " index " << index
+         << " using 1:2 with " << StyleText(series.style) << " lw 1.5 lc rgb '" << Hex(color)
+         << "' title " << Quote(series.label);
+    }
+    if (panel.series.empty()) gp << "NaN notitle";
+    gp << "\n";
+  }
+  if (!figure.title.empty() || n > 1) gp << "unset multiplot\n";
+  return gp.str();
+}
+
+int RunGnuplot(const fs::path& script, const fs::path& log) {
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  const std::string log_name = log.string();
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log_name.c_str(),
+                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  const std::string script_name = script.string();
+  std::string prog = "gnuplot";
+  char* argv[] = {prog.data(), const_cast<char*>(script_name.c_str()), nullptr};
+  pid_t pid = 0;
+  const int rc = posix_spawnp(&pid, "gnuplot", &actions, nullptr, argv, environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (rc != 0) return -1;
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0) {
+    if (errno != EINTR) return -1;
+  }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string ReadAll(const fs::path& file) {
+  std::ifstream in(file);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+}  // namespace
+
+FigureFiles FigureFilesFor(const fs::path& stem_in) {
+  fs::path stem = stem_in;
+  if (stem.extension() == ".png" || stem.extension() == ".svg") stem.replace_extension();
+  const std::string base = stem.string();
+  return {base + ".png", base + ".svg", base + ".csv", base + ".gp"};
+}
+
+bool GnuplotAvailable() {
+  const char* path = std::getenv("PATH");
+  if (!path) return false;
+  std::stringstream dirs(path);
+  std::string dir;
+  while (std::getline(dirs, dir, ':'))
+    if (!dir.empty() && access((fs::path(dir) / "gnuplot").c_str(), X_OK) == 0) return true;
+  return false;
+}
+
+void WriteFigure(const fs::path& stem, const Figure& figure) {
+  Validate(figure);
+  const FigureFiles files = FigureFilesFor(stem);
+  if (!files.png.parent_path().empty()) fs::create_directories(files.png.parent_path());
+  // Old outputs go first: a failure below must not leave a previous figure looking current.
+  for (const fs::path& f : {files.png, files.svg, files.csv, files.gp}) fs::remove(f);
+
+  // The data file is named relative to the script, so the .gp replays from its folder.
+  const fs::path data = fs::path(files.csv).replace_extension(".dat");
+  const std::string data_name = data.filename().string();
+  const std::string body = PlotBody(figure, data_name);
+  const int height = figure.panel_height_px * static_cast<int>(figure.panels.size()) +
+                     (figure.title.empty() ? 0 : 40);
+  const std::string png_part = files.png.filename().string() + ".partial";
+  const std::string svg_part = files.svg.filename().string() + ".partial";
+  std::ostringstream script;
+  script << "# Drawn by pwsim (plot/plot.cc); data in " << data_name << " (also "
+         << files.csv.filename().string() << ").\n"
+         << "set terminal pngcairo size " << figure.width_px << "," << height
+         << " font 'DejaVu Sans,10' linewidth 1 noenhanced\n"
+         << "set output " << Quote(png_part) << "\n"
+         << body << "unset output\n"
+         << "reset\n"
+         << "set terminal svg size " << figure.width_px << "," << height
+         << " font 'DejaVu Sans,10' noenhanced\n"
+         << "set output " << Quote(svg_part) << "\n"
+         << body << "unset output\n";
+
+  // gnuplot runs in the output folder so the script's relative names resolve.
+  const fs::path dir = files.png.parent_path().empty() ? fs::path(".") : files.png.parent_path();
+  WriteFileAtomically(data, DataText(figure));
+  const fs::path gp_partial = dir / (files.gp.filename().string() + ".run");
+  {
+    std::ofstream out(gp_partial);
+    out << "cd " << Quote(fs::absolute(dir).string()) << "\n" << script.str();
+    if (!out) throw std::runtime_error(gp_partial.string() + ": cannot write the gnuplot script");
+  }
+  const fs::path log = dir / (files.gp.filename().string() + ".log");
+  const int rc = RunGnuplot(gp_partial, log);
+  const std::string messages = ReadAll(log);
+  fs::remove(log);
+  fs::remove(gp_partial);
+  if (rc != 0) {
+    fs::remove(dir / png_part);
+    fs::remove(dir / svg_part);
+    fs::remove(data);
+    if (rc < 0)
+      throw std::runtime_error(files.png.string() +
+                               ": cannot run gnuplot (install Debian package gnuplot-nox)");
+    throw std::runtime_error(files.png.string() + ": gnuplot exited with status " +
+                             std::to_string(rc) + ": " + messages);
+  }
+  fs::rename(dir / png_part, files.png);
+  fs::rename(dir / svg_part, files.svg);
+  // The kept script names the final files, so rerunning it redraws them in place.
+  std::string kept = script.str();
+  for (const auto& [from, to] : {std::pair{png_part, files.png.filename().string()},
+                                 std::pair{svg_part, files.svg.filename().string()}}) {
+    const std::string quoted = Quote(from);
+    if (auto at = kept.find(quoted); at != std::string::npos)
+      kept.replace(at, quoted.size(), Quote(to));
+  }
+  WriteFileAtomically(files.gp, kept);
+  WriteFileAtomically(files.csv, CsvText(figure));
+}
+
+void WriteSharedXFigure(const fs::path& stem, const std::vector<double>& x,
+                        const std::vector<SharedXPanel>& panels, const std::string& x_label,
+                        int width_px, int panel_height_px) {
+  Figure figure;
+  figure.x_label = x_label;
+  figure.width_px = width_px;
+  figure.panel_height_px = panel_height_px;
+  for (const SharedXPanel& in : panels) {
+    Panel& panel = figure.panels.emplace_back();
+    panel.title = in.title;
+    panel.y_label = in.y_label;
+    for (const SharedXSeries& s : in.series) {
+      Series& series = panel.series.emplace_back();
+      series.label = s.label;
+      series.x = x;
+      series.y = s.y;
+      series.color = s.color;
+    }
+  }
+  WriteFigure(stem, figure);
+}
+
+}  // namespace pwsim::plot

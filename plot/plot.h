@@ -1,0 +1,93 @@
+#pragma once
+// Report-quality figures drawn by gnuplot (Debian `gnuplot-nox`): stacked panels sharing one x
+// axis, line/point series or box plots, linear or logarithmic axes. gnuplot picks round tick
+// values; the key sits outside the plot area so it never covers or loses a curve.
+//
+// One call writes four files next to each other, each under a temporary name first and then
+// renamed, so a failed call never leaves a half-written figure that looks complete:
+//   STEM.png   pngcairo, for reports
+//   STEM.svg   svg, for papers
+//   STEM.csv   the plotted data in long form: panel,series,x,y (one row per point)
+//   STEM.gp    the gnuplot script that drew both images (rerun it to restyle a figure)
+//
+//   plot::Figure fig{.x_label = "t [s]"};
+//   fig.panels.push_back({.title = "heave", .y_label = "a_z [m/s^2]",
+//                         .series = {{"vehicle", t, y1}, {"platform", t, y2}}});
+//   plot::WriteFigure("out/mca", fig);   // out/mca.png, .svg, .csv, .gp
+//
+// Labels are printed literally (no gnuplot "enhanced text" markup), so `a_z` stays `a_z`.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace pwsim::plot {
+
+enum class Style { kLines, kPoints, kLinesPoints, kSteps };
+
+struct Series {
+  std::string label;
+  std::vector<double> x;
+  std::vector<double> y;  ///< same length as x; a non-finite y leaves a gap in the curve
+  Style style{Style::kLines};
+  unsigned color{0};  ///< 0xRRGGBB; 0 = the next colour of the palette
+};
+
+/// One box of a box plot: the box spans the quartiles, the whiskers reach the most extreme
+/// values within 1.5 IQR, points beyond are drawn as outliers (gnuplot's `boxplot` style,
+/// Tukey's convention, as R's boxplot()).
+struct BoxGroup {
+  std::string label;  ///< the category name under the box
+  std::vector<double> values;
+};
+
+struct Panel {
+  std::string title;
+  std::string y_label;  ///< with its unit, e.g. "pitch [deg]"
+  std::vector<Series> series;
+  std::vector<BoxGroup> boxes;  ///< if non-empty, the panel is a box plot (series ignored)
+  bool log_y{false};
+  double y_min{0.0}, y_max{0.0};  ///< fixed y range when y_min < y_max; autoscaled otherwise
+};
+
+struct Figure {
+  std::string title;
+  std::string x_label;  ///< with its unit, e.g. "t [s]"
+  bool log_x{false};
+  std::vector<Panel> panels;
+  int width_px{1100};
+  int panel_height_px{320};
+};
+
+/// Writes STEM.png, STEM.svg, STEM.csv and STEM.gp (STEM may carry a ".png" extension, which
+/// is dropped). @throws std::runtime_error naming the file or the failing gnuplot command.
+/// @throws std::invalid_argument if a series has x and y of different lengths or the figure
+/// has no panel (a bug in the caller).
+void WriteFigure(const std::filesystem::path& stem, const Figure& figure);
+
+/// The common case: every series of every panel over one shared x.
+struct SharedXSeries {
+  std::string label;
+  std::vector<double> y;
+  unsigned color{0};
+};
+struct SharedXPanel {
+  std::string title;
+  std::string y_label;
+  std::vector<SharedXSeries> series;
+};
+void WriteSharedXFigure(const std::filesystem::path& stem, const std::vector<double>& x,
+                        const std::vector<SharedXPanel>& panels,
+                        const std::string& x_label = "t [s]", int width_px = 1100,
+                        int panel_height_px = 300);
+
+/// The paths WriteFigure writes for `stem`.
+struct FigureFiles {
+  std::filesystem::path png, svg, csv, gp;
+};
+FigureFiles FigureFilesFor(const std::filesystem::path& stem);
+
+/// True when a `gnuplot` executable is on PATH.
+bool GnuplotAvailable();
+
+}  // namespace pwsim::plot
