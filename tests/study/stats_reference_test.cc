@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
 #include <random>
 #include <sstream>
 
@@ -157,6 +158,7 @@ TEST_F(StatsReference, MatchesR) {
   const auto rows = ReadCsv(*dir_ / "r.csv");
   ASSERT_EQ(rows.size(), corpus_->size());
   int compared = 0;
+  double max_sw_w = 0, max_sw_p = 0, max_sr_p = 0, max_rs_p = 0;
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const auto& row = rows[i];
     const DataSet& d = (*corpus_)[i];
@@ -169,22 +171,29 @@ TEST_F(StatsReference, MatchesR) {
       const ShapiroWilk sw = ShapiroWilkTest(*sample);
       EXPECT_NEAR(sw.w, Value(row, k + "_w"), kTol) << k;
       EXPECT_NEAR(sw.p, Value(row, k + "_p"), kTol) << k;
+      max_sw_w = std::max(max_sw_w, std::abs(sw.w - Value(row, k + "_w")));
+      max_sw_p = std::max(max_sw_p, std::abs(sw.p - Value(row, k + "_p")));
       ++compared;
     }
     if (!IsNa(row.at("paired_v"))) {
       const SignedRank s = SignedRankTest(d.x, d.y);
       EXPECT_NEAR(s.v, Value(row, "paired_v"), kTol);
       EXPECT_NEAR(s.p, Value(row, "paired_p"), kTol) << s.method;
+      max_sr_p = std::max(max_sr_p, std::abs(s.p - Value(row, "paired_p")));
       ++compared;
     }
     if (!IsNa(row.at("unpaired_w"))) {
       const RankSum u = RankSumTest(d.x, d.y);
       EXPECT_NEAR(u.w, Value(row, "unpaired_w"), kTol);
       EXPECT_NEAR(u.p, Value(row, "unpaired_p"), kTol) << u.method;
+      max_rs_p = std::max(max_rs_p, std::abs(u.p - Value(row, "unpaired_p")));
       ++compared;
     }
   }
   EXPECT_GT(compared, 3 * static_cast<int>(corpus_->size()));
+  std::cout << "[ R " << rows.front().at("r_version") << " ] " << corpus_->size() << " data sets, " << compared
+            << " results; largest |difference|: Shapiro-Wilk W " << max_sw_w << ", p " << max_sw_p
+            << "; signed-rank p " << max_sr_p << "; rank-sum p " << max_rs_p << "\n";
 }
 
 TEST_F(StatsReference, MatchesScipyAndEnumeration) {
