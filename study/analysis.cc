@@ -290,6 +290,47 @@ StudyAnalysis Analyse(const Ratings& ratings, const AnalysisOptions& options) {
                          " is the normal approximation with tie-corrected variance and continuity correction; the exact conditional p " +
                          (pc.unpaired.p_exact ? "is " + Fmt(*pc.unpaired.p_exact) : std::string("was not computed (too large)")) + ".");
   }
+  if (ratings.has_order) {
+    OrderEffect oe;
+    std::vector<double> first, second;
+    for (const std::string& p : ratings.participants) {
+      const Rating* r1 = nullptr;
+      const Rating* r2 = nullptr;
+      for (const Rating& r : ratings.rows) {
+        if (r.participant != p || !r.order) continue;
+        if (*r.order == 1) r1 = &r;
+        if (*r.order == 2) r2 = &r;
+      }
+      if (r1 == nullptr) continue;
+      auto it = std::find_if(oe.first_counts.begin(), oe.first_counts.end(),
+                             [&](const auto& c) { return c.first == r1->condition; });
+      if (it == oe.first_counts.end()) {
+        oe.first_counts.emplace_back(r1->condition, 1);
+      } else {
+        ++it->second;
+      }
+      if (r2 == nullptr) continue;
+      first.push_back(r1->value);
+      second.push_back(r2->value);
+    }
+    oe.n_participants = first.size();
+    if (!first.empty()) {
+      for (std::size_t i = 0; i < first.size(); ++i) {
+        oe.mean_first += first[i];
+        oe.mean_second += second[i];
+      }
+      oe.mean_first /= static_cast<double>(first.size());
+      oe.mean_second /= static_cast<double>(first.size());
+      oe.test = SignedRankTest(first, second);
+      std::string counts;
+      for (const auto& [c, k] : oe.first_counts) counts += (counts.empty() ? "" : ", ") + c + " first: " + std::to_string(k);
+      an.notes.push_back("Order: " + std::to_string(oe.n_participants) + " participants rated a first and a second ride (" +
+                         counts + "); mean rating of the first ride " + Num(oe.mean_first, 3) + ", of the second " +
+                         Num(oe.mean_second, 3) + ", paired signed-rank p = " + Fmt(oe.test->p) +
+                         (oe.test->p < 0.05 ? ": an order effect; check that the conditions were counterbalanced." : "."));
+    }
+    an.order = oe;
+  }
   if (options.reported) CheckReported(an, *options.reported, &an.notes);
   return an;
 }

@@ -56,7 +56,19 @@ struct Reported {
 /// @throws std::invalid_argument naming the key.
 Reported ParseReported(const std::string& text);
 
+/// Order (period) effect, when the file has an `order` column: per participant with ratings
+/// at positions 1 and 2, the first ride's rating against the second's (paired signed-rank), and
+/// how many participants had each condition first (counterbalancing check).
+struct OrderEffect {
+  std::size_t n_participants{0};
+  double mean_first{0.0};
+  double mean_second{0.0};
+  std::optional<SignedRank> test;                          ///< first − second
+  std::vector<std::pair<std::string, int>> first_counts;   ///< condition -> participants who had it first
+};
+
 struct StudyAnalysis {
+  std::optional<OrderEffect> order;
   std::vector<ConditionSummary> conditions;  ///< order of first appearance in the file
   std::vector<PairComparison> pairs;         ///< every pair; pairs[main_pair] is the headline
   std::size_t main_pair{0};

@@ -66,6 +66,7 @@ Ratings ParseRatings(const std::string& text, const std::string& name) {
   std::map<std::pair<std::string, std::string>, int> seen;
   while (std::getline(in, line)) {
     ++line_no;
+    if (line_no == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // UTF-8 byte order mark
     const std::string trimmed = Trim(line);
     if (trimmed.empty() || trimmed[0] == '#') continue;
     if (trimmed.find('"') != std::string::npos)

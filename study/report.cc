@@ -117,6 +117,19 @@ std::string StudyJson(const StudyAnalysis& an) {
   j["unpaired"] = UnpairedJson(main);
   j["effect_size"] = EffectJson(main);
   j["notes"] = an.notes;
+  if (an.order && an.order->test) {
+    ordered_json o;
+    o["n_participants"] = an.order->n_participants;
+    o["mean_first"] = Number(an.order->mean_first);
+    o["mean_second"] = Number(an.order->mean_second);
+    o["v"] = Number(an.order->test->v);
+    o["p"] = Number(an.order->test->p);
+    o["method"] = an.order->test->method;
+    ordered_json counts = ordered_json::object();
+    for (const auto& [c, k] : an.order->first_counts) counts[c] = k;
+    o["first"] = counts;
+    j["order_effect"] = o;
+  }
   ordered_json pairs = ordered_json::array();
   for (const PairComparison& pc : an.pairs)
     pairs.push_back({{"paired", PairedJson(pc)}, {"unpaired", UnpairedJson(pc)}, {"effect_size", EffectJson(pc)}});

@@ -98,6 +98,30 @@ TEST(Analysis, EveryPairOfThreeConditions) {
   EXPECT_EQ(an.pairs[2].a + an.pairs[2].b, "BC");
 }
 
+TEST(Analysis, OrderEffectFromTheOrderColumn) {
+  // every participant rates 1 on the first ride and 3 on the second: a pure order effect
+  std::ostringstream s;
+  s << "\xEF\xBB\xBFparticipant,condition,rating,order\r\n";  // Excel's BOM and CRLF
+  for (int i = 0; i < 10; ++i) {
+    const bool a_first = i % 2 == 0;
+    s << "P" << i << ",A," << (a_first ? 1 : 3) << "," << (a_first ? 1 : 2) << "\r\n";
+    s << "P" << i << ",B," << (a_first ? 3 : 1) << "," << (a_first ? 2 : 1) << "\r\n";
+  }
+  const StudyAnalysis an = Analyse(ParseRatings(s.str(), "order.csv"));
+  ASSERT_TRUE(an.order.has_value());
+  EXPECT_EQ(an.order->n_participants, 10u);
+  EXPECT_EQ(an.order->mean_first, 1.0);
+  EXPECT_EQ(an.order->mean_second, 3.0);
+  ASSERT_TRUE(an.order->test.has_value());
+  EXPECT_LT(an.order->test->p, 0.01);
+  EXPECT_TRUE(HasNote(an, "A first: 5, B first: 5")) << AllNotes(an);
+  EXPECT_TRUE(HasNote(an, "an order effect")) << AllNotes(an);
+  const nlohmann::json j = nlohmann::json::parse(StudyJson(an));
+  EXPECT_EQ(j["order_effect"]["first"]["A"], 5);
+  // without an order column there is no order analysis
+  EXPECT_FALSE(Analyse(ParseRatings(PaperRatings(), "p.csv")).order.has_value());
+}
+
 TEST(Report, JsonHasTheSpecKeys) {
   AnalysisOptions options;
   options.reported = ParseReported("test=paired,W=180,p=0.5045");
