@@ -29,7 +29,8 @@ namespace pwsim::study {
 struct SignedRankOptions {
   bool correct{true};            ///< continuity correction in the normal approximation
   std::size_t exact_below_n{50}; ///< R: exact when n < 50 (and no ties/zeros)
-  /// Largest Σ 2r_i (sum range of the exact conditional recursion) computed; beyond, no p_exact.
+  /// Largest work n · (Σ 2r_i + 1) of the exact conditional recursion; beyond, no p_exact
+  /// (about n = 600 without ties).
   double max_exact_work{4e8};
 };
 
