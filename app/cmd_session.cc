@@ -24,7 +24,8 @@
 #include "engine/scene.h"
 #include "hardware/session_runner.h"
 #include "hardware/session_streams.h"
-#include "hardware/trial_streams.h"
+#include "app/trial_track.h"
+#include "hardware/track_streams.h"
 #include "hardware/udp_can_bus.h"
 #include "study/plan.h"
 
@@ -38,7 +39,7 @@ hw::SessionStreams ChooseStreams(const ParsedArgs& args, const Scene& scene, con
                                  const std::filesystem::path& out_dir, std::string* description) {
   nlohmann::ordered_json j;
   j["format"] = "pwsim-session-trial/1";
-  hw::TrialSource source = hw::TrialSource::kMeasured;
+  TrialSource source = TrialSource::kMeasured;
   bool from_trial = args.Has("trial");
   if (args.Has("plan")) {
     if (!args.Has("participant")) throw std::invalid_argument("option --plan needs --participant");
@@ -58,15 +59,15 @@ hw::SessionStreams ChooseStreams(const ParsedArgs& args, const Scene& scene, con
     if (source_name.empty())
       throw std::invalid_argument("option --sources: no source for condition '" + planned.condition +
                                   "' (planned for " + planned.participant + ", trial " + std::to_string(index) + ")");
-    if (!hw::ParseTrialSource(source_name, &source))
+    if (!ParseTrialSource(source_name, &source))
       throw std::invalid_argument("option --sources: expected measured or model, got '" + source_name + "'");
     j["plan"] = plan_file;
     j["participant"] = planned.participant;
     j["trial_index"] = planned.trial_index;
     j["condition"] = planned.condition;
-    if (!from_trial && source == hw::TrialSource::kMeasured)
+    if (!from_trial && source == TrialSource::kMeasured)
       throw std::invalid_argument("condition '" + planned.condition + "' replays a measured trial: give --trial TRIAL_DIR");
-  } else if (args.Has("source") && !hw::ParseTrialSource(args.Get("source"), &source)) {
+  } else if (args.Has("source") && !ParseTrialSource(args.Get("source"), &source)) {
     throw std::invalid_argument("option --source: expected measured or model");
   }
   hw::SessionStreams streams;
@@ -77,8 +78,11 @@ hw::SessionStreams ChooseStreams(const ParsedArgs& args, const Scene& scene, con
     const double smooth_ms = args.GetDouble("smooth-ms");
     if (!(smooth_ms >= 0.0 && smooth_ms <= 1000.0)) throw std::invalid_argument("option --smooth-ms: expected 0..1000 ms");
     const int smooth_ticks = static_cast<int>(std::lround(smooth_ms * 1e-3 * config.clock_rate_hz));
-    streams = hw::BuildTrialSessionStreams(scene, config, trial, source, chair, smooth_ticks, description);
-    j["source"] = hw::TrialSourceName(source);
+    const mca::SagittalTrack track = TrialTrack(trial, source, chair, 1.0 / config.clock_rate_hz);
+    const std::string label = "trial '" + trial.name + "' as " + TrialSourceName(source) +
+                              (source == TrialSource::kMeasured ? " (tracked O_V)" : " (model driven by the measured x(t))");
+    streams = hw::BuildTrackSessionStreams(scene, config, track, smooth_ticks, label, description);
+    j["source"] = TrialSourceName(source);
     j["trial"] = args.Get("trial");
   } else {
     streams = hw::BuildSessionStreams(scene, config, description);

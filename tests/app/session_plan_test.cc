@@ -1,6 +1,6 @@
 // A session that follows a study plan (pwsim study plan -> pwsim session --plan): each planned
 // trial replays the planned condition's source, T_r the tracked motion of a measured trial and
-// T_m the model driven by the same measured x(t) (hardware/trial_streams.h).
+// T_m the model driven by the same measured x(t) (app/trial_track.h, hardware/track_streams.h).
 // Unit: the measured track is the mocap track itself (at the mocap samples) and the two sources
 // differ. End to end: `pwsim platform-sim` and `pwsim session` on loopback, synchronised on
 // events only (platform-sim's first output line through a pipe, process exits); every setpoint
@@ -24,11 +24,12 @@
 #include "engine/measured/measured_trial.h"
 #include "engine/number_format.h"
 #include "engine/scene.h"
-#include "hardware/trial_streams.h"
+#include "app/trial_track.h"
+#include "hardware/track_streams.h"
 #include "hardware/udp_socket.h"
 #include "study/plan.h"
 
-namespace pwsim::hw {
+namespace pwsim::app {
 namespace {
 
 namespace fs = std::filesystem;
@@ -41,7 +42,7 @@ Chair ModelChair(const MeasuredTrial& trial) {
   return trial.chair.gm && trial.chair.lm ? trial.chair : MakeTableOneChair();
 }
 
-TEST(TrialStreams, MeasuredTrackIsTheMocapAndModelDiffers) {
+TEST(TrialTrack, MeasuredTrackIsTheMocapAndModelDiffers) {
   const MeasuredTrial trial = ReadMeasuredTrial(kTrial);
   const double dt = 1e-3;
   const mca::SagittalTrack measured = TrialTrack(trial, TrialSource::kMeasured, ModelChair(trial), dt);
@@ -63,6 +64,26 @@ TEST(TrialStreams, MeasuredTrackIsTheMocapAndModelDiffers) {
   for (std::size_t k = 0; k < model.z.size(); ++k) max_dz = std::max(max_dz, std::abs(model.z[k] - measured.z[k]));
   EXPECT_GT(max_dz, 1e-4);  // two different motions...
   EXPECT_LT(max_dz, 0.1);   // ...of the same drive over the same ground
+}
+
+TEST(TrackStreams, OneSetpointPerDriveCycleAndTheTicksMustMatch) {
+  const Scene scene = LoadScene(kScene);
+  const MeasuredTrial trial = ReadMeasuredTrial(kTrial);
+  hw::SessionConfig config;
+  config.clock_rate_hz = scene.clock.rate_hz;
+  const double dt = 1.0 / config.clock_rate_hz;
+  const mca::SagittalTrack track = TrialTrack(trial, TrialSource::kMeasured, ModelChair(trial), dt);
+  std::string description;
+  const hw::SessionStreams streams = hw::BuildTrackSessionStreams(scene, config, track, 20, "T", &description);
+  const std::size_t n = track.x.size();
+  EXPECT_EQ(streams.setpoints.size(), (n + static_cast<std::size_t>(config.drive_cycle_ticks) - 1) /
+                                          static_cast<std::size_t>(config.drive_cycle_ticks));
+  EXPECT_EQ(streams.cameras.size(), (n + static_cast<std::size_t>(config.frame_ticks) - 1) /
+                                        static_cast<std::size_t>(config.frame_ticks));
+  EXPECT_EQ(description.rfind("T, MCA", 0), 0u) << description;
+  mca::SagittalTrack coarse = track;
+  coarse.dt = 2 * dt;
+  EXPECT_THROW(hw::BuildTrackSessionStreams(scene, config, coarse, 20, "T", nullptr), std::invalid_argument);
 }
 
 /// Runs `args` with stdout+stderr into `log`; returns the pid.
@@ -96,10 +117,10 @@ std::string ReadText(const fs::path& file) {
 
 /// One planned trial through platform-sim + session; returns the session's exit status.
 int RunPlannedSession(const fs::path& dir, const std::string& participant, int index, std::string* outputs) {
-  UdpSocket probe;
-  if (!probe.Bind(*ParseUdpAddress("127.0.0.1:0")).empty()) return -10;
+  hw::UdpSocket probe;
+  if (!probe.Bind(*hw::ParseUdpAddress("127.0.0.1:0")).empty()) return -10;
   const std::string port = std::to_string(probe.local_port());
-  probe = UdpSocket();  // free the port for platform-sim
+  probe = hw::UdpSocket();  // free the port for platform-sim
   int fds[2];
   if (::pipe(fds) != 0) return -11;
   const pid_t platform = Spawn({kPwsim, "platform-sim", "--listen", "127.0.0.1:" + port, "--idle-exit", "1"},
@@ -156,13 +177,14 @@ TEST(SessionPlan, EachPlannedTrialReplaysItsConditionsSource) {
     EXPECT_EQ(j["source"], TrialSourceName(source));
 
     // every logged setpoint is the planned source's, bit for bit
-    SessionConfig config;
+    hw::SessionConfig config;
     config.clock_rate_hz = scene.clock.rate_hz;
-    const SessionStreams streams =
-        BuildTrialSessionStreams(scene, config, trial, source, ModelChair(trial), 20, nullptr);
+    const double dt = 1.0 / config.clock_rate_hz;
+    const hw::SessionStreams streams = hw::BuildTrackSessionStreams(
+        scene, config, TrialTrack(trial, source, ModelChair(trial), dt), 20, "", nullptr);
     const TrialSource other_source = source == TrialSource::kMeasured ? TrialSource::kModel : TrialSource::kMeasured;
-    const SessionStreams other =
-        BuildTrialSessionStreams(scene, config, trial, other_source, ModelChair(trial), 20, nullptr);
+    const hw::SessionStreams other = hw::BuildTrackSessionStreams(
+        scene, config, TrialTrack(trial, other_source, ModelChair(trial), dt), 20, "", nullptr);
     int discriminating = 0;  // logged setpoints the other source would have made differently
     std::ifstream log(out / "session.log");
     std::string line;
@@ -206,4 +228,4 @@ TEST(SessionPlan, MeasuredConditionWithoutTrialIsRefused) {
 }
 
 }  // namespace
-}  // namespace pwsim::hw
+}  // namespace pwsim::app
