@@ -10,7 +10,7 @@
 
 #include "app/commands.h"
 #include "engine/atomic_file.h"
-#include "plot/plot.h"
+#include "report/study_report.h"
 #include "study/analysis.h"
 #include "study/plan.h"
 #include "study/ratings.h"
@@ -83,9 +83,7 @@ int StudyCommand(const ParsedArgs& args) {
   const fs::path ratings_file = args.positional()[0];
   const fs::path out = args.Get("out");
   // Old outputs go first, so a failed run never leaves a previous report looking current.
-  const plot::FigureFiles figure = plot::FigureFilesFor(out / "boxplot");
-  for (const fs::path& old : {out / "study.json", out / "study.md", figure.png, figure.svg, figure.csv, figure.gp})
-    fs::remove(old);
+  report::RemoveStudyReport(out);
 
   study::AnalysisOptions options;
   if (args.Has("conditions")) {
@@ -96,33 +94,7 @@ int StudyCommand(const ParsedArgs& args) {
   if (args.Has("reported")) options.reported = study::ParseReported(args.Get("reported"));
   const study::Ratings ratings = study::ReadRatings(ratings_file);
   const study::StudyAnalysis analysis = study::Analyse(ratings, options);
-  const std::string json = study::StudyJson(analysis);
-  const std::string md = study::StudyMarkdown(analysis, ratings_file.string(), "boxplot.png");
-
-  // Fig. 8b: median, quartiles and extremes per condition, every rating shown.
-  plot::Figure fig;
-  fig.title = "Ratings per condition (" + std::to_string(ratings.participants.size()) + " participants)";
-  fig.width_px = 700;
-  fig.panel_height_px = 480;
-  plot::Panel panel;
-  panel.y_label = "rating (1 = accurate ... 6 = no motion perceived)";
-  double lo = 1.0, hi = 6.0;
-  for (const study::ConditionSummary& c : analysis.conditions) {
-    plot::BoxGroup box;
-    box.label = c.name;
-    box.values = c.values;
-    panel.boxes.push_back(box);
-    lo = std::min(lo, c.stats.min);
-    hi = std::max(hi, c.stats.max);
-  }
-  panel.y_min = lo - 0.5;
-  panel.y_max = hi + 0.5;
-  panel.box_whiskers_to_extremes = true;
-  panel.box_show_points = true;
-  fig.panels.push_back(panel);
-  plot::WriteFigure(out / "boxplot", fig);
-  WriteFileAtomically(out / "study.md", md);
-  WriteFileAtomically(out / "study.json", json);
+  report::WriteStudyReport(out, ratings_file, ratings, analysis);
 
   const study::PairComparison& main = analysis.pairs[analysis.main_pair];
   std::cout << "pwsim study: " << ratings.rows.size() << " ratings, " << ratings.participants.size()
@@ -136,7 +108,7 @@ int StudyCommand(const ParsedArgs& args) {
             << main.unpaired.p << " (" << main.unpaired.method << ")\n";
   for (const std::string& note : analysis.notes) std::cout << "  note: " << note << "\n";
   std::cout << "  " << (out / "study.json").string() << ", " << (out / "study.md").string() << ", "
-            << figure.png.string() << "\n";
+            << (out / "boxplot.png").string() << "\n";
   return 0;
 }
 
