@@ -38,5 +38,7 @@ const CommandSpec& IdentifySpec();
 int IdentifyCommand(const ParsedArgs& args);
 const CommandSpec& DiagnoseSpec();
 int DiagnoseCommand(const ParsedArgs& args);
+const CommandSpec& SweepSpec();
+int SweepCommand(const ParsedArgs& args);
 
 }  // namespace pwsim::app
