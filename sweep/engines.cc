@@ -191,11 +191,12 @@ std::vector<std::string> SubmitArrays(const Manifest& manifest, const EngineOpti
   for (const auto& [offset, local] : chunks) {
     std::string array = ArrayList(local);
     if (options.max_parallel > 0) array += "%" + std::to_string(options.max_parallel);
-    std::vector<std::string> argv{"sbatch", "--parsable", "--array=" + array,
-                                  "--export=ALL,PWSIM_SWEEP_INDEX_OFFSET=" + std::to_string(offset)};
+    // the offset travels in sbatch's own environment (exported by default): an --export list
+    // other than ALL would make slurmd load a login environment for every task (seconds each)
+    std::vector<std::string> argv{"sbatch", "--parsable", "--array=" + array};
     argv.insert(argv.end(), options.sbatch_options.begin(), options.sbatch_options.end());
     argv.push_back(script.string());
-    const Captured sbatch = RunCapture(argv);
+    const Captured sbatch = RunCapture(argv, {"PWSIM_SWEEP_INDEX_OFFSET=" + std::to_string(offset)});
     if (!sbatch.exit.started || !sbatch.exit.exited || sbatch.exit.code != 0) {
       throw std::runtime_error("slurm: '" + Command(argv) + "' failed: " +
                                Trim(sbatch.exit.started ? sbatch.err : sbatch.exit.error));

@@ -114,6 +114,11 @@ nlohmann::ordered_json ManifestJson(const Manifest& manifest) {
   return json;
 }
 
+namespace {
+void PlanTasks(const SweepSpec& spec, const fs::path& dir, const std::vector<Variable>& variables,
+               const std::map<std::string, YAML::Node>& originals, Manifest& manifest);
+}  // namespace
+
 Manifest Plan(const SweepSpec& spec, const fs::path& dir_in, bool force) {
   const fs::path dir = fs::absolute(dir_in).lexically_normal();
   if (fs::exists(dir) && !fs::is_directory(dir)) {
@@ -152,9 +157,29 @@ Manifest Plan(const SweepSpec& spec, const fs::path& dir_in, bool force) {
     originals[name] = root;
   }
 
+  try {
+    PlanTasks(spec, dir, variables, originals, manifest);
+  } catch (...) {
+    fs::remove_all(dir / "tasks");  // a refused plan leaves no task folders behind
+    throw;
+  }
+  {
+    std::ifstream in(spec.file);
+    std::stringstream text;
+    text << in.rdbuf();
+    WriteFileAtomically(dir / "sweep.yaml", text.str());
+  }
+  WriteFileAtomically(dir / "manifest.json", ManifestJson(manifest).dump(1) + "\n");
+  return manifest;
+}
+
+namespace {
+void PlanTasks(const SweepSpec& spec, const fs::path& dir, const std::vector<Variable>& variables,
+               const std::map<std::string, YAML::Node>& originals, Manifest& manifest) {
   const std::size_t list_count = spec.list_rows.empty() ? 1 : spec.list_rows.size();
   const std::size_t total = spec.TaskCount();
   std::vector<std::size_t> grid_index(spec.grid_variables.size(), 0);
+  std::map<std::string, std::size_t> identities;
   for (std::size_t index = 0; index < total; ++index) {
     // the combination: list entry outermost, last grid variable fastest
     std::size_t rest = index;
@@ -179,6 +204,15 @@ Manifest Plan(const SweepSpec& spec, const fs::path& dir_in, bool force) {
       identity += variables[v].key + "=" + values[v]->text + "\n";
     }
     task.id = Hex(Fnv1a64(identity), 12);
+    const auto [seen, fresh] = identities.emplace(identity, index);
+    if (!fresh) {
+      std::string combination = identity;
+      for (char& c : combination) c = c == '\n' ? ' ' : c;
+      throw InputError(spec.file.string(), values.empty() ? 0 : values.front()->line,
+                       spec.list_rows.empty() ? "grid" : "list", "each combination once",
+                       "task " + std::to_string(index) + " repeats task " + std::to_string(seen->second) +
+                           " (" + combination + ")");
+    }
 
     // placeholders: in arguments relative to the task folder, in inputs relative to inputs/
     std::map<std::string, std::string> in_args{{"out", "out"}, {"index", std::to_string(index)}, {"id", task.id}};
@@ -220,16 +254,8 @@ Manifest Plan(const SweepSpec& spec, const fs::path& dir_in, bool force) {
     for (const std::string& word : spec.arguments) task.argv.push_back(Substitute(word, in_args));
     manifest.tasks.push_back(task);
   }
-
-  {
-    std::ifstream in(spec.file);
-    std::stringstream text;
-    text << in.rdbuf();
-    WriteFileAtomically(dir / "sweep.yaml", text.str());
-  }
-  WriteFileAtomically(dir / "manifest.json", ManifestJson(manifest).dump(1) + "\n");
-  return manifest;
 }
+}  // namespace
 
 Manifest ReadManifest(const fs::path& dir_in) {
   const fs::path dir = fs::absolute(dir_in).lexically_normal();

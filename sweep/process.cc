@@ -152,7 +152,7 @@ ChildExit WaitChild(pid_t pid, double timeout_s) {
   return result;
 }
 
-Captured RunCapture(const std::vector<std::string>& argv_in) {
+Captured RunCapture(const std::vector<std::string>& argv_in, const std::vector<std::string>& extra_env) {
   Captured captured;
   int out_pipe[2], err_pipe[2];
   if (::pipe2(out_pipe, O_CLOEXEC) != 0 || ::pipe2(err_pipe, O_CLOEXEC) != 0) {
@@ -162,11 +162,21 @@ Captured RunCapture(const std::vector<std::string>& argv_in) {
   }
   std::vector<std::string> argv = argv_in;
   std::vector<char*> args = Pointers(argv);
+  std::vector<std::string> env;
+  for (char** e = environ; *e != nullptr; ++e) {
+    const std::string entry(*e);
+    const std::string name = entry.substr(0, entry.find('='));
+    bool replaced = false;
+    for (const std::string& extra : extra_env) replaced = replaced || extra.substr(0, extra.find('=')) == name;
+    if (!replaced) env.push_back(entry);
+  }
+  env.insert(env.end(), extra_env.begin(), extra_env.end());
+  std::vector<char*> envp = Pointers(env);
   const pid_t pid = ::fork();
   if (pid == 0) {
     ::dup2(out_pipe[1], STDOUT_FILENO);
     ::dup2(err_pipe[1], STDERR_FILENO);
-    ::execvp(args[0], args.data());
+    ::execvpe(args[0], args.data(), envp.data());
     const char* text = std::strerror(errno);
     WriteAll(STDERR_FILENO, text, std::strlen(text));
     ::_exit(127);

@@ -45,8 +45,9 @@ struct Captured {
   std::string err;
 };
 
-/// Runs `argv` to completion, capturing stdout and stderr.
-Captured RunCapture(const std::vector<std::string>& argv);
+/// Runs `argv` to completion, capturing stdout and stderr; `env` adds NAME=VALUE entries to
+/// (or replaces them in) this process's environment for the child.
+Captured RunCapture(const std::vector<std::string>& argv, const std::vector<std::string>& env = {});
 
 /// Quotes a word for a POSIX shell (single quotes).
 std::string ShellQuote(const std::string& word);

@@ -85,14 +85,14 @@ class Reader {
     if (root.Has("set")) ReadSet(root);
     if (root.Has("list")) ReadList(root);
     if (root.Has("grid")) ReadGrid(root);
-    if (!root.Has("grid") && !root.Has("list")) {
-      root.Fail("grid", "a grid: or a list: of variations (one task per combination)", "neither");
-    }
     ReadGather(root);
     spec_.retries = root.IntegerOr("retries", 2, 0, 100);
     spec_.timeout_s = root.NumberOr("timeout_s", 0.0, Range::Closed(0.0, 1e7, "s"));
     if (root.Has("slurm")) ReadSlurm(root);
-    root.Finish();
+    root.Finish();  // a misspelt section is named before anything is said about missing ones
+    if (!root.Has("grid") && !root.Has("list")) {
+      root.Fail("grid", "a grid: or a list: of variations (one task per combination)", "neither");
+    }
     CheckPlaceholders(root);
     if (spec_.TaskCount() > kMaxTasks) {
       root.Fail(root.Has("grid") ? "grid" : "list",
@@ -137,12 +137,13 @@ class Reader {
         spec_.command.push_back(node[i].Scalar());
       }
     }
-    if (spec_.command.empty()) {
-      FailAt(line, "command", "a pwsim command as a list of words, e.g. [run]", Describe(node));
-    }
     std::string known;
     for (const std::string& name : known_commands_) {
       if (name != "sweep") known += (known.empty() ? "" : ", ") + name;
+    }
+    if (spec_.command.empty()) {
+      FailAt(line, "command", "a pwsim command as a list of words, e.g. [run] (one of: " + known + ")",
+             node.IsSequence() ? "an empty list" : Describe(node));
     }
     const std::string& first = spec_.command.front();
     const bool ok = first != "sweep" && std::find(known_commands_.begin(), known_commands_.end(),
