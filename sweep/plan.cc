@@ -100,7 +100,14 @@ nlohmann::ordered_json ManifestJson(const Manifest& manifest) {
   for (const GatherField& g : manifest.gather) {
     std::string path;
     for (const auto& part : g.path) path += (path.empty() ? "" : ".") + part;
-    gather.push_back({{"name", g.name}, {"file", g.file}, {"path", path}});
+    nlohmann::ordered_json entry{{"name", g.name}, {"file", g.file}, {"path", path}};
+    if (g.csv()) {
+      entry["column"] = g.column;
+      nlohmann::ordered_json row = nlohmann::ordered_json::array();
+      for (const auto& [key, value] : g.row) row.push_back({key, value});
+      entry["row"] = row;
+    }
+    gather.push_back(entry);
   }
   json["gather"] = gather;
   json["retries"] = manifest.retries;
@@ -291,6 +298,14 @@ Manifest ReadManifest(const fs::path& dir_in) {
       GatherField gather;
       gather.name = g.at("name").get<std::string>();
       gather.file = g.at("file").get<std::string>();
+      if (g.contains("column")) {
+        gather.column = g.at("column").get<std::string>();
+        for (const auto& cell : g.at("row")) {
+          gather.row.emplace_back(cell.at(0).get<std::string>(), cell.at(1).get<std::string>());
+        }
+        m.gather.push_back(gather);
+        continue;
+      }
       std::string part;
       for (char c : g.at("path").get<std::string>() + ".") {
         if (c == '.') {

@@ -411,7 +411,7 @@ class Reader {
     const YAML::Node node = root.Raw("gather");
     if (!node.IsMap() || node.size() == 0) {
       FailAt(root.LineOfKey("gather"), "gather",
-             "a mapping NAME: {file: F.json, path: dotted.path} (at least one field)", Describe(node));
+             "a mapping NAME: {file: F.json, path: dotted.path} or {file: F.csv, row: {...}, column: C} (at least one field)", Describe(node));
     }
     std::set<std::string> names;
     for (const auto& item : node) {
@@ -428,15 +428,29 @@ class Reader {
       if (!item.second.IsMap()) FailAt(gather.line, field, "a mapping {file: F.json, path: a.b}", Describe(item.second));
       YamlMap map(item.second, spec_.file, field, gather.line);
       gather.file = map.String("file");
-      const std::string path = map.String("path");
-      map.Finish();
       if (fs::path(gather.file).is_absolute() || gather.file.find("..") != std::string::npos) {
         map.Fail("file", "a file inside the task's output folder (relative, no '..')", "\"" + gather.file + "\"");
       }
-      gather.path = SplitDots(path);
-      for (const std::string& part : gather.path) {
-        if (part.empty()) map.Fail("path", "a dotted path without empty parts", "\"" + path + "\"");
+      if (fs::path(gather.file).extension() == ".csv") {
+        gather.column = map.String("column");
+        if (map.Has("row")) {
+          const YAML::Node row = map.Raw("row");
+          if (!row.IsMap()) FailAt(map.LineOfKey("row"), field + ".row", "a mapping COLUMN: VALUE", Describe(row));
+          for (const auto& cell : row) {
+            if (!cell.second.IsScalar()) {
+              FailAt(LineOf(cell.first), field + ".row." + cell.first.Scalar(), "one value", Describe(cell.second));
+            }
+            gather.row.emplace_back(cell.first.Scalar(), cell.second.Scalar());
+          }
+        }
+      } else {
+        const std::string path = map.String("path");
+        gather.path = SplitDots(path);
+        for (const std::string& part : gather.path) {
+          if (part.empty()) map.Fail("path", "a dotted path without empty parts", "\"" + path + "\"");
+        }
       }
+      map.Finish();
       spec_.gather.push_back(gather);
     }
   }

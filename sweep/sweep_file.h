@@ -12,7 +12,8 @@
 //   set: {scene.drive.stop_x_m: 6}         # fixed overrides, every task
 //   grid: {scene.drive.speed_mps: [0.4, 0.8, 1.2]}   # every combination (last key fastest)
 //   list: [{seed: 1}, {seed: 2}]           # explicit combinations (crossed with the grid)
-//   gather: {peak_heave_m: {file: summary.json, path: peak_heave.excursion_m}}
+//   gather: {peak_heave_m: {file: summary.json, path: peak_heave.excursion_m},
+//            heave_gain_1: {file: omct.csv, row: {test: fz_to_fz, frequency: 1}, column: gain}}
 //   retries: 2                             # resubmissions of a retryable failure
 //   timeout_s: 3600                        # a task running longer is killed (retryable)
 //   slurm: {partition: short, account: lab, time: "00:20:00", mem: 2G, cpus_per_task: 1}
@@ -56,12 +57,17 @@ struct Override {
   Value value;
 };
 
-/// One result field: the value at a dotted `path` of a JSON file in the task's output folder.
+/// One result field: the value at a dotted `path` of a JSON file in the task's output folder,
+/// or (file *.csv) the `column` of the first row of a CSV file whose cells match `row` (a number
+/// matches a number of the same value: frequency 1 matches "1.0").
 struct GatherField {
   std::string name;  ///< the results.csv column
   std::string file;  ///< relative to the task's output folder, e.g. "summary.json"
-  std::vector<std::string> path;  ///< e.g. {"peak_heave", "excursion_m"}; numbers index arrays
+  std::vector<std::string> path;  ///< JSON: e.g. {"peak_heave", "excursion_m"}; numbers index arrays
+  std::string column;             ///< CSV: the column to read
+  std::vector<std::pair<std::string, std::string>> row;  ///< CSV: column = value to match
   int line{0};
+  bool csv() const { return !column.empty(); }
 };
 
 /// Batch-script settings for Slurm (every field optional; empty = the cluster's default).

@@ -4,7 +4,9 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
@@ -139,6 +141,105 @@ std::optional<nlohmann::json> JsonAt(const nlohmann::json& json, const std::vect
   return *node;
 }
 
+std::vector<std::vector<std::string>> ParseCsv(const std::string& text) {
+  std::vector<std::vector<std::string>> rows;
+  std::vector<std::string> row;
+  std::string cell;
+  bool quoted = false, any = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (quoted) {
+      if (c == '"' && i + 1 < text.size() && text[i + 1] == '"') {
+        cell += '"';
+        ++i;
+      } else if (c == '"') {
+        quoted = false;
+      } else {
+        cell += c;
+      }
+    } else if (c == '"') {
+      quoted = true;
+      any = true;
+    } else if (c == ',') {
+      row.push_back(cell);
+      cell.clear();
+      any = true;
+    } else if (c == '\n' || c == '\r') {
+      if (c == '\r' && i + 1 < text.size() && text[i + 1] == '\n') ++i;
+      if (any || !cell.empty()) {
+        row.push_back(cell);
+        rows.push_back(row);
+      }
+      row.clear();
+      cell.clear();
+      any = false;
+    } else {
+      cell += c;
+      any = true;
+    }
+  }
+  if (any || !cell.empty()) {
+    row.push_back(cell);
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+namespace {
+bool SameCell(const std::string& cell, const std::string& wanted) {
+  if (cell == wanted) return true;
+  std::size_t used_a = 0, used_b = 0;
+  double a = 0.0, b = 0.0;
+  try {
+    a = std::stod(cell, &used_a);
+    b = std::stod(wanted, &used_b);
+  } catch (const std::exception&) {
+    return false;
+  }
+  if (used_a != cell.size() || used_b != wanted.size()) return false;
+  return std::abs(a - b) <= 1e-9 * std::max(std::abs(a), std::abs(b));
+}
+}  // namespace
+
+std::optional<std::string> CsvAt(const std::vector<std::vector<std::string>>& csv, const GatherField& field,
+                                 std::string& why) {
+  if (csv.empty()) {
+    why = field.file + " is empty";
+    return std::nullopt;
+  }
+  const std::vector<std::string>& header = csv.front();
+  auto column_of = [&](const std::string& name) -> std::optional<std::size_t> {
+    for (std::size_t c = 0; c < header.size(); ++c) {
+      if (header[c] == name) return c;
+    }
+    return std::nullopt;
+  };
+  const auto target = column_of(field.column);
+  if (!target) {
+    why = field.file + " has no column '" + field.column + "'";
+    return std::nullopt;
+  }
+  std::vector<std::size_t> keys;
+  for (const auto& [key, value] : field.row) {
+    const auto c = column_of(key);
+    if (!c) {
+      why = field.file + " has no column '" + key + "'";
+      return std::nullopt;
+    }
+    keys.push_back(*c);
+  }
+  for (std::size_t r = 1; r < csv.size(); ++r) {
+    bool match = csv[r].size() > *target;
+    for (std::size_t k = 0; match && k < keys.size(); ++k) {
+      match = csv[r].size() > keys[k] && SameCell(csv[r][keys[k]], field.row[k].second);
+    }
+    if (match) return csv[r][*target];
+  }
+  why = field.file + " has no row where";
+  for (const auto& [key, value] : field.row) why += " " + key + " = " + value;
+  return std::nullopt;
+}
+
 std::optional<nlohmann::json> ReadResult(const fs::path& dir, std::size_t index) {
   std::ifstream in(TaskDir(dir, index) / "result.json");
   if (!in) return std::nullopt;
@@ -212,6 +313,34 @@ TaskOutcome RunTask(const Manifest& manifest, std::size_t index, const fs::path&
     outcome.status = TaskStatus::kOk;
     std::map<std::string, nlohmann::json> documents;
     for (const GatherField& gather : manifest.gather) {
+      if (gather.csv()) {
+        std::ifstream in(task_dir / "out" / gather.file);
+        std::string why = "out/" + gather.file + " is missing";
+        std::optional<std::string> cell;
+        if (in) {
+          std::stringstream text;
+          text << in.rdbuf();
+          cell = CsvAt(ParseCsv(text.str()), gather, why);
+        }
+        if (!cell) {
+          outcome.status = TaskStatus::kBadInput;
+          outcome.reason = "gather." + gather.name + ": " + why;
+          break;
+        }
+        double number = 0.0;
+        std::size_t used = 0;
+        try {
+          number = std::stod(*cell, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used == cell->size() && !cell->empty()) {
+          outcome.fields[gather.name] = number;
+        } else {
+          outcome.fields[gather.name] = *cell;
+        }
+        continue;
+      }
       if (documents.count(gather.file) == 0) {
         std::ifstream in(task_dir / "out" / gather.file);
         nlohmann::json document;

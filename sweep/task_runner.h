@@ -62,6 +62,14 @@ TaskOutcome RunTask(const Manifest& manifest, std::size_t index, const std::file
 /// Reads the value at `path` in `json` ("a.b.3.c": numbers index arrays); nullopt if absent.
 std::optional<nlohmann::json> JsonAt(const nlohmann::json& json, const std::vector<std::string>& path);
 
+/// Splits CSV text into rows of cells (RFC 4180: quoted cells may hold commas, "" is a quote).
+std::vector<std::vector<std::string>> ParseCsv(const std::string& text);
+
+/// The `field.column` cell of the first row of `csv` (header first) matching `field.row`.
+/// Returns nullopt with `why` set when the column or no row matches.
+std::optional<std::string> CsvAt(const std::vector<std::vector<std::string>>& csv, const GatherField& field,
+                                 std::string& why);
+
 /// Reads DIR/tasks/N/result.json; nullopt when absent or unreadable.
 std::optional<nlohmann::json> ReadResult(const std::filesystem::path& dir, std::size_t index);
 

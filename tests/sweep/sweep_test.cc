@@ -288,6 +288,26 @@ TEST(JsonAt, FollowsKeysAndArrayIndices) {
   EXPECT_FALSE(JsonAt(json, {"a", "b", "0", "c"}));
 }
 
+TEST(CsvAt, FindsTheColumnOfTheFirstMatchingRowNumbersByValue) {
+  const auto csv = ParseCsv("test,frequency,gain\r\nfz,0.5,1\nfz,1.0,2\n\"a,b\",1,\"say \"\"hi\"\"\"\n");
+  ASSERT_EQ(csv.size(), 4U);
+  EXPECT_EQ(csv[3], (std::vector<std::string>{"a,b", "1", "say \"hi\""}));
+  GatherField field;
+  field.file = "omct.csv";
+  field.column = "gain";
+  field.row = {{"test", "fz"}, {"frequency", "1"}};
+  std::string why;
+  EXPECT_EQ(CsvAt(csv, field, why).value_or("none"), "2");  // "1" matches "1.0"
+  field.row = {{"test", "a,b"}};
+  EXPECT_EQ(CsvAt(csv, field, why).value_or("none"), "say \"hi\"");
+  field.row = {{"test", "fz"}, {"frequency", "3"}};
+  EXPECT_FALSE(CsvAt(csv, field, why));
+  EXPECT_EQ(why, "omct.csv has no row where test = fz frequency = 3");
+  field.column = "phase";
+  EXPECT_FALSE(CsvAt(csv, field, why));
+  EXPECT_EQ(why, "omct.csv has no column 'phase'");
+}
+
 TEST(Collect, OneRowPerTaskWithMissingAndFailedListed) {
   const fs::path dir = Scratch("collect");
   const Manifest m = ShellPlan(dir, {kWritesResult, "exit 1", kWritesResult});
