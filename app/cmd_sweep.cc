@@ -182,7 +182,9 @@ std::vector<fs::path> WritePlots(const sweep::Manifest& manifest, const sweep::C
       for (std::size_t r = 0; r < collection.rows.size(); ++r) {
         std::string label;
         for (std::size_t o = 0; o < n_vars; ++o) {
-          if (o != v) label += (label.empty() ? "" : ", ") + collection.variables[o] + "=" + collection.rows[r].values[o];
+          if (o == v) continue;
+          const std::string& key = collection.variables[o];  // its last word keeps the legend short
+          label += (label.empty() ? "" : ", ") + key.substr(key.rfind('.') + 1) + "=" + collection.rows[r].values[o];
         }
         const double y = collection.rows[r].numbers[f];
         any = any || std::isfinite(y);
