@@ -217,15 +217,22 @@ void WaitForArrays(const EngineOptions& options, const std::vector<std::string>&
   std::string list;
   for (const auto& id : ids) list += (list.empty() ? "" : ",") + id;
   const auto interval = std::chrono::duration<double>(std::max(0.01, options.poll_s));
+  int failures = 0;  // consecutive: a busy controller times out now and then
   for (;;) {
     const Captured squeue = RunCapture({"squeue", "--noheader", "--jobs=" + list, "--format=%i %T"});
     if (!squeue.exit.started) throw std::runtime_error("slurm: squeue: " + squeue.exit.error);
-    if (squeue.exit.exited && squeue.exit.code != 0) {
-      // the jobs have left the controller's memory (MinJobAge): they are finished
-      if (squeue.err.find("Invalid job id") != std::string::npos) return;
-      throw std::runtime_error("slurm: squeue failed: " + Trim(squeue.err));
+    if (squeue.exit.exited && squeue.exit.code == 0) {
+      failures = 0;
+      if (Trim(squeue.out).empty()) return;
+    } else if (squeue.err.find("Invalid job id") != std::string::npos) {
+      return;  // the jobs have left the controller's memory (MinJobAge): they are finished
+    } else if (++failures >= 30) {
+      throw std::runtime_error("slurm: squeue failed " + std::to_string(failures) +
+                               " times in a row: " + Trim(squeue.err) + " (the arrays " + list +
+                               " may still run: 'pwsim sweep collect' when they are done)");
+    } else {
+      Log(options, "slurm: squeue failed (" + Trim(squeue.err) + "), trying again");
     }
-    if (Trim(squeue.out).empty()) return;
     std::this_thread::sleep_for(interval);  // polling the queue is the only way to learn of it
   }
 }
