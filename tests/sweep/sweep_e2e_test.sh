@@ -68,6 +68,18 @@ rows=$(tail -n +2 "$work/speed/results.csv" | wc -l)
 ok_rows=$(tail -n +2 "$work/speed/results.csv" | awk -F, '$3 == "ok" && $6 != "" && $7 != ""' | wc -l)
 [ "$rows" -eq 8 ] && [ "$ok_rows" -eq 8 ] || fail "results.csv: $rows rows, $ok_rows ok with both fields"
 [ -s "$work/speed/plots/scene_drive_speed_mps.png" ] || fail "no plot of speed against the fields"
+# a task without a result makes collect fail and list it; submit runs only that one again
+mv "$work/speed/tasks/5/result.json" "$work/result5.json"
+if "$pwsim" sweep collect "$work/speed" > "$work/collect_missing.txt"; then fail "collect passed with task 5 missing"; fi
+grep -q "^task 5 (.*): missing" "$work/speed/missing.txt" || fail "missing.txt does not list task 5"
+if [ "$engine" = local ]; then
+  "$pwsim" sweep submit "$work/speed" "${submit_options[@]}" > "$work/resume.txt" || fail "resume: $(cat "$work/resume.txt")"
+  grep -q "1 of 8 tasks to run" "$work/resume.txt" || fail "resume ran more than task 5: $(cat "$work/resume.txt")"
+  [ -e "$work/speed/tasks/5/attempt-2.log" ] && [ ! -e "$work/speed/tasks/4/attempt-2.log" ] || fail "resume ran the wrong tasks"
+  "$pwsim" sweep collect "$work/speed" > /dev/null || fail "collect after resume"
+else
+  mv "$work/result5.json" "$work/speed/tasks/5/result.json"
+fi
 if [ "$engine" = slurm ]; then
   [ "$(wc -l < "$work/speed/slurm/jobs.txt")" -eq 1 ] || fail "more than one sbatch: $(cat "$work/speed/slurm/jobs.txt")"
   array_job=$(cut -d' ' -f1 "$work/speed/slurm/jobs.txt")

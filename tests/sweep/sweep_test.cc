@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -26,9 +27,15 @@ namespace fs = std::filesystem;
 
 const std::vector<std::string> kCommands{"run", "omct", "identify", "sweep", "platform"};
 
+/// A fresh folder for one test, removed when the test program ends.
 fs::path Scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() /
-                       ("pwsim_sweep_test_" + std::to_string(::getpid()) + "_" + name);
+  static const fs::path root = [] {
+    const fs::path r = fs::temp_directory_path() / ("pwsim_sweep_test_" + std::to_string(::getpid()));
+    std::atexit([] { std::error_code e; fs::remove_all(fs::temp_directory_path() /
+                                                      ("pwsim_sweep_test_" + std::to_string(::getpid())), e); });
+    return r;
+  }();
+  const fs::path dir = root / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
