@@ -15,6 +15,7 @@ const std::vector<Command>& AllCommands() {
       {&IdentifySpec(), &IdentifyCommand},
       {&DiagnoseSpec(), &DiagnoseCommand},
       {&StudySpec(), &StudyCommand},
+      {&SweepSpec(), &SweepCommand},
   };
   return commands;
 }

@@ -40,5 +40,7 @@ const CommandSpec& DiagnoseSpec();
 int DiagnoseCommand(const ParsedArgs& args);
 const CommandSpec& StudySpec();
 int StudyCommand(const ParsedArgs& args);
+const CommandSpec& SweepSpec();
+int SweepCommand(const ParsedArgs& args);
 
 }  // namespace pwsim::app
