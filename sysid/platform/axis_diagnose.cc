@@ -1,0 +1,643 @@
+#include "sysid/platform/axis_diagnose.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include "sysid/platform/signal_filters.h"
+
+namespace pwsim::sysid::platform {
+namespace {
+
+// One recording (or part of one) ready for regression: full-rate states and decimated rows.
+struct Part {
+  std::string name;
+  const AxisRecording* source{nullptr};
+  AxisRecording recording;
+  JointStates s;                 // full rate, after the border
+  std::vector<double> t;         // full rate
+  std::vector<double> q4;        // fourth derivative of the filtered q
+  Eigen::VectorXd y;             // decimated effort
+  Eigen::VectorXd qdec, qddec;   // decimated q, q̇ (for screening)
+  std::vector<double> tdec;
+};
+
+struct Stroke {
+  double q_min{0.0}, q_max{1.0}, v_peak{1.0};
+};
+
+Eigen::VectorXd DecimateColumn(const std::vector<double>& v, int r) {
+  const std::vector<double> d = Decimate(v, r);
+  return Eigen::Map<const Eigen::VectorXd>(d.data(), static_cast<Eigen::Index>(d.size()));
+}
+
+Part MakePart(const AxisRecording& r, const std::string& name, const IdimOptions& o) {
+  Part p;
+  p.name = name;
+  p.recording = r;
+  const ProcessedRecording pr = Preprocess(r, o);
+  p.s = pr.joints.at(0);
+  p.t = pr.t;
+  p.q4 = DiffCentral(DiffCentral(p.s.qdd, pr.dt), pr.dt);
+  p.y = DecimateColumn(p.s.tau, o.decimation);
+  p.qdec = DecimateColumn(p.s.q, o.decimation);
+  p.qddec = DecimateColumn(p.s.qd, o.decimation);
+  const int first = DecimateFirstIndex(static_cast<int>(p.t.size()), o.decimation);
+  for (std::size_t i = static_cast<std::size_t>(first); i < p.t.size();
+       i += static_cast<std::size_t>(o.decimation))
+    p.tdec.push_back(p.t[i]);
+  return p;
+}
+
+// Full-rate columns of the base (or asymmetric) model.
+std::vector<std::vector<double>> BaseColumns(const JointStates& s, bool asymmetric) {
+  const std::size_t n = s.q.size();
+  std::vector<std::vector<double>> c;
+  if (!asymmetric) {
+    c.assign(4, std::vector<double>(n));
+    for (std::size_t i = 0; i < n; ++i) {
+      c[0][i] = s.qdd[i];
+      c[1][i] = s.qd[i];
+      c[2][i] = Sign(s.qd[i]);
+      c[3][i] = 1.0;
+    }
+  } else {
+    c.assign(5, std::vector<double>(n));
+    for (std::size_t i = 0; i < n; ++i) {
+      const double v = s.qd[i];
+      c[0][i] = s.qdd[i];
+      c[1][i] = v > 0.0 ? v : 0.0;
+      c[2][i] = v > 0.0 ? 1.0 : 0.0;
+      c[3][i] = v < 0.0 ? v : 0.0;
+      c[4][i] = v < 0.0 ? -1.0 : 0.0;
+    }
+  }
+  return c;
+}
+
+double Legendre2(double x) { return 1.5 * x * x - 0.5; }
+
+// Backlash indicator: 1 while |q − q_reversal| < gap after the last reversal of q̇.
+std::vector<double> GapIndicator(const std::vector<double>& q, const std::vector<double>& qd,
+                                 double gap) {
+  std::vector<double> g(q.size(), 0.0);
+  double last_sign = 0.0, q_rev = q.empty() ? 0.0 : q[0];
+  bool in_gap = false;
+  for (std::size_t i = 0; i < q.size(); ++i) {
+    const double sgn = Sign(qd[i]);
+    if (sgn != 0.0 && sgn != last_sign) {
+      if (last_sign != 0.0) {
+        q_rev = q[i];
+        in_gap = true;
+      }
+      last_sign = sgn;
+    }
+    if (in_gap && std::abs(q[i] - q_rev) >= gap) in_gap = false;
+    g[i] = in_gap ? 1.0 : 0.0;
+  }
+  return g;
+}
+
+// Full-rate extra columns of `effect` with nonlinear parameter h.
+std::vector<std::vector<double>> EffectColumns(AxisEffect effect, double h, const Part& p,
+                                               const Stroke& st) {
+  const JointStates& s = p.s;
+  const std::size_t n = s.q.size();
+  std::vector<std::vector<double>> c;
+  switch (effect) {
+    case AxisEffect::kAsymmetricFriction:
+      break;  // handled by the base columns
+    case AxisEffect::kStribeckFriction: {
+      c.assign(1, std::vector<double>(n));
+      for (std::size_t i = 0; i < n; ++i) {
+        const double r = s.qd[i] / h;
+        c[0][i] = Sign(s.qd[i]) * std::exp(-r * r);
+      }
+      break;
+    }
+    case AxisEffect::kPositionDependentFriction: {
+      c.assign(2, std::vector<double>(n));
+      for (std::size_t i = 0; i < n; ++i) {
+        const double x = 2.0 * (s.q[i] - st.q_min) / (st.q_max - st.q_min) - 1.0;
+        c[0][i] = Sign(s.qd[i]) * x;
+        c[1][i] = Sign(s.qd[i]) * Legendre2(x);
+      }
+      break;
+    }
+    case AxisEffect::kCogging: {
+      c.assign(2, std::vector<double>(n));
+      for (std::size_t i = 0; i < n; ++i) {
+        const double a = 2.0 * std::numbers::pi * s.q[i] / h;
+        c[0][i] = std::sin(a);
+        c[1][i] = std::cos(a);
+      }
+      break;
+    }
+    case AxisEffect::kTransmissionCompliance:
+      c.assign(1, p.q4);
+      break;
+    case AxisEffect::kBacklash: {
+      const std::vector<double> g = GapIndicator(s.q, s.qd, h);
+      c.assign(2, std::vector<double>(n));
+      for (std::size_t i = 0; i < n; ++i) {
+        c[0][i] = g[i] * s.qdd[i];
+        c[1][i] = g[i] * Sign(s.qd[i]);
+      }
+      break;
+    }
+  }
+  return c;
+}
+
+std::vector<std::string> EffectParameterNames(AxisEffect effect) {
+  switch (effect) {
+    case AxisEffect::kAsymmetricFriction: return {};
+    case AxisEffect::kStribeckFriction: return {"stribeck_amplitude"};
+    case AxisEffect::kPositionDependentFriction: return {"coulomb_p1", "coulomb_p2"};
+    case AxisEffect::kCogging: return {"cogging_sin", "cogging_cos"};
+    case AxisEffect::kTransmissionCompliance: return {"jerk_rate_coefficient"};
+    case AxisEffect::kBacklash: return {"gap_inertia", "gap_coulomb"};
+  }
+  return {};
+}
+
+const char* HyperName(AxisEffect effect) {
+  switch (effect) {
+    case AxisEffect::kStribeckFriction: return "stribeck_speed";
+    case AxisEffect::kCogging: return "cogging_period";
+    case AxisEffect::kBacklash: return "backlash_gap";
+    default: return "";
+  }
+}
+
+struct Chosen {
+  AxisEffect effect{};
+  double h{0.0};
+};
+
+// Decimated regression of `part` for base (+asymmetric) and the chosen effects.
+Eigen::MatrixXd Columns(const Part& p, const std::vector<Chosen>& effects, const Stroke& st,
+                        int r) {
+  bool asym = false;
+  for (const Chosen& c : effects) asym = asym || c.effect == AxisEffect::kAsymmetricFriction;
+  std::vector<std::vector<double>> cols = BaseColumns(p.s, asym);
+  for (const Chosen& c : effects) {
+    auto extra = EffectColumns(c.effect, c.h, p, st);
+    for (auto& col : extra) cols.push_back(std::move(col));
+  }
+  Eigen::MatrixXd x(p.y.size(), static_cast<Eigen::Index>(cols.size()));
+  for (std::size_t c = 0; c < cols.size(); ++c)
+    x.col(static_cast<Eigen::Index>(c)) = DecimateColumn(cols[c], r);
+  return x;
+}
+
+struct Stack {
+  Eigen::MatrixXd x;
+  Eigen::VectorXd y;
+};
+
+Stack StackParts(const std::vector<Part>& parts, const std::vector<Chosen>& effects,
+                 const Stroke& st, int r) {
+  Stack s;
+  Eigen::Index rows = 0;
+  std::vector<Eigen::MatrixXd> xs;
+  for (const Part& p : parts) {
+    xs.push_back(Columns(p, effects, st, r));
+    rows += p.y.size();
+  }
+  s.x.resize(rows, xs.front().cols());
+  s.y.resize(rows);
+  Eigen::Index at = 0;
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    s.x.middleRows(at, xs[i].rows()) = xs[i];
+    s.y.segment(at, parts[i].y.size()) = parts[i].y;
+    at += xs[i].rows();
+  }
+  return s;
+}
+
+Eigen::VectorXd SolveOls(const Eigen::MatrixXd& x, const Eigen::VectorXd& y) {
+  return x.colPivHouseholderQr().solve(y);
+}
+
+double Bic(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Eigen::VectorXd& theta) {
+  const double n = static_cast<double>(y.size());
+  const double sse = (y - x * theta).squaredNorm();
+  return n * std::log(sse / n) + static_cast<double>(theta.size()) * std::log(n);
+}
+
+double RelPct(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Eigen::VectorXd& theta) {
+  return 100.0 * (y - x * theta).norm() / y.norm();
+}
+
+double Excess(double e, double floor) { return std::sqrt(std::max(e * e - floor * floor, 0.0)); }
+
+// Candidate values of the nonlinear parameter; empty = none.
+std::vector<double> HyperGrid(AxisEffect effect, const Stroke& st, const std::vector<Part>& train,
+                              int r) {
+  std::vector<double> grid;
+  const double span = st.q_max - st.q_min;
+  if (effect == AxisEffect::kStribeckFriction) {
+    for (int i = 0; i < 16; ++i) grid.push_back(st.v_peak * 0.002 * std::pow(10.0, i * 2.0 / 15.0));
+  } else if (effect == AxisEffect::kBacklash) {
+    for (int i = 0; i < 12; ++i) grid.push_back(span * 1e-4 * std::pow(10.0, i * 2.0 / 11.0));
+  } else if (effect == AxisEffect::kCogging) {
+    // Spatial frequencies from 2 cycles over the stroke to what the decimated rows can carry
+    // at the median moving speed, spaced 1/(4·stroke).
+    std::vector<double> speeds;
+    for (const Part& p : train)
+      for (Eigen::Index i = 0; i < p.qddec.size(); ++i)
+        if (std::abs(p.qddec(i)) > 0.05 * st.v_peak) speeds.push_back(std::abs(p.qddec(i)));
+    double v_med = st.v_peak / 2.0;
+    if (!speeds.empty()) {
+      std::nth_element(speeds.begin(), speeds.begin() + static_cast<std::ptrdiff_t>(speeds.size() / 2),
+                       speeds.end());
+      v_med = speeds[speeds.size() / 2];
+    }
+    const double dt_dec = (train.front().tdec.size() > 1)
+                              ? train.front().tdec[1] - train.front().tdec[0]
+                              : 0.01 * r;
+    const double f_max = std::min(0.8 * 0.5 / dt_dec / v_med, 4000.0 / span);
+    for (double f = 2.0 / span; f <= f_max; f += 0.25 / span) grid.push_back(1.0 / f);
+  }
+  return grid;
+}
+
+// Cogging screening on decimated rows: projection of the current residual on sin/cos.
+std::vector<double> ScreenCogging(const std::vector<double>& periods, const std::vector<Part>& train,
+                                  const std::vector<Eigen::VectorXd>& residual) {
+  std::vector<std::pair<double, double>> scored;
+  for (double p : periods) {
+    double s = 0.0, c = 0.0, ss = 0.0, cc = 0.0;
+    for (std::size_t k = 0; k < train.size(); ++k)
+      for (Eigen::Index i = 0; i < train[k].qdec.size(); ++i) {
+        const double a = 2.0 * std::numbers::pi * train[k].qdec(i) / p;
+        const double si = std::sin(a), ci = std::cos(a);
+        s += residual[k](i) * si;
+        c += residual[k](i) * ci;
+        ss += si * si;
+        cc += ci * ci;
+      }
+    scored.push_back({s * s / std::max(ss, 1e-300) + c * c / std::max(cc, 1e-300), p});
+  }
+  std::sort(scored.begin(), scored.end(), [](auto& a, auto& b) { return a.first > b.first; });
+  std::vector<double> best;
+  for (std::size_t i = 0; i < scored.size() && i < 3; ++i) best.push_back(scored[i].second);
+  return best;
+}
+
+std::vector<NamedValue> NameParameters(const std::vector<Chosen>& effects,
+                                       const Eigen::VectorXd& theta) {
+  bool asym = false;
+  for (const Chosen& c : effects) asym = asym || c.effect == AxisEffect::kAsymmetricFriction;
+  std::vector<std::string> names =
+      asym ? std::vector<std::string>{"inertia", "viscous_pos", "coulomb_pos", "viscous_neg",
+                                      "coulomb_neg"}
+           : std::vector<std::string>{"inertia", "viscous", "coulomb", "offset"};
+  for (const Chosen& c : effects)
+    for (const std::string& s : EffectParameterNames(c.effect)) names.push_back(s);
+  std::vector<NamedValue> out;
+  for (std::size_t i = 0; i < names.size() && i < static_cast<std::size_t>(theta.size()); ++i)
+    out.push_back({names[i], theta(static_cast<Eigen::Index>(i))});
+  for (const Chosen& c : effects)
+    if (*HyperName(c.effect)) out.push_back({HyperName(c.effect), c.h});
+  return out;
+}
+
+// Friction of the forward model for the effects that depend on (q, q̇) only; false otherwise.
+bool ForwardFriction(const std::vector<Chosen>& effects, const Eigen::VectorXd& theta,
+                     const Stroke& st, AxisForwardModel* model) {
+  bool asym = false;
+  for (const Chosen& c : effects) {
+    asym = asym || c.effect == AxisEffect::kAsymmetricFriction;
+    if (c.effect == AxisEffect::kTransmissionCompliance || c.effect == AxisEffect::kBacklash)
+      return false;
+  }
+  model->inertia = theta(0);
+  const Eigen::VectorXd th = theta;
+  const std::vector<Chosen> ef = effects;
+  model->friction = [th, ef, asym, st](double q, double v) {
+    const double sg = Sign(v);
+    double f;
+    Eigen::Index k;
+    if (!asym) {
+      f = th(1) * v + th(2) * sg + th(3);
+      k = 4;
+    } else {
+      f = v > 0.0 ? th(1) * v + th(2) : (v < 0.0 ? th(3) * v - th(4) : 0.5 * (th(2) - th(4)));
+      k = 5;
+    }
+    for (const Chosen& c : ef) {
+      switch (c.effect) {
+        case AxisEffect::kStribeckFriction: {
+          const double r = v / c.h;
+          f += th(k++) * sg * std::exp(-r * r);
+          break;
+        }
+        case AxisEffect::kPositionDependentFriction: {
+          const double x = 2.0 * (q - st.q_min) / (st.q_max - st.q_min) - 1.0;
+          f += th(k) * sg * x + th(k + 1) * sg * Legendre2(x);
+          k += 2;
+          break;
+        }
+        case AxisEffect::kCogging: {
+          const double a = 2.0 * std::numbers::pi * q / c.h;
+          f += th(k) * std::sin(a) + th(k + 1) * std::cos(a);
+          k += 2;
+          break;
+        }
+        default:
+          break;
+      }
+    }
+    return f;
+  };
+  return true;
+}
+
+std::string Evidence(AxisEffect effect, const std::vector<Part>& train,
+                     const std::vector<Eigen::VectorXd>& residual, double h) {
+  std::ostringstream o;
+  o.precision(3);
+  // Residual statistics by speed sign / magnitude, position, reversal windows.
+  double pos_sum = 0, pos_n = 0, neg_sum = 0, neg_n = 0, slow_ss = 0, slow_n = 0, fast_ss = 0,
+         fast_n = 0;
+  double v_peak = 0;
+  for (const Part& p : train) v_peak = std::max(v_peak, p.qddec.cwiseAbs().maxCoeff());
+  for (std::size_t k = 0; k < train.size(); ++k)
+    for (Eigen::Index i = 0; i < residual[k].size(); ++i) {
+      const double v = train[k].qddec(i), e = residual[k](i);
+      if (v > 0) { pos_sum += e * v; pos_n += v * v; }
+      if (v < 0) { neg_sum += e * v; neg_n += v * v; }
+      if (std::abs(v) < 0.1 * v_peak) { slow_ss += e * e; slow_n += 1; }
+      else { fast_ss += e * e; fast_n += 1; }
+    }
+  switch (effect) {
+    case AxisEffect::kAsymmetricFriction:
+      o << "base residual vs speed: slope " << pos_sum / std::max(pos_n, 1e-300)
+        << " when moving +, " << neg_sum / std::max(neg_n, 1e-300) << " when moving -";
+      break;
+    case AxisEffect::kStribeckFriction:
+      o << "base residual RMS " << std::sqrt(slow_ss / std::max(slow_n, 1.0)) << " below 10 % of peak speed vs "
+        << std::sqrt(fast_ss / std::max(fast_n, 1.0)) << " above; v_s " << h;
+      break;
+    case AxisEffect::kCogging:
+      o << "strongest position-periodic residual at period " << h;
+      break;
+    case AxisEffect::kBacklash:
+      o << "gap " << h << " after each reversal";
+      break;
+    case AxisEffect::kPositionDependentFriction:
+      o << "dry friction as a quadratic along the stroke";
+      break;
+    case AxisEffect::kTransmissionCompliance:
+      o << "residual against the fourth derivative of position";
+      break;
+  }
+  return o.str();
+}
+
+double NoiseFloorPct(const std::vector<Eigen::VectorXd>& residual, const std::vector<Part>& parts) {
+  double ss = 0.0, n = 0.0, yy = 0.0;
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    const Eigen::VectorXd& e = residual[k];
+    for (Eigen::Index i = 1; i + 1 < e.size(); ++i) {
+      const double d = e(i) - 0.5 * (e(i - 1) + e(i + 1));
+      ss += d * d;
+      n += 1.0;
+    }
+    yy += parts[k].y.squaredNorm();
+  }
+  const double var = ss / std::max(n, 1.0) / 1.5;
+  double rows = 0;
+  for (const Part& p : parts) rows += static_cast<double>(p.y.size());
+  return 100.0 * std::sqrt(var * rows / yy);
+}
+
+}  // namespace
+
+const char* AxisEffectId(AxisEffect effect) {
+  switch (effect) {
+    case AxisEffect::kAsymmetricFriction: return "asymmetric_friction";
+    case AxisEffect::kStribeckFriction: return "stribeck_friction";
+    case AxisEffect::kPositionDependentFriction: return "position_dependent_friction";
+    case AxisEffect::kCogging: return "cogging";
+    case AxisEffect::kTransmissionCompliance: return "transmission_compliance";
+    case AxisEffect::kBacklash: return "backlash";
+  }
+  return "?";
+}
+
+const std::vector<AxisEffect>& AllAxisEffects() {
+  static const std::vector<AxisEffect> all{
+      AxisEffect::kAsymmetricFriction, AxisEffect::kStribeckFriction,
+      AxisEffect::kPositionDependentFriction, AxisEffect::kCogging,
+      AxisEffect::kTransmissionCompliance, AxisEffect::kBacklash};
+  return all;
+}
+
+AxisDiagnosis DiagnoseAxis(const std::vector<AxisRecording>& recordings,
+                           const std::vector<AxisRecording>& validation,
+                           const AxisDiagnoseOptions& options) {
+  if (recordings.empty()) throw std::invalid_argument("diagnose: no recording given");
+  for (const auto* set : {&recordings, &validation})
+    for (const AxisRecording& r : *set)
+      if (r.joints.size() != 1)
+        throw std::invalid_argument(r.file.string() + ": diagnose expects one joint, got " +
+                                    std::to_string(r.joints.size()));
+  const int dec = options.idim.decimation;
+  std::vector<Part> train, held;
+  for (const AxisRecording& r : recordings) {
+    const std::string name = r.file.filename().string();
+    if (validation.empty()) {
+      const auto cut = static_cast<std::size_t>(
+          std::lround(static_cast<double>(r.size()) * (1.0 - options.holdout_fraction)));
+      train.push_back(MakePart(r.Slice(0, cut), name + "[train]", options.idim));
+      held.push_back(MakePart(r.Slice(cut, r.size()), name + "[held-out]", options.idim));
+    } else {
+      train.push_back(MakePart(r, name, options.idim));
+    }
+  }
+  for (const AxisRecording& r : validation)
+    held.push_back(MakePart(r, r.file.filename().string(), options.idim));
+
+  AxisDiagnosis out;
+  out.joint = recordings.front().joints.front().name;
+  for (const Part& p : train) out.training_recordings.push_back(p.name);
+  for (const Part& p : held) out.heldout_recordings.push_back(p.name);
+
+  Stroke st;
+  st.q_min = 1e300;
+  st.q_max = -1e300;
+  st.v_peak = 0.0;
+  for (const Part& p : train) {
+    st.q_min = std::min(st.q_min, *std::min_element(p.s.q.begin(), p.s.q.end()));
+    st.q_max = std::max(st.q_max, *std::max_element(p.s.q.begin(), p.s.q.end()));
+    for (double v : p.s.qd) st.v_peak = std::max(st.v_peak, std::abs(v));
+  }
+  if (!(st.q_max > st.q_min)) st.q_max = st.q_min + 1.0;
+
+  // Base.
+  std::vector<Chosen> current;
+  Stack tr = StackParts(train, current, st, dec);
+  Stack ho = StackParts(held, current, st, dec);
+  Eigen::VectorXd theta = SolveOls(tr.x, tr.y);
+  out.base_parameters = NameParameters(current, theta);
+  out.base_train_relative_error_pct = RelPct(tr.x, tr.y, theta);
+  out.heldout_base_pct = RelPct(ho.x, ho.y, theta);
+  const Eigen::VectorXd base_theta = theta;
+  std::vector<Eigen::VectorXd> held_res, train_res;
+  {
+    Eigen::Index at = 0;
+    for (const Part& p : held) {
+      held_res.push_back(ho.y.segment(at, p.y.size()) - ho.x.middleRows(at, p.y.size()) * theta);
+      at += p.y.size();
+    }
+    at = 0;
+    for (const Part& p : train) {
+      train_res.push_back(tr.y.segment(at, p.y.size()) - tr.x.middleRows(at, p.y.size()) * theta);
+      at += p.y.size();
+    }
+  }
+  out.noise_floor_pct = NoiseFloorPct(held_res, held);
+  const double floor = out.noise_floor_pct;
+  double current_bic = Bic(tr.x, tr.y, theta);
+  double current_held = out.heldout_base_pct;
+  const bool adequate = Excess(out.heldout_base_pct, floor) <= options.adequate_ratio * floor;
+
+  // Nonlinear parameter of each effect: chosen once, on the base residual / training error.
+  std::vector<Chosen> hyper;
+  for (AxisEffect e : options.candidates) {
+    Chosen c{e, 0.0};
+    std::vector<double> grid = HyperGrid(e, st, train, dec);
+    if (e == AxisEffect::kCogging && !grid.empty()) grid = ScreenCogging(grid, train, train_res);
+    if (!grid.empty()) {
+      double best = 1e300;
+      for (double h : grid) {
+        std::vector<Chosen> trial{Chosen{e, h}};
+        const Stack s = StackParts(train, trial, st, dec);
+        const double sse = (s.y - s.x * SolveOls(s.x, s.y)).squaredNorm();
+        if (sse < best) {
+          best = sse;
+          c.h = h;
+        }
+      }
+    }
+    hyper.push_back(c);
+  }
+
+  std::set<int> used;
+  bool first_round = true;
+  while (true) {
+    std::vector<EffectResult> round;
+    int best_index = -1;
+    double best_gain = -1e300;
+    Eigen::VectorXd best_theta;
+    for (std::size_t i = 0; i < hyper.size(); ++i) {
+      if (used.count(static_cast<int>(i))) continue;
+      std::vector<Chosen> trial = current;
+      trial.push_back(hyper[i]);
+      const Stack t2 = StackParts(train, trial, st, dec);
+      const Stack h2 = StackParts(held, trial, st, dec);
+      const Eigen::VectorXd th = SolveOls(t2.x, t2.y);
+      EffectResult r;
+      r.effect = hyper[i].effect;
+      r.delta_bic = Bic(t2.x, t2.y, th) - current_bic;
+      r.train_relative_error_pct = RelPct(t2.x, t2.y, th);
+      r.heldout_relative_error_pct = RelPct(h2.x, h2.y, th);
+      const double ex0 = Excess(current_held, floor);
+      const double ex1 = Excess(r.heldout_relative_error_pct, floor);
+      r.heldout_gain = ex0 > 0.0 ? 1.0 - ex1 / ex0 : 0.0;
+      r.earns = !adequate && r.delta_bic < options.bic_threshold &&
+                r.heldout_gain >= options.min_heldout_gain;
+      r.parameters = NameParameters(trial, th);
+      r.evidence = Evidence(hyper[i].effect, train, train_res, hyper[i].h);
+      if (r.earns && r.heldout_gain > best_gain) {
+        best_gain = r.heldout_gain;
+        best_index = static_cast<int>(i);
+        best_theta = th;
+      }
+      round.push_back(std::move(r));
+    }
+    if (first_round) {
+      std::sort(round.begin(), round.end(), [](const EffectResult& a, const EffectResult& b) {
+        if (a.earns != b.earns) return a.earns;
+        return a.heldout_gain > b.heldout_gain;
+      });
+      out.ranking = round;
+      first_round = false;
+    }
+    if (best_index < 0) break;
+    used.insert(best_index);
+    current.push_back(hyper[static_cast<std::size_t>(best_index)]);
+    out.causes.push_back({hyper[static_cast<std::size_t>(best_index)].effect, best_gain});
+    theta = best_theta;
+    const Stack t2 = StackParts(train, current, st, dec);
+    const Stack h2 = StackParts(held, current, st, dec);
+    current_bic = Bic(t2.x, t2.y, theta);
+    current_held = RelPct(h2.x, h2.y, theta);
+  }
+  out.extended_parameters = NameParameters(current, theta);
+  out.heldout_extended_pct = current_held;
+  if (adequate) {
+    out.verdict = "adequate";
+  } else if (out.causes.empty()) {
+    out.verdict = "unexplained";
+  } else {
+    out.cause = AxisEffectId(out.causes.front().first);
+    out.verdict = Excess(current_held, floor) <= options.adequate_ratio * floor
+                      ? "explained"
+                      : "partly_explained";
+  }
+  if (out.verdict == "unexplained" || out.verdict == "partly_explained") {
+    std::ostringstream o;
+    o.precision(3);
+    o << "held-out relative error " << current_held << " % against a noise floor of " << floor
+      << " %; no further effect of the table earns its parameters";
+    out.unexplained_evidence = o.str();
+  }
+
+  // Held-out series for plots.
+  {
+    const Stack h2 = StackParts(held, current, st, dec);
+    const Eigen::VectorXd ext = h2.x * theta, base = ho.x * base_theta;
+    for (const Part& p : held) {
+      out.heldout_t.insert(out.heldout_t.end(), p.tdec.begin(), p.tdec.end());
+      for (Eigen::Index i = 0; i < p.qddec.size(); ++i) out.heldout_qd.push_back(p.qddec(i));
+    }
+    out.heldout_tau.assign(ho.y.data(), ho.y.data() + ho.y.size());
+    out.heldout_base.assign(base.data(), base.data() + base.size());
+    out.heldout_ext.assign(ext.data(), ext.data() + ext.size());
+  }
+
+  // Closed loop on the held-out recordings.
+  if (options.simulate) {
+    for (const Part& p : held) {
+      ClosedLoopComparison c;
+      c.recording = p.name;
+      const AxisRecording& r = p.recording;
+      if (!r.loop || r.joints[0].reference.empty()) {
+        c.why_not = "the recording has no reference or no loop gains";
+        out.closed_loop.push_back(c);
+        continue;
+      }
+      AxisForwardModel base_model, ext_model;
+      ForwardFriction({}, base_theta, st, &base_model);
+      c.base = CompareClosedLoop(r, p.s.qd, SimulateClosedLoop(r, base_model));
+      if (ForwardFriction(current, theta, st, &ext_model)) {
+        c.extended = CompareClosedLoop(r, p.s.qd, SimulateClosedLoop(r, ext_model));
+      } else {
+        c.extended = c.base;
+        c.why_not = "the extended model's effect is not a force of (q, q') alone; base only";
+      }
+      c.available = true;
+      out.closed_loop.push_back(c);
+    }
+  }
+  return out;
+}
+
+}  // namespace pwsim::sysid::platform
