@@ -19,10 +19,12 @@ struct Part {
   AxisRecording recording;
   JointStates s;                 // full rate, after the border
   std::vector<double> t;         // full rate
-  std::vector<double> q4;        // fourth derivative of the filtered q
+  std::vector<double> q3, q4;    // third and fourth derivatives of the filtered q
   Eigen::VectorXd y;             // decimated effort
   Eigen::VectorXd qdec, qddec;   // decimated q, q̇ (for screening)
   std::vector<double> tdec;
+  std::vector<Eigen::Index> keep;  // decimated rows used (moving)
+  Eigen::Index Rows() const { return static_cast<Eigen::Index>(keep.size()); }
 };
 
 struct Stroke {
@@ -41,7 +43,8 @@ Part MakePart(const AxisRecording& r, const std::string& name, const IdimOptions
   const ProcessedRecording pr = Preprocess(r, o);
   p.s = pr.joints.at(0);
   p.t = pr.t;
-  p.q4 = DiffCentral(DiffCentral(p.s.qdd, pr.dt), pr.dt);
+  p.q3 = DiffCentral(p.s.qdd, pr.dt);
+  p.q4 = DiffCentral(p.q3, pr.dt);
   p.y = DecimateColumn(p.s.tau, o.decimation);
   p.qdec = DecimateColumn(p.s.q, o.decimation);
   p.qddec = DecimateColumn(p.s.qd, o.decimation);
@@ -139,6 +142,9 @@ std::vector<std::vector<double>> EffectColumns(AxisEffect effect, double h, cons
     case AxisEffect::kTransmissionCompliance:
       c.assign(1, p.q4);
       break;
+    case AxisEffect::kCommandDelay:
+      c.assign(1, p.q3);
+      break;
     case AxisEffect::kBacklash: {
       const std::vector<double> g = GapIndicator(s.q, s.qd, h);
       c.assign(2, std::vector<double>(n));
@@ -158,7 +164,8 @@ std::vector<std::string> EffectParameterNames(AxisEffect effect) {
     case AxisEffect::kStribeckFriction: return {"stribeck_amplitude"};
     case AxisEffect::kPositionDependentFriction: return {"coulomb_p1", "coulomb_p2"};
     case AxisEffect::kCogging: return {"cogging_sin", "cogging_cos"};
-    case AxisEffect::kTransmissionCompliance: return {"jerk_rate_coefficient"};
+    case AxisEffect::kTransmissionCompliance: return {"snap_coefficient"};
+    case AxisEffect::kCommandDelay: return {"jerk_coefficient"};
     case AxisEffect::kBacklash: return {"gap_inertia", "gap_coulomb"};
   }
   return {};
@@ -205,15 +212,19 @@ Stack StackParts(const std::vector<Part>& parts, const std::vector<Chosen>& effe
   Eigen::Index rows = 0;
   std::vector<Eigen::MatrixXd> xs;
   for (const Part& p : parts) {
-    xs.push_back(Columns(p, effects, st, r));
-    rows += p.y.size();
+    const Eigen::MatrixXd all = Columns(p, effects, st, r);
+    Eigen::MatrixXd x(p.Rows(), all.cols());
+    for (Eigen::Index i = 0; i < p.Rows(); ++i) x.row(i) = all.row(p.keep[static_cast<std::size_t>(i)]);
+    xs.push_back(std::move(x));
+    rows += p.Rows();
   }
   s.x.resize(rows, xs.front().cols());
   s.y.resize(rows);
   Eigen::Index at = 0;
   for (std::size_t i = 0; i < parts.size(); ++i) {
     s.x.middleRows(at, xs[i].rows()) = xs[i];
-    s.y.segment(at, parts[i].y.size()) = parts[i].y;
+    for (Eigen::Index k = 0; k < parts[i].Rows(); ++k)
+      s.y(at + k) = parts[i].y(parts[i].keep[static_cast<std::size_t>(k)]);
     at += xs[i].rows();
   }
   return s;
@@ -273,8 +284,9 @@ std::vector<double> ScreenCogging(const std::vector<double>& periods, const std:
   for (double p : periods) {
     double s = 0.0, c = 0.0, ss = 0.0, cc = 0.0;
     for (std::size_t k = 0; k < train.size(); ++k)
-      for (Eigen::Index i = 0; i < train[k].qdec.size(); ++i) {
-        const double a = 2.0 * std::numbers::pi * train[k].qdec(i) / p;
+      for (Eigen::Index i = 0; i < train[k].Rows(); ++i) {
+        const double a =
+            2.0 * std::numbers::pi * train[k].qdec(train[k].keep[static_cast<std::size_t>(i)]) / p;
         const double si = std::sin(a), ci = std::cos(a);
         s += residual[k](i) * si;
         c += residual[k](i) * ci;
@@ -314,7 +326,7 @@ bool ForwardFriction(const std::vector<Chosen>& effects, const Eigen::VectorXd& 
   for (const Chosen& c : effects) {
     asym = asym || c.effect == AxisEffect::kAsymmetricFriction;
     if (c.effect == AxisEffect::kTransmissionCompliance || c.effect == AxisEffect::kBacklash)
-      return false;
+      return false;  // not a force of (q, q̇)
   }
   model->inertia = theta(0);
   const Eigen::VectorXd th = theta;
@@ -369,7 +381,7 @@ std::string Evidence(AxisEffect effect, const std::vector<Part>& train,
   for (const Part& p : train) v_peak = std::max(v_peak, p.qddec.cwiseAbs().maxCoeff());
   for (std::size_t k = 0; k < train.size(); ++k)
     for (Eigen::Index i = 0; i < residual[k].size(); ++i) {
-      const double v = train[k].qddec(i), e = residual[k](i);
+      const double v = train[k].qddec(train[k].keep[static_cast<std::size_t>(i)]), e = residual[k](i);
       if (v > 0) { pos_sum += e * v; pos_n += v * v; }
       if (v < 0) { neg_sum += e * v; neg_n += v * v; }
       if (std::abs(v) < 0.1 * v_peak) { slow_ss += e * e; slow_n += 1; }
@@ -396,11 +408,23 @@ std::string Evidence(AxisEffect effect, const std::vector<Part>& train,
     case AxisEffect::kTransmissionCompliance:
       o << "residual against the fourth derivative of position";
       break;
+    case AxisEffect::kCommandDelay:
+      o << "residual against the third derivative of position (effort recorded ahead of the "
+           "force it makes)";
+      break;
   }
   return o.str();
 }
 
-double NoiseFloorPct(const std::vector<Eigen::VectorXd>& residual, const std::vector<Part>& parts) {
+// E[(e_k − (e_k−1 + e_k+1)/2)²]/σ² for noise that is white below β·Nyquist and zero above
+// (what the decimation filter, cut-off 0.8 of the new Nyquist, passes): (1/βπ)∫₀^βπ(1 − cos ω)² dω.
+double SmootherFactor(double beta) {
+  const double b = beta * std::numbers::pi;
+  return (b - 2.0 * std::sin(b) + b / 2.0 + std::sin(2.0 * b) / 4.0) / b;
+}
+
+double NoiseFloorPct(const std::vector<Eigen::VectorXd>& residual, const std::vector<Part>& parts,
+                     int decimation) {
   double ss = 0.0, n = 0.0, yy = 0.0;
   for (std::size_t k = 0; k < parts.size(); ++k) {
     const Eigen::VectorXd& e = residual[k];
@@ -409,11 +433,11 @@ double NoiseFloorPct(const std::vector<Eigen::VectorXd>& residual, const std::ve
       ss += d * d;
       n += 1.0;
     }
-    yy += parts[k].y.squaredNorm();
+    for (Eigen::Index i : parts[k].keep) yy += parts[k].y(i) * parts[k].y(i);
   }
-  const double var = ss / std::max(n, 1.0) / 1.5;
+  const double var = ss / std::max(n, 1.0) / SmootherFactor(decimation > 1 ? 0.8 : 1.0);
   double rows = 0;
-  for (const Part& p : parts) rows += static_cast<double>(p.y.size());
+  for (const Part& p : parts) rows += static_cast<double>(p.Rows());
   return 100.0 * std::sqrt(var * rows / yy);
 }
 
@@ -427,6 +451,7 @@ const char* AxisEffectId(AxisEffect effect) {
     case AxisEffect::kCogging: return "cogging";
     case AxisEffect::kTransmissionCompliance: return "transmission_compliance";
     case AxisEffect::kBacklash: return "backlash";
+    case AxisEffect::kCommandDelay: return "command_delay";
   }
   return "?";
 }
@@ -435,7 +460,7 @@ const std::vector<AxisEffect>& AllAxisEffects() {
   static const std::vector<AxisEffect> all{
       AxisEffect::kAsymmetricFriction, AxisEffect::kStribeckFriction,
       AxisEffect::kPositionDependentFriction, AxisEffect::kCogging,
-      AxisEffect::kTransmissionCompliance, AxisEffect::kBacklash};
+      AxisEffect::kTransmissionCompliance, AxisEffect::kBacklash, AxisEffect::kCommandDelay};
   return all;
 }
 
@@ -479,6 +504,12 @@ AxisDiagnosis DiagnoseAxis(const std::vector<AxisRecording>& recordings,
     for (double v : p.s.qd) st.v_peak = std::max(st.v_peak, std::abs(v));
   }
   if (!(st.q_max > st.q_min)) st.q_max = st.q_min + 1.0;
+  // Rows at rest carry static friction, which no inverse model can predict (any force up to
+  // breakaway holds the axis): the diagnosis uses the moving rows.
+  for (auto* parts : {&train, &held})
+    for (Part& p : *parts)
+      for (Eigen::Index i = 0; i < p.qddec.size(); ++i)
+        if (std::abs(p.qddec(i)) >= options.rest_speed_fraction * st.v_peak) p.keep.push_back(i);
 
   // Base.
   std::vector<Chosen> current;
@@ -493,21 +524,15 @@ AxisDiagnosis DiagnoseAxis(const std::vector<AxisRecording>& recordings,
   {
     Eigen::Index at = 0;
     for (const Part& p : held) {
-      held_res.push_back(ho.y.segment(at, p.y.size()) - ho.x.middleRows(at, p.y.size()) * theta);
-      at += p.y.size();
+      held_res.push_back(ho.y.segment(at, p.Rows()) - ho.x.middleRows(at, p.Rows()) * theta);
+      at += p.Rows();
     }
     at = 0;
     for (const Part& p : train) {
-      train_res.push_back(tr.y.segment(at, p.y.size()) - tr.x.middleRows(at, p.y.size()) * theta);
-      at += p.y.size();
+      train_res.push_back(tr.y.segment(at, p.Rows()) - tr.x.middleRows(at, p.Rows()) * theta);
+      at += p.Rows();
     }
   }
-  out.noise_floor_pct = NoiseFloorPct(held_res, held);
-  const double floor = out.noise_floor_pct;
-  double current_bic = Bic(tr.x, tr.y, theta);
-  double current_held = out.heldout_base_pct;
-  const bool adequate = Excess(out.heldout_base_pct, floor) <= options.adequate_ratio * floor;
-
   // Nonlinear parameter of each effect: chosen once, on the base residual / training error.
   std::vector<Chosen> hyper;
   for (AxisEffect e : options.candidates) {
@@ -529,6 +554,27 @@ AxisDiagnosis DiagnoseAxis(const std::vector<AxisRecording>& recordings,
     hyper.push_back(c);
   }
 
+  // Noise floor: the smoother estimate on the base residual, or on the residual of every
+  // candidate at once when that is lower (structure the smoother mistakes for noise, e.g. the
+  // sharp pulses of a delay at each acceleration switch, is then taken out first).
+  out.noise_floor_pct = NoiseFloorPct(held_res, held, dec);
+  {
+    const Stack tf = StackParts(train, hyper, st, dec);
+    const Stack hf = StackParts(held, hyper, st, dec);
+    const Eigen::VectorXd th = SolveOls(tf.x, tf.y);
+    std::vector<Eigen::VectorXd> full_res;
+    Eigen::Index at = 0;
+    for (const Part& p : held) {
+      full_res.push_back(hf.y.segment(at, p.Rows()) - hf.x.middleRows(at, p.Rows()) * th);
+      at += p.Rows();
+    }
+    out.noise_floor_pct = std::min(out.noise_floor_pct, NoiseFloorPct(full_res, held, dec));
+  }
+  const double floor = out.noise_floor_pct;
+  double current_bic = Bic(tr.x, tr.y, theta);
+  double current_held = out.heldout_base_pct;
+  const bool adequate = Excess(out.heldout_base_pct, floor) <= options.adequate_ratio * floor;
+
   std::set<int> used;
   bool first_round = true;
   while (true) {
@@ -548,9 +594,12 @@ AxisDiagnosis DiagnoseAxis(const std::vector<AxisRecording>& recordings,
       r.delta_bic = Bic(t2.x, t2.y, th) - current_bic;
       r.train_relative_error_pct = RelPct(t2.x, t2.y, th);
       r.heldout_relative_error_pct = RelPct(h2.x, h2.y, th);
+      // Gain: the share of the BASE model's held-out excess error that this effect removes on
+      // top of the effects already found (so later rounds need as much as the first).
+      const double ex_base = Excess(out.heldout_base_pct, floor);
       const double ex0 = Excess(current_held, floor);
       const double ex1 = Excess(r.heldout_relative_error_pct, floor);
-      r.heldout_gain = ex0 > 0.0 ? 1.0 - ex1 / ex0 : 0.0;
+      r.heldout_gain = ex_base > 0.0 ? (ex0 - ex1) / ex_base : 0.0;
       r.earns = !adequate && r.delta_bic < options.bic_threshold &&
                 r.heldout_gain >= options.min_heldout_gain;
       r.parameters = NameParameters(trial, th);
@@ -571,6 +620,7 @@ AxisDiagnosis DiagnoseAxis(const std::vector<AxisRecording>& recordings,
       first_round = false;
     }
     if (best_index < 0) break;
+
     used.insert(best_index);
     current.push_back(hyper[static_cast<std::size_t>(best_index)]);
     out.causes.push_back({hyper[static_cast<std::size_t>(best_index)].effect, best_gain});
@@ -579,6 +629,8 @@ AxisDiagnosis DiagnoseAxis(const std::vector<AxisRecording>& recordings,
     const Stack h2 = StackParts(held, current, st, dec);
     current_bic = Bic(t2.x, t2.y, theta);
     current_held = RelPct(h2.x, h2.y, theta);
+    // Explained: nothing above the noise is left to attribute to a further effect.
+    if (Excess(current_held, floor) <= options.adequate_ratio * floor) break;
   }
   out.extended_parameters = NameParameters(current, theta);
   out.heldout_extended_pct = current_held;
@@ -604,10 +656,11 @@ AxisDiagnosis DiagnoseAxis(const std::vector<AxisRecording>& recordings,
   {
     const Stack h2 = StackParts(held, current, st, dec);
     const Eigen::VectorXd ext = h2.x * theta, base = ho.x * base_theta;
-    for (const Part& p : held) {
-      out.heldout_t.insert(out.heldout_t.end(), p.tdec.begin(), p.tdec.end());
-      for (Eigen::Index i = 0; i < p.qddec.size(); ++i) out.heldout_qd.push_back(p.qddec(i));
-    }
+    for (const Part& p : held)
+      for (Eigen::Index i : p.keep) {
+        out.heldout_t.push_back(p.tdec[static_cast<std::size_t>(i)]);
+        out.heldout_qd.push_back(p.qddec(i));
+      }
     out.heldout_tau.assign(ho.y.data(), ho.y.data() + ho.y.size());
     out.heldout_base.assign(base.data(), base.data() + base.size());
     out.heldout_ext.assign(ext.data(), ext.data() + ext.size());

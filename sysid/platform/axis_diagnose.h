@@ -14,16 +14,24 @@
 //       stribeck_friction            + sign(q̇)·exp(−(q̇/v_s)²)
 //       position_dependent_friction  + sign(q̇)·P1(x), sign(q̇)·P2(x), x = stroke mapped to [−1, 1]
 //       cogging                      + sin(2πq/p), cos(2πq/p)
-//       transmission_compliance      + q⁗ (two masses joined by a spring k: τ ≈ (J_m+J_l) q̈
-//                                    ∓ J·J_l/k q⁗ to first order in 1/k)
+//       transmission_compliance      + q⁗ (motor J_m and load J_l joined by a spring k: τ = J_m q̈_m
+//                                    + J_l q̈_l + f, q_l ≈ q_m − (J_l q̈ + f)/k, so τ ≈ (J_m+J_l) q̈
+//                                    − J_l²/k q⁗ + ..., first order in 1/k)
 //       backlash                     + g_b·q̈, g_b·sign(q̇), g_b = 1 while the measured side
 //                                    crosses the gap b after a reversal (the load is not driven)
-//  4. Noise floor: the white part of the base residual, σ² = mean((e_k − (e_k−1 + e_k+1)/2)²)/1.5
-//     (a local smoother's residual; the factor makes it unbiased for white noise), as a relative
-//     error 100·σ·√N/‖τ‖ on the held-out rows.
+//       command_delay (added id)     + q⃛: the effort recorded at t is applied at t + T_d, so
+//                                    τ_rec(t) ≈ τ(t) + T_d M q⃛ (T_d = coefficient / M); the EMPS
+//                                    loop has a one-sample computation delay
+//  3b. Rows at rest (|q̇| < rest_speed_fraction · peak) are left out of every fit and error.
+//  4. Noise floor: the white part of the base residual, σ² = mean((e_k − (e_k−1 + e_k+1)/2)²)/c
+//     (a local smoother's residual; c makes it unbiased for noise that is white up to the
+//     decimation filter's cut-off β = 0.8 of the decimated Nyquist, c = (1/βπ)∫₀^βπ(1 − cos ω)²dω
+//     = 0.9375; 1.5 without decimation), as a relative error 100·σ·√N/‖τ‖ on the held-out rows.
 //  5. An effect earns when ΔBIC (training) < bic_threshold and it removes at least
-//     min_heldout_gain of the held-out error above the floor, excess(E) = √max(E² − F², 0).
-//     Effects are added greedily (each on top of the ones found) while one earns.
+//     min_heldout_gain of the base model's held-out error above the floor,
+//     excess(E) = √max(E² − F², 0), gain = (excess(E_current) − excess(E_with)) / excess(E_base).
+//     Effects are added greedily (each on top of the ones found) while one earns and the
+//     held-out excess is still above adequate_ratio·F.
 //     Verdict: adequate when excess(E_base) ≤ adequate_ratio·F; explained when the causes bring
 //     excess(E_ext) ≤ adequate_ratio·F; partly_explained when a cause earns but more is left;
 //     unexplained when the base is wrong and nothing earns.
@@ -48,6 +56,7 @@ enum class AxisEffect {
   kCogging,
   kTransmissionCompliance,
   kBacklash,
+  kCommandDelay,  ///< added id: the recorded effort leads the applied one (computation delay)
 };
 const char* AxisEffectId(AxisEffect effect);
 const std::vector<AxisEffect>& AllAxisEffects();
@@ -60,6 +69,9 @@ struct AxisDiagnoseOptions {
   double adequate_ratio{0.5};    ///< excess error at most this share of the floor = noise
   std::vector<AxisEffect> candidates{AllAxisEffects()};
   bool simulate{true};           ///< closed-loop check when the loop is known
+  /// Rows slower than this share of the peak speed are left out (static friction at rest is
+  /// indeterminate: any force up to breakaway holds the axis).
+  double rest_speed_fraction{0.02};
 };
 
 struct NamedValue {
@@ -73,7 +85,7 @@ struct EffectResult {
   double delta_bic{0.0};         ///< training BIC(extended) − BIC(current)
   double train_relative_error_pct{0.0};
   double heldout_relative_error_pct{0.0};
-  double heldout_gain{0.0};      ///< share of the current held-out excess error removed
+  double heldout_gain{0.0};      ///< share of the base's held-out excess error it removed
   bool earns{false};
   std::vector<NamedValue> parameters;  ///< the extended model's parameters
 };
