@@ -14,6 +14,7 @@ const std::vector<Command>& AllCommands() {
       {&GenerateSpec(), &GenerateCommand},
       {&IdentifySpec(), &IdentifyCommand},
       {&DiagnoseSpec(), &DiagnoseCommand},
+      {&PlatformSpec(), &PlatformCommand},
   };
   return commands;
 }

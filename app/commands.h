@@ -38,5 +38,7 @@ const CommandSpec& IdentifySpec();
 int IdentifyCommand(const ParsedArgs& args);
 const CommandSpec& DiagnoseSpec();
 int DiagnoseCommand(const ParsedArgs& args);
+const CommandSpec& PlatformSpec();
+int PlatformCommand(const ParsedArgs& args);
 
 }  // namespace pwsim::app

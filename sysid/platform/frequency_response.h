@@ -29,7 +29,8 @@ struct FrequencyResponseOptions {
   int sweeps{0};                 ///< equal sweeps per recording; 0 = automatic (see above)
   std::vector<int> orders{2, 3};
   double min_coherence{0.8};
-  double min_input_fraction{1e-4};  ///< of the strongest band's input power
+  double min_input_fraction{1e-9};  ///< of the strongest band's input power (guards 0/0 only;
+                                    ///< coherence decides what is fitted)
   int bands_per_decade{20};
   double max_delay_s{0.0};       ///< 0 = 3 samples
   int sk_iterations{20};
