@@ -46,6 +46,8 @@ sp::IdimOptions IdimFromArgs(const ParsedArgs& args) {
   sp::IdimOptions o;
   o.lowpass_cutoff_hz = args.GetDouble("cutoff-hz");
   o.decimation = static_cast<int>(args.GetInt("decimation"));
+  o.end_border_samples = static_cast<int>(args.GetInt("end-border"));
+  if (o.end_border_samples < 0) throw std::invalid_argument("option --end-border: expected >= 0");
   if (!(o.lowpass_cutoff_hz > 0.0)) throw std::invalid_argument("option --cutoff-hz: expected > 0 Hz");
   if (o.decimation < 1 || o.decimation > 100)
     throw std::invalid_argument("option --decimation: expected 1..100");
@@ -71,6 +73,9 @@ const CommandSpec& PlatformSpec() {
            "diagnose without --validate: fraction held out at the end of each recording"},
           {"cutoff-hz", "HZ", "Hz", "100", "zero-phase low-pass on position"},
           {"decimation", "N", "-", "10", "parallel decimation factor"},
+          {"end-border", "N", "samples", "0",
+           "identify: samples dropped at the end (0 = reference method; use 49 for a recording "
+           "that ends in fast motion)"},
       },
       "identify|diagnose|frequency-response, then recordings: pwsim-axis-trial/1 .yaml files "
       "or EMPS .mat files"};

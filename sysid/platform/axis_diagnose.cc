@@ -474,20 +474,23 @@ AxisDiagnosis DiagnoseAxis(const std::vector<AxisRecording>& recordings,
         throw std::invalid_argument(r.file.string() + ": diagnose expects one joint, got " +
                                     std::to_string(r.joints.size()));
   const int dec = options.idim.decimation;
+  // Split recordings start and end in motion: drop the filter border at both ends.
+  IdimOptions idim = options.idim;
+  if (idim.end_border_samples <= 0) idim.end_border_samples = idim.border_samples;
   std::vector<Part> train, held;
   for (const AxisRecording& r : recordings) {
     const std::string name = r.file.filename().string();
     if (validation.empty()) {
       const auto cut = static_cast<std::size_t>(
           std::lround(static_cast<double>(r.size()) * (1.0 - options.holdout_fraction)));
-      train.push_back(MakePart(r.Slice(0, cut), name + "[train]", options.idim));
-      held.push_back(MakePart(r.Slice(cut, r.size()), name + "[held-out]", options.idim));
+      train.push_back(MakePart(r.Slice(0, cut), name + "[train]", idim));
+      held.push_back(MakePart(r.Slice(cut, r.size()), name + "[held-out]", idim));
     } else {
-      train.push_back(MakePart(r, name, options.idim));
+      train.push_back(MakePart(r, name, idim));
     }
   }
   for (const AxisRecording& r : validation)
-    held.push_back(MakePart(r, r.file.filename().string(), options.idim));
+    held.push_back(MakePart(r, r.file.filename().string(), idim));
 
   AxisDiagnosis out;
   out.joint = recordings.front().joints.front().name;

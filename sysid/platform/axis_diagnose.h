@@ -5,7 +5,8 @@
 //
 //  1. Split: the validation recordings are held out; without any, the last `holdout_fraction`
 //     of every recording is cut off before filtering (so no filter sees both sides).
-//  2. Base: IDIM-LS (idim.h) on the training rows.
+//  2. Base: IDIM-LS (idim.h) on the training rows; the filter border is dropped at both ends
+//     (split recordings start and end in motion).
 //  3. Each effect of the spec's table becomes extra regressor columns, linear in their
 //     coefficients; a nonlinear parameter (Stribeck speed, cogging period, backlash gap) is
 //     chosen on a grid by the training error:

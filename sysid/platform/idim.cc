@@ -33,16 +33,29 @@ ProcessedRecording Preprocess(const AxisRecording& recording, const IdimOptions&
                                 std::to_string(recording.size()) + " samples)");
   const TransferFunction lowpass =
       wn < 1.0 ? Butterworth(options.lowpass_order, wn) : TransferFunction{{1.0}, {1.0}};
-  out.t.assign(recording.t.begin() + static_cast<std::ptrdiff_t>(border), recording.t.end());
+  std::vector<std::vector<double>> qfs, qds, qdds;
+  std::size_t end_border = options.end_border_samples > 0
+                               ? static_cast<std::size_t>(options.end_border_samples)
+                               : 0;
   for (const JointRecording& j : recording.joints) {
+    qfs.push_back(wn < 1.0 ? FiltFilt(lowpass, j.position) : j.position);
+    qds.push_back(DiffCentral(qfs.back(), recording.dt));
+    qdds.push_back(DiffCentral(qds.back(), recording.dt));
+  }
+  if (recording.size() <= border + end_border + 32)
+    throw std::invalid_argument(recording.file.string() + ": too short for identification");
+  const auto last = static_cast<std::ptrdiff_t>(recording.size() - end_border);
+  out.t.assign(recording.t.begin() + static_cast<std::ptrdiff_t>(border), recording.t.begin() + last);
+  for (std::size_t ji = 0; ji < recording.joints.size(); ++ji) {
+    const JointRecording& j = recording.joints[ji];
     JointStates s;
     s.name = j.name;
     s.kind = j.kind;
-    const std::vector<double> qf = wn < 1.0 ? FiltFilt(lowpass, j.position) : j.position;
-    const std::vector<double> qd = DiffCentral(qf, recording.dt);
-    const std::vector<double> qdd = DiffCentral(qd, recording.dt);
+    const std::vector<double>& qf = qfs[ji];
+    const std::vector<double>& qd = qds[ji];
+    const std::vector<double>& qdd = qdds[ji];
     auto cut = [&](const std::vector<double>& v) {
-      return std::vector<double>(v.begin() + static_cast<std::ptrdiff_t>(border), v.end());
+      return std::vector<double>(v.begin() + static_cast<std::ptrdiff_t>(border), v.begin() + last);
     };
     s.q = cut(qf);
     s.qd = cut(qd);

@@ -4,7 +4,8 @@
 // seed 001:
 //   1. q filtered by a zero-phase Butterworth low-pass (order 4, 100 Hz at 1 kHz: butter(4, 0.2));
 //   2. q̇, q̈ by centred differences of the filtered q (DiffCentral, twice);
-//   3. the first `border_samples` samples dropped (filter start-up; MATLAB's 50:N);
+//   3. the first `border_samples` samples dropped (filter start-up; MATLAB's 50:N); at the end
+//      `end_border_samples` (0 in the reference method);
 //   4. the regressor X(q, q̇, q̈) and the effort y = gain·command built at full rate;
 //   5. every column of X and y decimated by `decimation` (parallel filtering: MATLAB decimate);
 //   6. θ̂ = argmin ‖y − Xθ‖ (SVD), σ_i = std(e)·√((XᵀX)⁻¹)_ii (std with mean removed, N − 1),
@@ -39,6 +40,10 @@ struct IdimOptions {
   int lowpass_order{4};
   double lowpass_cutoff_hz{100.0};  ///< [Hz] zero-phase Butterworth on q
   int border_samples{49};           ///< samples dropped at the start after filtering
+  /// Samples dropped at the end: 0 as the reference method (EMPS ends in slow motion and keeps
+  /// its last samples); a recording cut out of a longer one or ending in fast motion needs
+  /// border_samples here (the diagnosis does that for its split recordings).
+  int end_border_samples{0};
   int decimation{10};               ///< parallel decimation factor (1 = none)
   double speed_threshold{0.0};      ///< [m/s or rad/s] friction model: min |q̇| (0 = 2 % of max)
   double accel_threshold{0.0};      ///< [m/s² or rad/s²] friction model: max |q̈| (0 = 2 % of max)
