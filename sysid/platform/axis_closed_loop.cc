@@ -69,7 +69,7 @@ ClosedLoopRun SimulateClosedLoop(const AxisRecording& recording, const AxisForwa
 
 ClosedLoopErrors CompareClosedLoop(const AxisRecording& recording,
                                    const std::vector<double>& measured_qd,
-                                   const ClosedLoopRun& run) {
+                                   std::size_t measured_offset, const ClosedLoopRun& run) {
   const JointRecording& j = recording.joints.at(0);
   auto rel = [](const std::vector<double>& meas, const std::vector<double>& sim, std::size_t from) {
     double num = 0.0, den = 0.0;
@@ -81,9 +81,9 @@ ClosedLoopErrors CompareClosedLoop(const AxisRecording& recording,
   };
   ClosedLoopErrors e;
   e.position_pct = rel(j.position, run.q, 0);
-  // measured_qd may be shorter (after the identification border): align the ends.
-  const std::size_t offset = run.qd.size() - measured_qd.size();
-  std::vector<double> sim_qd(run.qd.begin() + static_cast<std::ptrdiff_t>(offset), run.qd.end());
+  std::vector<double> sim_qd;
+  for (std::size_t i = 0; i < measured_qd.size() && measured_offset + i < run.qd.size(); ++i)
+    sim_qd.push_back(run.qd[measured_offset + i]);
   e.velocity_pct = rel(measured_qd, sim_qd, 0);
   e.effort_pct = rel(j.effort, run.effort, 0);
   return e;

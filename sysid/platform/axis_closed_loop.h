@@ -31,9 +31,10 @@ struct ClosedLoopErrors {
 /// @throws std::invalid_argument when the recording has no reference or no loop gains.
 ClosedLoopRun SimulateClosedLoop(const AxisRecording& recording, const AxisForwardModel& model,
                                  int substeps = 10);
-/// Errors of `run` against the recording (velocity from `measured_qd`, same length).
+/// Errors of `run` against the recording; velocity against `measured_qd`, whose first sample
+/// is the recording's sample `measured_offset` (the identification chain's border).
 ClosedLoopErrors CompareClosedLoop(const AxisRecording& recording,
                                    const std::vector<double>& measured_qd,
-                                   const ClosedLoopRun& run);
+                                   std::size_t measured_offset, const ClosedLoopRun& run);
 
 }  // namespace pwsim::sysid::platform

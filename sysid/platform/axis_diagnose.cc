@@ -671,6 +671,7 @@ AxisDiagnosis DiagnoseAxis(const std::vector<AxisRecording>& recordings,
 
   // Closed loop on the held-out recordings.
   if (options.simulate) {
+    const auto border = static_cast<std::size_t>(std::max(0, idim.border_samples));
     for (const Part& p : held) {
       ClosedLoopComparison c;
       c.recording = p.name;
@@ -682,9 +683,9 @@ AxisDiagnosis DiagnoseAxis(const std::vector<AxisRecording>& recordings,
       }
       AxisForwardModel base_model, ext_model;
       ForwardFriction({}, base_theta, st, &base_model);
-      c.base = CompareClosedLoop(r, p.s.qd, SimulateClosedLoop(r, base_model));
+      c.base = CompareClosedLoop(r, p.s.qd, border, SimulateClosedLoop(r, base_model));
       if (ForwardFriction(current, theta, st, &ext_model)) {
-        c.extended = CompareClosedLoop(r, p.s.qd, SimulateClosedLoop(r, ext_model));
+        c.extended = CompareClosedLoop(r, p.s.qd, border, SimulateClosedLoop(r, ext_model));
       } else {
         c.extended = c.base;
         c.why_not = "the extended model's effect is not a force of (q, q') alone; base only";
