@@ -2,6 +2,7 @@
 
 #include <matio.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -157,16 +158,21 @@ double UniformStep(const std::vector<double>& t, const std::filesystem::path& fi
                    const std::string& field) {
   if (t.size() < 16)
     throw InputError(file.string(), 0, field, "at least 16 samples", std::to_string(t.size()));
-  const double dt = (t.back() - t.front()) / static_cast<double>(t.size() - 1);
-  if (!(dt > 0.0)) throw InputError(file.string(), 0, field, "increasing time", "not increasing");
-  for (std::size_t i = 1; i < t.size(); ++i) {
-    const double step = t[i] - t[i - 1];
-    if (std::abs(step - dt) > 0.01 * dt)
+  // Every step within 1 % of the median step (the median is not moved by the faulty step).
+  std::vector<double> steps(t.size() - 1);
+  for (std::size_t i = 1; i < t.size(); ++i) steps[i - 1] = t[i] - t[i - 1];
+  std::vector<double> sorted = steps;
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2),
+                   sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  if (!(median > 0.0))
+    throw InputError(file.string(), 0, field, "increasing time", "a median step of " + FormatDouble(median) + " s");
+  for (std::size_t i = 0; i < steps.size(); ++i)
+    if (std::abs(steps[i] - median) > 0.01 * median)
       throw InputError(file.string(), 0, field,
-                       "uniform sampling (every step within 1 % of " + FormatDouble(dt) + " s)",
-                       "a step of " + FormatDouble(step) + " s at sample " + std::to_string(i + 1));
-  }
-  return dt;
+                       "uniform sampling (every step within 1 % of " + FormatDouble(median) + " s)",
+                       "a step of " + FormatDouble(steps[i]) + " s at sample " + std::to_string(i + 2));
+  return (t.back() - t.front()) / static_cast<double>(t.size() - 1);
 }
 
 // Number or named variable: {value: X} or {variable: NAME}.
