@@ -118,27 +118,66 @@ std::vector<double> SteadyStateInitial(const TransferFunction& tf) {
   return std::vector<double>(zi.data(), zi.data() + m);
 }
 
-std::vector<double> FiltFilt(const TransferFunction& tf, const std::vector<double>& x) {
+namespace {
+
+// Normalised, equal-length coefficients (a[0] = 1).
+struct Coefficients {
+  std::vector<double> b, a;
+  explicit Coefficients(const TransferFunction& tf) {
+    const std::size_t n = std::max(tf.a.size(), tf.b.size());
+    b.assign(n, 0.0);
+    a.assign(n, 0.0);
+    for (std::size_t i = 0; i < tf.b.size(); ++i) b[i] = tf.b[i] / tf.a[0];
+    for (std::size_t i = 0; i < tf.a.size(); ++i) a[i] = tf.a[i] / tf.a[0];
+  }
+};
+
+// Direct form II transposed, in place, over data[0..n) forward (step +1) or backward (step −1),
+// from the steady state zi scaled by the first sample visited.
+void FilterInPlace(const Coefficients& c, const std::vector<double>& zi, double* data,
+                   std::size_t n, bool backward) {
+  const std::size_t order = c.a.size();
+  double z[32] = {};
+  const double first = backward ? data[n - 1] : data[0];
+  for (std::size_t i = 0; i + 1 < order; ++i) z[i] = zi[i] * first;
+  for (std::size_t step = 0; step < n; ++step) {
+    const std::size_t k = backward ? n - 1 - step : step;
+    const double xk = data[k];
+    const double yk = c.b[0] * xk + (order > 1 ? z[0] : 0.0);
+    for (std::size_t i = 0; i + 2 < order; ++i) z[i] = c.b[i + 1] * xk + z[i + 1] - c.a[i + 1] * yk;
+    if (order > 1) z[order - 2] = c.b[order - 1] * xk - c.a[order - 1] * yk;
+    data[k] = yk;
+  }
+}
+
+// Zero-phase filters x into `ext` (padded by nfact samples at both ends); returns nfact.
+std::size_t FiltFiltPadded(const TransferFunction& tf, const std::vector<double>& x,
+                           std::vector<double>& ext) {
   const std::size_t nfilt = std::max(tf.a.size(), tf.b.size());
   const std::size_t nfact = 3 * (nfilt - 1);
   const std::size_t n = x.size();
   if (n <= nfact)
     throw std::invalid_argument("zero-phase filter: the signal has " + std::to_string(n) +
                                 " samples, expected more than " + std::to_string(nfact));
-  std::vector<double> ext;
-  ext.reserve(n + 2 * nfact);
-  for (std::size_t i = nfact; i >= 1; --i) ext.push_back(2.0 * x[0] - x[i]);
-  ext.insert(ext.end(), x.begin(), x.end());
-  for (std::size_t i = 1; i <= nfact; ++i) ext.push_back(2.0 * x[n - 1] - x[n - 1 - i]);
+  if (nfilt > 32) throw std::invalid_argument("zero-phase filter: order above 31");
+  ext.resize(n + 2 * nfact);
+  for (std::size_t i = 0; i < nfact; ++i) ext[i] = 2.0 * x[0] - x[nfact - i];
+  std::copy(x.begin(), x.end(), ext.begin() + static_cast<std::ptrdiff_t>(nfact));
+  for (std::size_t i = 1; i <= nfact; ++i) ext[nfact + n - 1 + i] = 2.0 * x[n - 1] - x[n - 1 - i];
+  const Coefficients c(tf);
   const std::vector<double> zi = SteadyStateInitial(tf);
-  std::vector<double> z(zi.size()), y;
-  for (std::size_t i = 0; i < zi.size(); ++i) z[i] = zi[i] * ext[0];
-  Filter(tf, ext, y, z);
-  std::vector<double> reversed(y.rbegin(), y.rend());
-  for (std::size_t i = 0; i < zi.size(); ++i) z[i] = zi[i] * reversed[0];
-  Filter(tf, reversed, y, z);
-  return std::vector<double>(y.rbegin() + static_cast<std::ptrdiff_t>(nfact),
-                             y.rbegin() + static_cast<std::ptrdiff_t>(nfact + n));
+  FilterInPlace(c, zi, ext.data(), ext.size(), false);
+  FilterInPlace(c, zi, ext.data(), ext.size(), true);
+  return nfact;
+}
+
+}  // namespace
+
+std::vector<double> FiltFilt(const TransferFunction& tf, const std::vector<double>& x) {
+  thread_local std::vector<double> ext;
+  const std::size_t nfact = FiltFiltPadded(tf, x, ext);
+  return std::vector<double>(ext.begin() + static_cast<std::ptrdiff_t>(nfact),
+                             ext.begin() + static_cast<std::ptrdiff_t>(nfact + x.size()));
 }
 
 int DecimateFirstIndex(int n, int r) {
@@ -155,11 +194,13 @@ std::vector<double> Decimate(const std::vector<double>& x, int r) {
     cached = ChebyshevI(8, 0.05, 0.8 / r);
     cached_r = r;
   }
-  const std::vector<double> y = FiltFilt(cached, x);
+  thread_local std::vector<double> ext;
+  const std::size_t nfact = FiltFiltPadded(cached, x, ext);
   std::vector<double> out;
   const int n = static_cast<int>(x.size());
   out.reserve(static_cast<std::size_t>(n / r + 1));
-  for (int i = DecimateFirstIndex(n, r); i < n; i += r) out.push_back(y[static_cast<std::size_t>(i)]);
+  for (int i = DecimateFirstIndex(n, r); i < n; i += r)
+    out.push_back(ext[nfact + static_cast<std::size_t>(i)]);
   return out;
 }
 

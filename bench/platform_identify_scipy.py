@@ -1,11 +1,11 @@
 #!/usr/bin/python3
 """IDIM-LS of the EMPS axis with scipy: the same chain as `pwsim platform identify`
 (Janot/Gautier reference method) written independently with scipy.signal, used as the parity
-oracle and as the side-by-side timing of bench/platform_identify_bench.
+oracle and as the side-by-side timing of bench/platform_identify_bench (same chain, C++).
 
 usage: platform_identify_scipy.py DATA_EMPS.mat [--repeat N]
 Prints the parameters, their standard deviations, the relative error, cond(X), rows and the
-median wall time of N runs (reading included) in JSON.
+median wall and CPU time of N runs (reading included) in JSON.
 """
 import json
 import sys
@@ -75,12 +75,14 @@ def identify(path):
 def main():
     path = sys.argv[1]
     repeat = int(sys.argv[sys.argv.index("--repeat") + 1]) if "--repeat" in sys.argv else 5
-    times = []
+    times, cpu = [], []
     for _ in range(repeat):
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         result = identify(path)
         times.append(time.perf_counter() - t0)
+        cpu.append(time.process_time() - c0)
     result["median_s"] = float(np.median(times))
+    result["median_cpu_s"] = float(np.median(cpu))
     result["repeat"] = repeat
     print(json.dumps(result, indent=1))
 
