@@ -40,7 +40,7 @@ int main(int argc, char** argv) {
   }
   std::printf("Hidden-effect matrix: independent truth (tests/sysid/platform/truth_axis.*), %d "
               "seeds, 20 s training + 12 s held-out recording each; rows = hidden effect, "
-              "columns = cause named.\n\n| truth \\\\ found |",
+              "columns = cause named.\n\n| truth → found |",
               seeds);
   for (const auto& c : columns) std::printf(" %s |", c.c_str());
   std::printf(" verdicts |\n|---|");

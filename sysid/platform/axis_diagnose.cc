@@ -361,7 +361,8 @@ bool ForwardFriction(const std::vector<Chosen>& effects, const Eigen::VectorXd& 
           k += 2;
           break;
         }
-        default:
+        default:  // command_delay: a timing effect, not a force; its coefficient is skipped
+          k += static_cast<Eigen::Index>(EffectParameterNames(c.effect).size());
           break;
       }
     }
