@@ -39,7 +39,8 @@ const CommandSpec& PlatformSimSpec() {
           {"chirp-sweep", "S", "s", "20", "duration of one sweep"},
           {"chirp-sweeps", "N", "-", "3", "number of identical sweeps"},
           {"chirp-amplitude", "A", "m or rad", "0.05", "amplitude at low frequency"},
-          {"chirp-max-accel", "A", "m/s^2 or rad/s^2", "8", "amplitude limited to a_max/w^2"},
+          {"chirp-max-accel", "A", "m/s^2 or rad/s^2", "0",
+           "amplitude limited to a_max/w^2 (0 = half the effort limit over the inertia)"},
       },
       ""};
   return spec;
@@ -81,7 +82,11 @@ int RunChirpExperiment(const ParsedArgs& args) {
   }
   sysid::platform::WriteAxisRecordingCsv(r, args.Get("chirp"));
   std::cout << "pwsim platform-sim: chirp on " << joint << ", " << rec.t.size()
-            << " samples, wrote " << args.Get("chirp") << "\n";
+            << " samples, a_max " << rec.max_accel << ", wrote " << args.Get("chirp") << "\n";
+  if (rec.saturated_samples > 0)
+    std::cout << "pwsim platform-sim: warning: the actuator saturated on " << rec.saturated_samples
+              << " samples; the response is not linear (lower --chirp-amplitude or "
+                 "--chirp-max-accel)\n";
   return 0;
 }
 

@@ -105,16 +105,23 @@ TEST(FrequencyResponse, CoherenceFallsWhereNoiseDominates) {
   EXPECT_TRUE(some_not_fitted);
 }
 
-TEST(FrequencyResponse, PlatformSimChirpLoopRecoversTheRailBandwidth) {
+class PlatformChirp : public ::testing::TestWithParam<int> {};
+
+TEST_P(PlatformChirp, LoopRecoversTheJointBandwidth) {
   // platform-sim's chirp → recording files → estimate, against the analytic closed loop of the
-  // rail: m2 s² q = kp e + ki e/s + kd (s r − s q) − kv2 s q (hardware/platform_model.cc gains).
+  // joint: I s² q = kp e + ki e/s + kd (s r − s q) − kv s q (hardware/platform_model.cc gains,
+  // I the nominal inertia with the cabin at the rail's centre).
+  const int joint = GetParam();
   hw::ChirpParams c;
+  c.joint = joint;
   c.sweep_s = 20.0;
   c.sweeps = 3;
   const hw::PlatformParams platform;
   const hw::ChirpRecord rec = hw::RunChirp(c, platform);
   AxisRecording r;
-  r.file = std::filesystem::path(PWSIM_BINARY_DIR) / "test-frequency-response" / "chirp.yaml";
+  EXPECT_EQ(rec.saturated_samples, 0);
+  r.file = std::filesystem::path(PWSIM_BINARY_DIR) / "test-frequency-response" /
+           ("chirp" + std::to_string(joint) + ".yaml");
   r.experiment = "chirp";
   r.t = rec.t;
   r.dt = c.sample_s;
@@ -132,13 +139,19 @@ TEST(FrequencyResponse, PlatformSimChirpLoopRecoversTheRailBandwidth) {
   FrequencyResponseOptions o;
   o.sweeps = 3;
   const auto fr = EstimateFrequencyResponse({ReadAxisRecording(r.file)}, o);
-  ASSERT_EQ(fr.size(), 1u);  // the yaw reference does not move
-  EXPECT_EQ(fr[0].joint, "rail");
-  const double m = platform.m2, w = 2.0 * M_PI * 8.0;
+  ASSERT_EQ(fr.size(), 1u);  // the other joint's reference does not move
+  EXPECT_EQ(fr[0].joint, joint == 0 ? "yaw" : "rail");
+  const double m = joint == 0 ? platform.m1 * platform.r_g1_sq + platform.inertia_zz +
+                                    platform.m2 * (platform.x_g2 * platform.x_g2 + platform.y_g2 * platform.y_g2)
+                              : platform.m2;
+  const double kv = joint == 0 ? platform.kv1 : platform.kv2;
+  const double w = 2.0 * M_PI * 8.0;
   const double kp = m * w * w, ki = m * w * w * w / 10.0, kd = 2.0 * m * w;
-  const double truth = AnalyticBandwidth({kd, kp, ki}, {m, kd + platform.kv2, kp, ki});
+  const double truth = AnalyticBandwidth({kd, kp, ki}, {m, kd + kv, kp, ki});
   EXPECT_NEAR(fr[0].bandwidth_rad_s, truth, 0.03 * truth);
 }
+
+INSTANTIATE_TEST_SUITE_P(YawAndRail, PlatformChirp, ::testing::Values(0, 1));
 
 }  // namespace
 }  // namespace pwsim::sysid::platform
