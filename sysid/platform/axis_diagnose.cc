@@ -20,6 +20,7 @@ struct Part {
   JointStates s;                 // full rate, after the border
   std::vector<double> t;         // full rate
   std::vector<double> q3, q4;    // third and fourth derivatives of the filtered q
+  double dt{0.0};
   Eigen::VectorXd y;             // decimated effort
   Eigen::VectorXd qdec, qddec;   // decimated q, q̇ (for screening)
   std::vector<double> tdec;
@@ -43,6 +44,7 @@ Part MakePart(const AxisRecording& r, const std::string& name, const IdimOptions
   const ProcessedRecording pr = Preprocess(r, o);
   p.s = pr.joints.at(0);
   p.t = pr.t;
+  p.dt = pr.dt;
   p.q3 = DiffCentral(p.s.qdd, pr.dt);
   p.q4 = DiffCentral(p.q3, pr.dt);
   p.y = DecimateColumn(p.s.tau, o.decimation);
@@ -83,30 +85,42 @@ std::vector<std::vector<double>> BaseColumns(const JointStates& s, bool asymmetr
 
 double Legendre2(double x) { return 1.5 * x * x - 0.5; }
 
-// Backlash indicator: 1 while |q − q_reversal| < gap after the last reversal of q̇.
-std::vector<double> GapIndicator(const std::vector<double>& q, const std::vector<double>& qd,
-                                 double gap) {
-  std::vector<double> g(q.size(), 0.0);
-  double last_sign = 0.0, q_rev = q.empty() ? 0.0 : q[0];
-  bool in_gap = false;
-  for (std::size_t i = 0; i < q.size(); ++i) {
-    const double sgn = Sign(qd[i]);
-    if (sgn != 0.0 && sgn != last_sign) {
-      if (last_sign != 0.0) {
-        q_rev = q[i];
-        in_gap = true;
-      }
-      last_sign = sgn;
+
+struct Chosen {
+  AxisEffect effect{};
+  double h{0.0};   // Stribeck speed, cogging period, backlash gap, load natural frequency
+  double h2{0.0};  // load damping ratio (compliance)
+};
+
+// The load side's position seen through the transmission from the (measured) motor side:
+// compliance: q_l = H(s) q_m, H = (2ζω s + ω²)/(s² + 2ζω s + ω²) (load J_l on a spring-damper,
+// k/J_l = ω², c/J_l = 2ζω), Tustin at the sampling rate, started in steady state;
+// backlash: the play operator q_l = clamp(q_l, q_m − b/2, q_m + b/2) (rigid contact).
+std::vector<double> LoadPosition(const Chosen& c, const std::vector<double>& qm, double dt) {
+  std::vector<double> ql(qm.size());
+  if (c.effect == AxisEffect::kBacklash) {
+    double l = qm.empty() ? 0.0 : qm[0];
+    for (std::size_t i = 0; i < qm.size(); ++i) {
+      l = std::clamp(l, qm[i] - 0.5 * c.h, qm[i] + 0.5 * c.h);
+      ql[i] = l;
     }
-    if (in_gap && std::abs(q[i] - q_rev) >= gap) in_gap = false;
-    g[i] = in_gap ? 1.0 : 0.0;
+    return ql;
   }
-  return g;
+  const double k = 2.0 / dt, w = c.h, z = c.h2;
+  TransferFunction tf;
+  tf.b = {2.0 * z * w * k + w * w, 2.0 * w * w, -2.0 * z * w * k + w * w};
+  tf.a = {k * k + 2.0 * z * w * k + w * w, -2.0 * k * k + 2.0 * w * w, k * k - 2.0 * z * w * k + w * w};
+  std::vector<double> state = SteadyStateInitial(tf);
+  for (double& v : state) v *= qm.empty() ? 0.0 : qm[0];
+  Filter(tf, qm, ql, state);
+  return ql;
 }
 
-// Full-rate extra columns of `effect` with nonlinear parameter h.
-std::vector<std::vector<double>> EffectColumns(AxisEffect effect, double h, const Part& p,
+// Full-rate extra columns of `effect` with its nonlinear parameter(s).
+std::vector<std::vector<double>> EffectColumns(const Chosen& chosen, const Part& p,
                                                const Stroke& st) {
+  const AxisEffect effect = chosen.effect;
+  const double h = chosen.h;
   const JointStates& s = p.s;
   const std::size_t n = s.q.size();
   std::vector<std::vector<double>> c;
@@ -139,18 +153,20 @@ std::vector<std::vector<double>> EffectColumns(AxisEffect effect, double h, cons
       }
       break;
     }
-    case AxisEffect::kTransmissionCompliance:
-      c.assign(1, p.q4);
-      break;
     case AxisEffect::kCommandDelay:
-      c.assign(1, p.q3);
-      break;
+      break;  // handled by shifting the base columns (Columns)
+    case AxisEffect::kTransmissionCompliance:
     case AxisEffect::kBacklash: {
-      const std::vector<double> g = GapIndicator(s.q, s.qd, h);
-      c.assign(2, std::vector<double>(n));
+      // τ = J_m q̈_m + J_l q̈_l + f(q̇_l) = (J_m + J_l) q̈_m + J_l (q̈_l − q̈_m) + f(q̇_m)
+      //     + [f(q̇_l) − f(q̇_m)]: the base columns plus the load's lag behind the motor.
+      const std::vector<double> ql = LoadPosition(chosen, s.q, p.dt);
+      const std::vector<double> vl = DiffCentral(ql, p.dt);
+      const std::vector<double> al = DiffCentral(vl, p.dt);
+      c.assign(3, std::vector<double>(n));
       for (std::size_t i = 0; i < n; ++i) {
-        c[0][i] = g[i] * s.qdd[i];
-        c[1][i] = g[i] * Sign(s.qd[i]);
+        c[0][i] = al[i] - s.qdd[i];
+        c[1][i] = vl[i] - s.qd[i];
+        c[2][i] = Sign(vl[i]) - Sign(s.qd[i]);
       }
       break;
     }
@@ -164,9 +180,9 @@ std::vector<std::string> EffectParameterNames(AxisEffect effect) {
     case AxisEffect::kStribeckFriction: return {"stribeck_amplitude"};
     case AxisEffect::kPositionDependentFriction: return {"coulomb_p1", "coulomb_p2"};
     case AxisEffect::kCogging: return {"cogging_sin", "cogging_cos"};
-    case AxisEffect::kTransmissionCompliance: return {"snap_coefficient"};
-    case AxisEffect::kCommandDelay: return {"jerk_coefficient"};
-    case AxisEffect::kBacklash: return {"gap_inertia", "gap_coulomb"};
+    case AxisEffect::kTransmissionCompliance: return {"load_inertia", "load_viscous", "load_coulomb"};
+    case AxisEffect::kCommandDelay: return {};
+    case AxisEffect::kBacklash: return {"load_inertia", "load_viscous", "load_coulomb"};
   }
   return {};
 }
@@ -176,14 +192,23 @@ const char* HyperName(AxisEffect effect) {
     case AxisEffect::kStribeckFriction: return "stribeck_speed";
     case AxisEffect::kCogging: return "cogging_period";
     case AxisEffect::kBacklash: return "backlash_gap";
+    case AxisEffect::kCommandDelay: return "delay_samples";
     default: return "";
   }
 }
 
-struct Chosen {
-  AxisEffect effect{};
-  double h{0.0};
-};
+
+int HyperCount(const std::vector<Chosen>& effects) {
+  int k = 0;
+  for (const Chosen& c : effects)
+    k += c.effect == AxisEffect::kTransmissionCompliance
+             ? 2
+             : (c.effect == AxisEffect::kStribeckFriction || c.effect == AxisEffect::kCogging ||
+                        c.effect == AxisEffect::kBacklash || c.effect == AxisEffect::kCommandDelay
+                    ? 1
+                    : 0);
+  return k;
+}
 
 // Decimated regression of `part` for base (+asymmetric) and the chosen effects.
 Eigen::MatrixXd Columns(const Part& p, const std::vector<Chosen>& effects, const Stroke& st,
@@ -191,8 +216,24 @@ Eigen::MatrixXd Columns(const Part& p, const std::vector<Chosen>& effects, const
   bool asym = false;
   for (const Chosen& c : effects) asym = asym || c.effect == AxisEffect::kAsymmetricFriction;
   std::vector<std::vector<double>> cols = BaseColumns(p.s, asym);
+  // Command delay d: τ_rec(t) = τ(t + d), so the base columns are taken d later (linear
+  // interpolation between samples; the last sample is held at the end).
   for (const Chosen& c : effects) {
-    auto extra = EffectColumns(c.effect, c.h, p, st);
+    if (c.effect != AxisEffect::kCommandDelay) continue;
+    const auto whole = static_cast<std::size_t>(std::floor(c.h));
+    const double frac = c.h - static_cast<double>(whole);
+    for (auto& col : cols) {
+      const std::size_t n = col.size();
+      std::vector<double> shifted(n);
+      for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t a = std::min(i + whole, n - 1), b = std::min(i + whole + 1, n - 1);
+        shifted[i] = (1.0 - frac) * col[a] + frac * col[b];
+      }
+      col = std::move(shifted);
+    }
+  }
+  for (const Chosen& c : effects) {
+    auto extra = EffectColumns(c, p, st);
     for (auto& col : extra) cols.push_back(std::move(col));
   }
   Eigen::MatrixXd x(p.y.size(), static_cast<Eigen::Index>(cols.size()));
@@ -234,10 +275,12 @@ Eigen::VectorXd SolveOls(const Eigen::MatrixXd& x, const Eigen::VectorXd& y) {
   return x.colPivHouseholderQr().solve(y);
 }
 
-double Bic(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Eigen::VectorXd& theta) {
+// BIC with the grid-chosen nonlinear parameters counted as parameters too.
+double Bic(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Eigen::VectorXd& theta,
+           int hyper_parameters = 0) {
   const double n = static_cast<double>(y.size());
   const double sse = (y - x * theta).squaredNorm();
-  return n * std::log(sse / n) + static_cast<double>(theta.size()) * std::log(n);
+  return n * std::log(sse / n) + static_cast<double>(theta.size() + hyper_parameters) * std::log(n);
 }
 
 double RelPct(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Eigen::VectorXd& theta) {
@@ -246,10 +289,29 @@ double RelPct(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Eigen::V
 
 double Excess(double e, double floor) { return std::sqrt(std::max(e * e - floor * floor, 0.0)); }
 
-// Candidate values of the nonlinear parameter; empty = none.
-std::vector<double> HyperGrid(AxisEffect effect, const Stroke& st, const std::vector<Part>& train,
-                              int r) {
+std::vector<double> HyperGrid1(AxisEffect effect, const Stroke& st, const std::vector<Part>& train,
+                               int r);
+
+// Candidate values of the nonlinear parameter(s); empty = none.
+std::vector<std::pair<double, double>> HyperGrid(AxisEffect effect, const Stroke& st,
+                                                 const std::vector<Part>& train, int r) {
+  std::vector<std::pair<double, double>> grid;
+  if (effect == AxisEffect::kTransmissionCompliance) {
+    // Load natural frequency 3 .. 150 Hz (log), damping ratio 0.05, 0.15, 0.4.
+    for (int i = 0; i < 14; ++i)
+      for (double z : {0.05, 0.15, 0.4})
+        grid.push_back({2.0 * std::numbers::pi * 3.0 * std::pow(50.0, i / 13.0), z});
+    return grid;
+  }
+  for (double h : HyperGrid1(effect, st, train, r)) grid.push_back({h, 0.0});
+  return grid;
+}
+
+std::vector<double> HyperGrid1(AxisEffect effect, const Stroke& st, const std::vector<Part>& train,
+                               int r) {
   std::vector<double> grid;
+  if (effect == AxisEffect::kCommandDelay)
+    for (int i = 1; i <= 12; ++i) grid.push_back(0.25 * i);  // 0.25 .. 3 samples
   const double span = st.q_max - st.q_min;
   if (effect == AxisEffect::kStribeckFriction) {
     for (int i = 0; i < 16; ++i) grid.push_back(st.v_peak * 0.002 * std::pow(10.0, i * 2.0 / 15.0));
@@ -314,8 +376,13 @@ std::vector<NamedValue> NameParameters(const std::vector<Chosen>& effects,
   std::vector<NamedValue> out;
   for (std::size_t i = 0; i < names.size() && i < static_cast<std::size_t>(theta.size()); ++i)
     out.push_back({names[i], theta(static_cast<Eigen::Index>(i))});
-  for (const Chosen& c : effects)
+  for (const Chosen& c : effects) {
     if (*HyperName(c.effect)) out.push_back({HyperName(c.effect), c.h});
+    if (c.effect == AxisEffect::kTransmissionCompliance) {
+      out.push_back({"load_frequency_hz", c.h / (2.0 * std::numbers::pi)});
+      out.push_back({"load_damping_ratio", c.h2});
+    }
+  }
   return out;
 }
 
@@ -401,17 +468,16 @@ std::string Evidence(AxisEffect effect, const std::vector<Part>& train,
       o << "strongest position-periodic residual at period " << h;
       break;
     case AxisEffect::kBacklash:
-      o << "gap " << h << " after each reversal";
+      o << "load behind a play of " << h << " (rigid contact)";
       break;
     case AxisEffect::kPositionDependentFriction:
       o << "dry friction as a quadratic along the stroke";
       break;
     case AxisEffect::kTransmissionCompliance:
-      o << "residual against the fourth derivative of position";
+      o << "load on a spring-damper at " << h / (2.0 * std::numbers::pi) << " Hz";
       break;
     case AxisEffect::kCommandDelay:
-      o << "residual against the third derivative of position (effort recorded ahead of the "
-           "force it makes)";
+      o << "effort recorded " << h << " samples ahead of the force it makes";
       break;
   }
   return o.str();
@@ -540,18 +606,24 @@ AxisDiagnosis DiagnoseAxis(const std::vector<AxisRecording>& recordings,
   // Nonlinear parameter of each effect: chosen once, on the base residual / training error.
   std::vector<Chosen> hyper;
   for (AxisEffect e : options.candidates) {
-    Chosen c{e, 0.0};
-    std::vector<double> grid = HyperGrid(e, st, train, dec);
-    if (e == AxisEffect::kCogging && !grid.empty()) grid = ScreenCogging(grid, train, train_res);
+    Chosen c{e, 0.0, 0.0};
+    std::vector<std::pair<double, double>> grid = HyperGrid(e, st, train, dec);
+    if (e == AxisEffect::kCogging && !grid.empty()) {
+      std::vector<double> periods;
+      for (const auto& g : grid) periods.push_back(g.first);
+      grid.clear();
+      for (double pp : ScreenCogging(periods, train, train_res)) grid.push_back({pp, 0.0});
+    }
     if (!grid.empty()) {
       double best = 1e300;
-      for (double h : grid) {
-        std::vector<Chosen> trial{Chosen{e, h}};
+      for (const auto& [h, h2] : grid) {
+        std::vector<Chosen> trial{Chosen{e, h, h2}};
         const Stack s = StackParts(train, trial, st, dec);
         const double sse = (s.y - s.x * SolveOls(s.x, s.y)).squaredNorm();
         if (sse < best) {
           best = sse;
           c.h = h;
+          c.h2 = h2;
         }
       }
     }
@@ -584,7 +656,7 @@ AxisDiagnosis DiagnoseAxis(const std::vector<AxisRecording>& recordings,
   while (true) {
     std::vector<EffectResult> round;
     int best_index = -1;
-    double best_gain = -1e300;
+    double best_gain = -1e300, best_score = -1e300;
     Eigen::VectorXd best_theta;
     for (std::size_t i = 0; i < hyper.size(); ++i) {
       if (used.count(static_cast<int>(i))) continue;
@@ -595,7 +667,7 @@ AxisDiagnosis DiagnoseAxis(const std::vector<AxisRecording>& recordings,
       const Eigen::VectorXd th = SolveOls(t2.x, t2.y);
       EffectResult r;
       r.effect = hyper[i].effect;
-      r.delta_bic = Bic(t2.x, t2.y, th) - current_bic;
+      r.delta_bic = Bic(t2.x, t2.y, th, HyperCount(trial)) - current_bic;
       r.train_relative_error_pct = RelPct(t2.x, t2.y, th);
       r.heldout_relative_error_pct = RelPct(h2.x, h2.y, th);
       // Gain: the share of the BASE model's held-out excess error that this effect removes on
@@ -608,7 +680,11 @@ AxisDiagnosis DiagnoseAxis(const std::vector<AxisRecording>& recordings,
                 r.heldout_gain >= options.min_heldout_gain;
       r.parameters = NameParameters(trial, th);
       r.evidence = Evidence(hyper[i].effect, train, train_res, hyper[i].h);
-      if (r.earns && r.heldout_gain > best_gain) {
+      // Among the effects that earn, the most probable one (lowest training BIC, parameters
+      // and grid parameters counted): a delay and a compliant load both add lag, and the
+      // simpler explanation must win when both fit.
+      if (r.earns && -r.delta_bic > best_score) {
+        best_score = -r.delta_bic;
         best_gain = r.heldout_gain;
         best_index = static_cast<int>(i);
         best_theta = th;
@@ -631,7 +707,7 @@ AxisDiagnosis DiagnoseAxis(const std::vector<AxisRecording>& recordings,
     theta = best_theta;
     const Stack t2 = StackParts(train, current, st, dec);
     const Stack h2 = StackParts(held, current, st, dec);
-    current_bic = Bic(t2.x, t2.y, theta);
+    current_bic = Bic(t2.x, t2.y, theta, HyperCount(current));
     current_held = RelPct(h2.x, h2.y, theta);
     // Explained: nothing above the noise is left to attribute to a further effect.
     if (Excess(current_held, floor) <= options.adequate_ratio * floor) break;

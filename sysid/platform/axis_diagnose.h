@@ -15,14 +15,16 @@
 //       stribeck_friction            + sign(q̇)·exp(−(q̇/v_s)²)
 //       position_dependent_friction  + sign(q̇)·P1(x), sign(q̇)·P2(x), x = stroke mapped to [−1, 1]
 //       cogging                      + sin(2πq/p), cos(2πq/p)
-//       transmission_compliance      + q⁗ (motor J_m and load J_l joined by a spring k: τ = J_m q̈_m
-//                                    + J_l q̈_l + f, q_l ≈ q_m − (J_l q̈ + f)/k, so τ ≈ (J_m+J_l) q̈
-//                                    − J_l²/k q⁗ + ..., first order in 1/k)
-//       backlash                     + g_b·q̈, g_b·sign(q̇), g_b = 1 while the measured side
-//                                    crosses the gap b after a reversal (the load is not driven)
-//       command_delay (added id)     + q⃛: the effort recorded at t is applied at t + T_d, so
-//                                    τ_rec(t) ≈ τ(t) + T_d M q⃛ (T_d = coefficient / M); the EMPS
-//                                    loop has a one-sample computation delay
+//       transmission_compliance      + q̈_l − q̈_m, q̇_l − q̇_m, sign q̇_l − sign q̇_m with the load
+//                                    position q_l = H(s) q_m, H = (2ζω s + ω²)/(s² + 2ζω s + ω²)
+//                                    (load on a spring-damper; ω, ζ on a grid): τ = J_m q̈_m +
+//                                    J_l q̈_l + f(q̇_l)
+//       backlash                     the same three columns with q_l the play operator of q_m
+//                                    (gap b on a grid, rigid contact)
+//       command_delay (added id)     the base columns taken d later: the effort recorded at t
+//                                    acts at t + d, τ_rec(t) = τ(t + d) (d on a grid of 0.25 .. 3
+//                                    samples, no extra coefficient); the EMPS loop has a
+//                                    one-sample computation delay
 //  3b. Rows at rest (|q̇| < rest_speed_fraction · peak) are left out of every fit and error.
 //  4. Noise floor: the white part of the base residual, σ² = mean((e_k − (e_k−1 + e_k+1)/2)²)/c
 //     (a local smoother's residual; c makes it unbiased for noise that is white up to the
@@ -32,7 +34,8 @@
 //     min_heldout_gain of the base model's held-out error above the floor,
 //     excess(E) = √max(E² − F², 0), gain = (excess(E_current) − excess(E_with)) / excess(E_base).
 //     Effects are added greedily (each on top of the ones found) while one earns and the
-//     held-out excess is still above adequate_ratio·F.
+//     held-out excess is still above adequate_ratio·F; among those that earn, the one with the
+//     lowest training BIC (grid-chosen parameters counted) is taken.
 //     Verdict: adequate when excess(E_base) ≤ adequate_ratio·F; explained when the causes bring
 //     excess(E_ext) ≤ adequate_ratio·F; partly_explained when a cause earns but more is left;
 //     unexplained when the base is wrong and nothing earns.
