@@ -62,7 +62,7 @@ for c in d["closed_loop"]:
 fr = json.load(open(f"{w}/fr/frequency-response.json"))
 for j in fr["joints"]:
     print(f"### platform-sim chirp, joint {j['joint']} (same-model generated)\n")
-    print(f"bandwidth {j["bandwidth_rad_s"]:.2f} rad/s (fit), {j['bandwidth_nonparametric_rad_s']:.2f} rad/s (H1); fits: "
+    print(f"bandwidth {j['bandwidth_rad_s']:.2f} rad/s (fit), {j['bandwidth_nonparametric_rad_s']:.2f} rad/s (H1); fits: "
           + ", ".join(f"order {f['order']} {f['fit_pct']:.2f} %" for f in j["fits"]) + "\n")
 PY
 mkdir -p "$root/docs/images"

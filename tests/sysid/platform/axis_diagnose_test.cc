@@ -1,7 +1,7 @@
 // Hidden-effect tests of the axis diagnosis: recordings from the independent truth
 // (truth_axis.*) with one effect each; the diagnosis must name it (or call the no-effect set
-// adequate) on held-out recordings simulated with another seed. Transmission compliance and
-// backlash are not asserted: the inverse model does not find them (docs/platform.md, matrix).
+// adequate) on held-out recordings simulated with another seed. Backlash is not asserted: a
+// dead band with a compliant contact is named transmission_compliance (docs/platform.md).
 #include <gtest/gtest.h>
 
 #include "sysid/platform/axis_diagnose.h"
@@ -41,7 +41,7 @@ TEST_P(HiddenEffect, IsNamedFromHeldOutData) {
 INSTANTIATE_TEST_SUITE_P(Axis, HiddenEffect,
                          ::testing::Values("none", "asymmetric_friction", "stribeck_friction",
                                            "position_dependent_friction", "cogging",
-                                           "command_delay"));
+                                           "transmission_compliance", "command_delay"));
 
 TEST(AxisDiagnose, ClosedLoopSimulationTracksTheTruth) {
   test::TruthAxisParams p;
