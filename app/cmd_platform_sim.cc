@@ -10,6 +10,8 @@
 #include "app/stop_signal.h"
 #include "engine/number_format.h"
 #include "hardware/candump_log.h"
+#include "hardware/platform_chirp.h"
+#include "sysid/platform/axis_recording.h"
 #include "hardware/simulated_drives.h"
 #include "hardware/udp_can_bus.h"
 
@@ -28,13 +30,71 @@ const CommandSpec& PlatformSimSpec() {
           {"fault-at", "S", "s", "0", "drive fault (EMCY 0x5530 on the rail) at this time (0 = never)"},
           {"candump", "FILE", "-", "", "write the bus traffic as a candump log"},
           {"report", "FILE", "-", "", "write a JSON summary (peak positions, states)"},
+          {"chirp", "FILE.yaml", "-", "",
+           "instead of serving CAN: run the chirp experiment offline and write the recording "
+           "(pwsim-axis-trial/1 + CSV) for `pwsim platform frequency-response`"},
+          {"chirp-joint", "rail|yaw", "-", "rail", "joint swept by the chirp"},
+          {"chirp-w0", "W", "rad/s", "1", "sweep start frequency"},
+          {"chirp-w1", "W", "rad/s", "300", "sweep end frequency"},
+          {"chirp-sweep", "S", "s", "20", "duration of one sweep"},
+          {"chirp-sweeps", "N", "-", "3", "number of identical sweeps"},
+          {"chirp-amplitude", "A", "m or rad", "0.05", "amplitude at low frequency"},
+          {"chirp-max-accel", "A", "m/s^2 or rad/s^2", "0",
+           "amplitude limited to a_max/w^2 (0 = half the effort limit over the inertia)"},
       },
       ""};
   return spec;
 }
 
+namespace {
+
+// The chirp experiment: simulate, then write the recording in the platform-data format.
+int RunChirpExperiment(const ParsedArgs& args) {
+  hw::ChirpParams c;
+  const std::string joint = args.Get("chirp-joint");
+  if (joint != "rail" && joint != "yaw") throw std::invalid_argument("option --chirp-joint: expected rail or yaw");
+  c.joint = joint == "yaw" ? 0 : 1;
+  c.w0_rad_s = args.GetDouble("chirp-w0");
+  c.w1_rad_s = args.GetDouble("chirp-w1");
+  c.sweep_s = args.GetDouble("chirp-sweep");
+  c.sweeps = static_cast<int>(args.GetInt("chirp-sweeps"));
+  c.amplitude = args.GetDouble("chirp-amplitude");
+  c.max_accel = args.GetDouble("chirp-max-accel");
+  const hw::PlatformParams platform;
+  const hw::ChirpRecord rec = hw::RunChirp(c, platform);
+  sysid::platform::AxisRecording r;
+  r.file = args.Get("chirp");
+  r.experiment = "chirp";
+  r.t = rec.t;
+  r.dt = c.sample_s;
+  const char* names[2] = {"yaw", "rail"};
+  const double gears[2] = {platform.gear1, platform.gear2};
+  for (std::size_t j = 0; j < 2; ++j) {
+    sysid::platform::JointRecording jr;
+    jr.name = names[j];
+    jr.kind = j == 0 ? sysid::platform::JointKind::kRevolute : sysid::platform::JointKind::kPrismatic;
+    jr.position = rec.q[j];
+    jr.reference = rec.q_ref[j];
+    jr.command_to_effort = gears[j];  // command = actuator effort, tau_i = K_i tau_a,i (eq. 13)
+    for (double tau : rec.tau[j]) jr.command.push_back(tau / gears[j]);
+    jr.effort = rec.tau[j];
+    r.joints.push_back(std::move(jr));
+  }
+  sysid::platform::WriteAxisRecordingCsv(r, args.Get("chirp"));
+  std::cout << "pwsim platform-sim: chirp on " << joint << ", " << rec.t.size()
+            << " samples, a_max " << rec.max_accel << ", wrote " << args.Get("chirp") << "\n";
+  if (rec.saturated_samples > 0)
+    std::cout << "pwsim platform-sim: warning: the actuator saturated on " << rec.saturated_samples
+              << " samples; the response is not linear (lower --chirp-amplitude or "
+                 "--chirp-max-accel)\n";
+  return 0;
+}
+
+}  // namespace
+
 int PlatformSimCommand(const ParsedArgs& args) {
   if (!args.positional().empty()) throw std::invalid_argument("takes no positional arguments");
+  if (!args.Get("chirp").empty()) return RunChirpExperiment(args);
   const double cycle_ms = args.GetDouble("cycle-ms");
   if (!(cycle_ms >= 0.5 && cycle_ms <= 100.0))
     throw std::invalid_argument("option --cycle-ms: expected 0.5..100 ms");

@@ -16,6 +16,7 @@ const std::vector<Command>& AllCommands() {
       {&DiagnoseSpec(), &DiagnoseCommand},
       {&StudySpec(), &StudyCommand},
       {&SweepSpec(), &SweepCommand},
+      {&PlatformSpec(), &PlatformCommand},
   };
   return commands;
 }

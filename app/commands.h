@@ -42,5 +42,7 @@ const CommandSpec& StudySpec();
 int StudyCommand(const ParsedArgs& args);
 const CommandSpec& SweepSpec();
 int SweepCommand(const ParsedArgs& args);
+const CommandSpec& PlatformSpec();
+int PlatformCommand(const ParsedArgs& args);
 
 }  // namespace pwsim::app

@@ -13,3 +13,5 @@ echo "== identify_bench (pwsim vs scipy)"
 "$root/scripts/bench-identify.sh" "$build"
 echo "== diagnose_bench (time to diagnose 30 trials)"
 "$build/bench/diagnose_bench" --timing-only
+echo "== platform identify (EMPS, pwsim vs scipy)"
+"$root/scripts/bench-platform.sh" "$build" || echo "(skipped: EMPS data absent)"
