@@ -31,9 +31,10 @@ inline double UnitMagic(double sigma, double shape, double curvature) {
   return std::sin(shape * std::atan(bs - curvature * (bs - std::atan(bs))));
 }
 
-/// C_α(F_z) [N/rad].
+/// C_α(F_z) = c1 sin(2 atan(F_z/c2)) [N/rad], evaluated as c1 · 2z/(1 + z²), z = F_z/c2.
 inline double CorneringStiffness(const TyreParams& tyre, double fz) {
-  return tyre.cornering_c1 * std::sin(2.0 * std::atan(fz / tyre.cornering_c2));
+  const double z = fz / tyre.cornering_c2;
+  return tyre.cornering_c1 * 2.0 * z / (1.0 + z * z);
 }
 
 struct TyreForce {
