@@ -251,12 +251,12 @@ DriverInput PathDriver::Step(const Vehicle& car, const VehicleState& state, doub
     }
     return in;
   }
-  if (target <= 0.0 && state.u < params_.stop_speed) {
+  if (target < 1.5 && state.u < params_.stop_speed) {
     // slowing to a halt: clutch in, neutral once (almost) stopped, brake firmly
     in.clutch = 1.0;
     in.brake = std::clamp(0.3 + params_.brake_gain * -error, 0.0, 1.0);
     in.gear = gear_;
-    if (state.u < 0.05) {
+    if (state.u < 0.05 && target <= 0.5) {
       mode_ = Mode::kStopped;
       gear_ = 0;
       in.gear = 0;
