@@ -41,7 +41,7 @@ void Gauge(cv::Mat& m, cv::Point c, int r, double value, double full, double red
   const double fs = std::max(0.3, r / 140.0);
   int base = 0;
   const cv::Size size = cv::getTextSize(label, cv::FONT_HERSHEY_SIMPLEX, fs, 1, &base);
-  cv::putText(m, label, {c.x - size.width / 2, c.y + r / 2}, cv::FONT_HERSHEY_SIMPLEX, fs,
+  cv::putText(m, label, {c.x - size.width / 2, c.y + static_cast<int>(0.8 * r)}, cv::FONT_HERSHEY_SIMPLEX, fs,
               cv::Scalar(200, 200, 200, 255), 1, cv::LINE_AA);
 }
 
@@ -60,7 +60,7 @@ void DrawDashboard(Image& image, const DashboardReading& reading) {
   const int cy = image.height - r - 12;
   const cv::Point rev(image.width / 2 - 2 * r - 20, cy);
   const cv::Point speed(image.width / 2 + 2 * r + 20, cy);
-  Gauge(m, rev, r, reading.engine_rpm, 8000.0, reading.redline_rpm, 1000.0, "rpm x1000", 1000.0);
+  Gauge(m, rev, r, reading.engine_rpm, 8000.0, reading.redline_rpm, 1000.0, "x1000 rpm", 1000.0);
   Gauge(m, speed, r, reading.speed_kmh, 200.0, 1e9, 20.0, "km/h", 1.0);
   // gear box between the two gauges
   const int box = r;

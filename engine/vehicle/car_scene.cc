@@ -205,7 +205,20 @@ CarScene ParseRoot(const YamlDocument& document) {
     scene.start.x = start.NumberOr("x_m", scene.start.x, Range::Closed(-1.0e5, 1.0e5, "m"));
     scene.start.y = start.NumberOr("y_m", scene.start.y, Range::Closed(-1.0e5, 1.0e5, "m"));
     scene.start.yaw = start.NumberOr("yaw_deg", scene.start.yaw * 180.0 / kPi, Range::Closed(-360.0, 360.0, "deg")) * kPi / 180.0;
+    const double speed = start.NumberOr("speed_kmh", 0.0, Range::Closed(0.0, 250.0, "km/h")) / 3.6;
+    scene.start_gear = start.IntegerOr("gear", 0, 0, scene.car.gear_count());
     start.Finish();
+    scene.start.u = speed;
+    for (double& w : scene.start.omega) w = speed / scene.car.tyre.radius;
+    if (scene.start_gear > 0) {
+      const double engine = scene.car.GearRatio(scene.start_gear) * scene.car.gearbox.final_drive * speed / scene.car.tyre.radius;
+      if (engine < scene.car.engine.idle_rpm * kRpmToRadps || engine > scene.car.engine.max_rpm * kRpmToRadps) {
+        start.Fail("gear", "a gear whose engine speed at speed_kmh lies between idle_rpm and max_rpm",
+                   "gear " + std::to_string(scene.start_gear) + " at " + FormatDouble(engine / kRpmToRadps) + " rpm");
+      }
+      scene.start.engine_speed = engine;
+      scene.start.clutch_locked = true;
+    }
   }
 
   if (root.Has("road")) {
@@ -259,12 +272,14 @@ std::vector<CarSample> SimulateCarScene(const CarScene& scene) {
   samples.reserve(static_cast<std::size_t>(ticks));
   CarSample first;
   first.state = scene.start;
-  first.input.clutch = 1.0;
+  first.input.clutch = scene.start_gear > 0 ? 0.0 : 1.0;
+  first.input.gear = scene.start_gear;
   first.throttle_effective = 0.0;
   samples.push_back(first);
   PathDriver driver(scene.driver, scene.path.size() >= 2 ? scene.path : std::vector<PathPoint>{{0, 0}, {1, 0}},
                     scene.speed);
   VehicleState state = scene.start;
+  if (scene.start_gear > 0) driver.StartRolling(scene.start_gear);
   for (std::int64_t k = 1; k < ticks; ++k) {
     const double t = scene.clock.TimeAt(k - 1);
     const DriverInput input =

@@ -44,6 +44,7 @@ struct CarScene {
   Vehicle car;
   double duration{10.0};           ///< [s]
   VehicleState start;
+  int start_gear{0};               ///< gear engaged at t = 0 (rolling start when > 0)
   enum class Source { kTables, kRecordedDrive, kDriver };
   Source source{Source::kTables};
   InputTables tables;              ///< kTables and kRecordedDrive

@@ -171,6 +171,12 @@ PathDriver::PathDriver(PathDriverParams params, std::vector<PathPoint> path, std
   }
 }
 
+void PathDriver::StartRolling(int gear) {
+  mode_ = gear > 0 ? Mode::kDrive : Mode::kStopped;
+  gear_ = gear;
+  integral_ = 0.0;
+}
+
 double PathDriver::TargetSpeed(double s) const {
   if (speed_.empty()) return 0.0;
   if (s <= speed_.front().s) return speed_.front().v;

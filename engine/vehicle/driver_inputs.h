@@ -70,6 +70,8 @@ class PathDriver {
  public:
   PathDriver(PathDriverParams params, std::vector<PathPoint> path, std::vector<SpeedPoint> speed);
 
+  /// Starts already rolling in `gear` (clutch engaged), as a test that begins at speed.
+  void StartRolling(int gear);
   /// The controls for this tick from the current state; advances the driver's own state.
   DriverInput Step(const Vehicle& car, const VehicleState& state, double dt);
 
