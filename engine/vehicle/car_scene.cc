@@ -70,6 +70,27 @@ std::vector<PathPoint> ReadPoints(YamlMap& map, const std::string& key, double l
   return points;
 }
 
+std::vector<RouteItem> ReadRoute(YamlMap& d) {
+  YAML::Node list = d.Sequence("route");
+  const std::string field = d.FieldName("route");
+  std::vector<RouteItem> route;
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    YamlMap item(list[i], d.file(), field + "[" + std::to_string(i) + "]", d.LineOfKey("route"));
+    RouteItem r;
+    if (item.Has("straight_m")) {
+      r.straight = item.Number("straight_m", Range::Positive(1.0e4, "m"));
+    } else {
+      r.turn = item.Number("turn_deg", Range::Closed(-360.0, 360.0, "deg")) * kPi / 180.0;
+      r.radius = item.Number("radius_m", Range::Closed(5.0, 1.0e4, "m"));
+      if (r.turn == 0.0) item.Fail("turn_deg", "a non-zero turn (or straight_m)", "0");
+    }
+    item.Finish();
+    route.push_back(r);
+  }
+  if (route.empty()) d.Fail("route", "at least one item", "none");
+  return route;
+}
+
 void ParseDriver(YamlMap& d, CarScene& scene) {
   PathDriverParams& p = scene.driver;
   p.preview_time = d.NumberOr("preview_time_s", p.preview_time, Range::Closed(0.0, 5.0, "s"));
@@ -95,23 +116,7 @@ void ParseDriver(YamlMap& d, CarScene& scene) {
     d.Fail("route", "exactly one of route, iso3888_1 or path_m", std::to_string(int(has_route) + int(has_iso) + int(has_path)) + " given");
   }
   if (has_route) {
-    YAML::Node list = d.Sequence("route");
-    const std::string field = d.FieldName("route");
-    std::vector<RouteItem> route;
-    for (std::size_t i = 0; i < list.size(); ++i) {
-      YamlMap item(list[i], d.file(), field + "[" + std::to_string(i) + "]", d.LineOfKey("route"));
-      RouteItem r;
-      if (item.Has("straight_m")) {
-        r.straight = item.Number("straight_m", Range::Positive(1.0e4, "m"));
-      } else {
-        r.turn = item.Number("turn_deg", Range::Closed(-360.0, 360.0, "deg")) * kPi / 180.0;
-        r.radius = item.Number("radius_m", Range::Closed(5.0, 1.0e4, "m"));
-        if (r.turn == 0.0) item.Fail("turn_deg", "a non-zero turn (or straight_m)", "0");
-      }
-      item.Finish();
-      route.push_back(r);
-    }
-    if (route.empty()) d.Fail("route", "at least one item", "none");
+    const std::vector<RouteItem> route = ReadRoute(d);
     scene.path = RoutePolyline(route, 0.0, 0.0, 0.0, 0.5);
     scene.road.centre = scene.path;
   } else if (has_iso) {
@@ -225,6 +230,10 @@ CarScene ParseRoot(const YamlDocument& document) {
     YamlMap road = root.Map("road");
     scene.road.lane_width = road.NumberOr("lane_width_m", scene.road.lane_width, Range::Closed(2.0, 6.0, "m"));
     scene.road.lanes = road.IntegerOr("lanes", scene.road.lanes, 1, 6);
+    if (road.Has("route")) {
+      if (scene.source == CarScene::Source::kDriver) road.Fail("route", "no route: the road follows the driver's path", "a route");
+      scene.road.centre = RoutePolyline(ReadRoute(road), scene.start.x, scene.start.y, scene.start.yaw, 0.5);
+    }
     if (road.Has("length_m")) {
       const double length = road.Number("length_m", Range::Positive(1.0e5, "m"));
       if (scene.source == CarScene::Source::kDriver) road.Fail("length_m", "no length_m: the road follows the driver's path", FormatDouble(length));

@@ -163,6 +163,16 @@ InputTables ReadRecordedDrive(const std::filesystem::path& file, int gear_count)
   return tables;
 }
 
+std::string RecordedDriveCsv(const std::vector<double>& t, const std::vector<DriverInput>& inputs) {
+  std::string text = "t_s,throttle,brake,clutch,gear,steer_rad\n";
+  for (std::size_t k = 0; k < t.size() && k < inputs.size(); ++k) {
+    const DriverInput& in = inputs[k];
+    text += FormatDouble(t[k]) + "," + FormatDouble(in.throttle) + "," + FormatDouble(in.brake) + "," +
+            FormatDouble(in.clutch) + "," + std::to_string(in.gear) + "," + FormatDouble(in.steer) + "\n";
+  }
+  return text;
+}
+
 PathDriver::PathDriver(PathDriverParams params, std::vector<PathPoint> path, std::vector<SpeedPoint> speed)
     : params_(params), path_(std::move(path)), speed_(std::move(speed)) {
   cumulative_.assign(path_.size(), 0.0);

@@ -41,6 +41,10 @@ InputTables ParseInputTables(YamlMap& map, int gear_count);
 /// order, all six), rising t_s. @throws InputError naming file, line and column.
 InputTables ReadRecordedDrive(const std::filesystem::path& file, int gear_count);
 
+/// CSV text of a recorded drive (the format ReadRecordedDrive reads; shortest round-trip
+/// numbers, so a replay reproduces the controls exactly). @pre t.size() == inputs.size().
+std::string RecordedDriveCsv(const std::vector<double>& t, const std::vector<DriverInput>& inputs);
+
 /// Closed-loop driver.
 struct PathPoint {
   double x{0.0}, y{0.0};  ///< [m] in W

@@ -48,6 +48,23 @@ TEST(CarScene, LaneChangeMovesOneLaneAndBack) {
   EXPECT_LT(std::abs(run.back().state.y), 0.5);
 }
 
+TEST(CarScene, RecordedDriveReplaysOpenLoop) {
+  const CarScene scene = LoadCarScene(Scene("car_recorded_drive.yaml"));
+  EXPECT_EQ(scene.source, CarScene::Source::kRecordedDrive);
+  EXPECT_GT(scene.tables.EndTime(), 70.0);
+  EXPECT_GT(scene.road.centre.size(), 1000u);  // the road follows its route
+  const std::vector<CarSample> run = SimulateCarScene(scene);
+  double max_r = 0.0;
+  int max_gear = 0;
+  for (const CarSample& s : run) {
+    max_r = std::max(max_r, std::abs(s.state.r));
+    max_gear = std::max(max_gear, s.input.gear);
+  }
+  EXPECT_GT(max_r, 0.2);
+  EXPECT_GE(max_gear, 3);
+  EXPECT_TRUE(run.back().state.engine_running);
+}
+
 TEST(CarScene, SeedDriveTurnsAndStops) {
   const CarScene scene = LoadCarScene(Scene("car_seed_drive.yaml"));
   const std::vector<CarSample> run = SimulateCarScene(scene);
