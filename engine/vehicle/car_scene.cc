@@ -274,39 +274,45 @@ CarScene ParseCarScene(const std::string& yaml_text, const std::filesystem::path
   return ParseRoot(document);
 }
 
+CarSample FirstCarSample(const CarScene& scene) {
+  CarSample first;
+  first.state = scene.start;
+  first.input.clutch = scene.start_gear > 0 ? 0.0 : 1.0;
+  first.input.gear = scene.start_gear;
+  return first;
+}
+
+CarSample NextCarSample(const Vehicle& car, const CarSample& previous, const DriverInput& input, double dt) {
+  StepInfo info;
+  const VehicleState& state = previous.state;
+  CarSample sample;
+  sample.tick = previous.tick + 1;
+  sample.state = StepVehicle(car, state, input, dt, &info);
+  sample.input = input;
+  sample.road_wheel_angle = info.road_wheel_angle;
+  sample.throttle_effective = info.throttle;
+  sample.engine_torque = info.engine_torque;
+  sample.clutch_torque = info.clutch_torque;
+  sample.roll_accel = (sample.state.roll_rate - state.roll_rate) / dt;
+  sample.pitch_accel = (sample.state.pitch_rate - state.pitch_rate) / dt;
+  return sample;
+}
+
 std::vector<CarSample> SimulateCarScene(const CarScene& scene) {
   const std::int64_t ticks = scene.tick_count();
   const double dt = scene.clock.dt();
   std::vector<CarSample> samples;
   samples.reserve(static_cast<std::size_t>(ticks));
-  CarSample first;
-  first.state = scene.start;
-  first.input.clutch = scene.start_gear > 0 ? 0.0 : 1.0;
-  first.input.gear = scene.start_gear;
-  first.throttle_effective = 0.0;
-  samples.push_back(first);
+  samples.push_back(FirstCarSample(scene));
   PathDriver driver(scene.driver, scene.path.size() >= 2 ? scene.path : std::vector<PathPoint>{{0, 0}, {1, 0}},
                     scene.speed);
-  VehicleState state = scene.start;
   if (scene.start_gear > 0) driver.StartRolling(scene.start_gear);
   for (std::int64_t k = 1; k < ticks; ++k) {
     const double t = scene.clock.TimeAt(k - 1);
+    const VehicleState& state = samples.back().state;
     const DriverInput input =
         scene.source == CarScene::Source::kDriver ? driver.Step(scene.car, state, dt) : scene.tables.At(t);
-    StepInfo info;
-    const VehicleState next = StepVehicle(scene.car, state, input, dt, &info);
-    CarSample sample;
-    sample.tick = k;
-    sample.state = next;
-    sample.input = input;
-    sample.road_wheel_angle = info.road_wheel_angle;
-    sample.throttle_effective = info.throttle;
-    sample.engine_torque = info.engine_torque;
-    sample.clutch_torque = info.clutch_torque;
-    sample.roll_accel = (next.roll_rate - state.roll_rate) / dt;
-    sample.pitch_accel = (next.pitch_rate - state.pitch_rate) / dt;
-    samples.push_back(sample);
-    state = next;
+    samples.push_back(NextCarSample(scene.car, samples.back(), input, dt));
   }
   return samples;
 }

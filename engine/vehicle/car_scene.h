@@ -81,6 +81,13 @@ struct CarSample {
   double pitch_accel{0.0};        ///< θ̈ [rad/s^2]
 };
 
+/// Sample 0 of a run: the scene's start state (clutch released in its start gear, else pressed).
+CarSample FirstCarSample(const CarScene& scene);
+
+/// The sample after `previous` with `input` applied for one tick of `dt` (what
+/// SimulateCarScene does per tick; a live loop calls it with the wheel's controls).
+CarSample NextCarSample(const Vehicle& car, const CarSample& previous, const DriverInput& input, double dt);
+
 /// Runs the scene on its clock: sample 0 is the start state, then one sample per tick.
 std::vector<CarSample> SimulateCarScene(const CarScene& scene);
 
