@@ -8,12 +8,16 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 
 #include "app/commands.h"
 #include "app/stop_signal.h"
 #include "app/scene_path.h"
 #include "engine/atomic_file.h"
 #include "engine/scene.h"
+#include "engine/vehicle/car_scene.h"
+#include "hardware/car_session_streams.h"
+#include "hardware/sdl/sdl_input.h"
 #include "hardware/session_runner.h"
 #include "hardware/session_streams.h"
 #include "hardware/udp_can_bus.h"
@@ -56,28 +60,45 @@ int SessionCommand(const ParsedArgs& args) {
   if (args.positional().size() > 1) throw std::invalid_argument("expected at most one SCENE");
   const std::filesystem::path scene_path =
       args.positional().empty() ? DefaultScene() : std::filesystem::path(args.positional()[0]);
-  const Scene scene = LoadScene(scene_path);
-  if (const SceneSection* s = scene.section("session")) {
-    (void)s;  // reserved: a `session:` section is accepted by the engine but has no keys yet
+  // a wheelchair scene (seed 000) or a car scene (kind: car, seed 001)
+  const bool is_car = vehicle::SceneKind(scene_path) == "car";
+  std::optional<Scene> chair_scene;
+  std::optional<vehicle::CarScene> car_scene;
+  if (is_car) {
+    car_scene = vehicle::LoadCarScene(scene_path);
+  } else {
+    chair_scene = LoadScene(scene_path);
+  }
+  const SceneSection* session_section = is_car ? car_scene->section("session") : chair_scene->section("session");
+  if (const SceneSection* s = session_section) {
+    // reserved for the chair; a car scene may map its wheel and pedals (`controls:`, pwsim drive)
     YamlMap map(s->node, s->file, "session", s->line);
+    if (is_car && map.Has("controls")) {
+      YamlMap controls = map.Map("controls");
+      (void)hw::ParseControlMapping(controls);
+      controls.Finish();
+    }
     map.Finish();
   }
+  const Clock clock = is_car ? car_scene->clock : chair_scene->clock;
+  const std::string scene_name = is_car ? car_scene->name : chair_scene->name;
+  const double scene_duration = is_car ? car_scene->duration : chair_scene->duration();
 
   hw::SessionConfig config;
-  config.clock_rate_hz = scene.clock.rate_hz;
+  config.clock_rate_hz = clock.rate_hz;
   config.drive_cycle_ticks = TicksFromMs(args.GetDouble("drive-cycle-ms"), config.clock_rate_hz, "drive-cycle-ms");
   config.frame_ticks = TicksFromMs(args.GetDouble("frame-ms"), config.clock_rate_hz, "frame-ms");
   config.safety.dt = static_cast<double>(config.drive_cycle_ticks) / config.clock_rate_hz;
   config.master.heartbeat_period_cycles = std::max(1, static_cast<int>(std::lround(0.1 / config.safety.dt)));
   config.master.heartbeat_timeout_cycles = 3 * config.master.heartbeat_period_cycles;
-  const double duration = args.Has("duration") ? args.GetDouble("duration") : scene.duration();
+  const double duration = args.Has("duration") ? args.GetDouble("duration") : scene_duration;
   if (!(duration >= 0.0 && duration <= 3600.0))
     throw std::invalid_argument("option --duration: expected 0..3600 s");
-  config.run_ticks = scene.clock.TicksFor(duration);
+  config.run_ticks = clock.TicksFor(duration);
   const double timeout_ms = args.GetDouble("hmd-timeout-ms");
   if (!(timeout_ms >= 1.0)) throw std::invalid_argument("option --hmd-timeout-ms: expected >= 1 ms");
   config.hmd_timeout_ns = static_cast<std::int64_t>(timeout_ms * 1e6);
-  config.max_stop_ticks = scene.clock.TicksFor(args.GetDouble("max-stop-s"));
+  config.max_stop_ticks = clock.TicksFor(args.GetDouble("max-stop-s"));
   config.session_id = static_cast<std::uint32_t>(hw::MonotonicNs() & 0x7FFFFFFF);
   const std::string hmd_spec = args.Get("hmd");
   config.hmd_required = hmd_spec != "none";
@@ -115,13 +136,14 @@ int SessionCommand(const ParsedArgs& args) {
   }
 
   std::string source;
-  const hw::SessionStreams streams = hw::BuildSessionStreams(scene, config, &source);
+  const hw::SessionStreams streams = is_car ? hw::BuildCarSessionStreams(*car_scene, config, &source)
+                                              : hw::BuildSessionStreams(*chair_scene, config, &source);
   const std::filesystem::path out_dir = args.Get("out");
   std::filesystem::create_directories(out_dir);
   AtomicFileWriter log(out_dir / "session.log");
   AtomicFileWriter can_log(out_dir / "can.log");
   InstallStopSignalHandlers();
-  std::cout << "pwsim session: scene '" << scene.name << "', " << source << "\n"
+  std::cout << "pwsim session: scene '" << scene_name << "', " << source << "\n"
             << "  CAN " << bus.bus->name() << ", HMD " << (config.hmd_required ? hmd_peer.ToString() : "none")
             << ", drive cycle " << config.drive_cycle_ticks << " ticks, frame " << config.frame_ticks
             << " ticks, motion for " << duration << " s\n" << std::flush;

@@ -38,5 +38,9 @@ const CommandSpec& IdentifySpec();
 int IdentifyCommand(const ParsedArgs& args);
 const CommandSpec& DiagnoseSpec();
 int DiagnoseCommand(const ParsedArgs& args);
+const CommandSpec& CarChecksSpec();
+int CarChecksCommand(const ParsedArgs& args);
+const CommandSpec& DriveSpec();
+int DriveCommand(const ParsedArgs& args);
 
 }  // namespace pwsim::app

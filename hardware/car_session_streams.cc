@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "hardware/car_live.h"
 #include "mca/config.h"
 #include "mca/cueing.h"
 #include "mca/rail_yaw.h"
@@ -33,11 +34,7 @@ Pose CarCameraPose(const std::array<double, 3>& p, double yaw, double pitch, dou
 
 SessionStreams BuildCarSessionStreams(const vehicle::CarScene& scene, const SessionConfig& config,
                                       std::string* description) {
-  mca::McaConfig mca_config;
-  mca_config.platform = mca::MakeCar2DofPlatform();
-  mca_config.platform_source = "built-in car 2-DoF (seed 001)";
-  if (const SceneSection* platform = scene.section("platform")) mca::ParsePlatformSection(*platform, mca_config);
-  if (const SceneSection* section = scene.section("mca")) mca::ParseMcaSection(*section, mca_config);
+  const mca::McaConfig mca_config = LoadCarMca(scene);
   if (!mca_config.platform.Has(mca::Dof::kSurge) || !mca_config.platform.Has(mca::Dof::kYaw)) {
     throw std::invalid_argument("car scene platform '" + mca_config.platform.name +
                                 "' lacks surge or yaw; the session drives seed 001's rail + yaw platform");

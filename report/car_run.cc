@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "engine/atomic_file.h"
+#include "hardware/car_live.h"
 #include "mca/cueing.h"
 #include "mca/rail_yaw.h"
 #include "plot/plot.h"
@@ -74,18 +75,9 @@ TrialTable CarColumns(const vehicle::CarScene& scene, const std::vector<CarSampl
   return table;
 }
 
-mca::McaConfig LoadCarMcaConfig(const vehicle::CarScene& scene) {
-  mca::McaConfig config;
-  config.platform = mca::MakeCar2DofPlatform();
-  config.platform_source = "built-in car2dof";
-  if (const SceneSection* platform = scene.section("platform")) mca::ParsePlatformSection(*platform, config);
-  if (const SceneSection* section = scene.section("mca")) mca::ParseMcaSection(*section, config);
-  return config;
-}
-
 void AddCarCueing(const vehicle::CarScene& scene, const std::vector<CarSample>& samples, TrialTable& table,
                   nlohmann::ordered_json& summary, const std::filesystem::path& out_dir) {
-  const mca::McaConfig config = LoadCarMcaConfig(scene);
+  const mca::McaConfig config = hw::LoadCarMca(scene);
   const double dt = scene.clock.dt();
   const std::size_t n = samples.size();
   std::vector<mca::HeadMotion> head(n);
@@ -291,7 +283,7 @@ void RenderCarTrial(const vehicle::CarScene& scene, const std::vector<CarSample>
 std::vector<std::filesystem::path> RunCarScene(const vehicle::CarScene& scene, const std::filesystem::path& scene_file,
                                                const CarRunOptions& options, const std::filesystem::path& out_dir) {
   std::filesystem::create_directories(out_dir);
-  for (const char* name : {"trial.csv", "summary.json", "mca.png", "mca.svg", "mca.csv", "mca.gp", "video.mp4", "frames.csv"}) {
+  for (const char* name : {"trial.csv", "summary.json", "mca.png", "mca.svg", "mca.plot.csv", "mca.plot.dat", "mca.gp", "video.mp4", "frames.csv"}) {
     std::filesystem::remove(out_dir / name);  // no stale outputs from an earlier run
   }
   const std::vector<CarSample> samples = vehicle::SimulateCarScene(scene);
@@ -347,7 +339,7 @@ std::vector<std::filesystem::path> RunCarScene(const vehicle::CarScene& scene, c
   }
   WriteFileAtomically(out_dir / "summary.json", summary.dump(2) + "\n");
   std::vector<std::filesystem::path> written;
-  for (const char* name : {"trial.csv", "summary.json", "mca.png", "mca.svg", "mca.csv", "video.mp4", "frames.csv"}) {
+  for (const char* name : {"trial.csv", "summary.json", "mca.png", "mca.svg", "mca.plot.csv", "video.mp4", "frames.csv"}) {
     if (std::filesystem::exists(out_dir / name)) written.push_back(out_dir / name);
   }
   return written;

@@ -39,10 +39,6 @@ struct CarRunOptions {
 /// The trial.csv columns of the drive itself (no MCA).
 TrialTable CarColumns(const vehicle::CarScene& scene, const std::vector<vehicle::CarSample>& samples);
 
-/// The MCA configuration of a car scene: platform: and mca: sections over seed 001's 2-DoF car
-/// platform. @throws InputError.
-mca::McaConfig LoadCarMcaConfig(const vehicle::CarScene& scene);
-
 /// Head motion -> MCA -> rail + yaw platform -> vestibular; adds columns, summary["mca"] and
 /// DIR/mca.png.
 void AddCarCueing(const vehicle::CarScene& scene, const std::vector<vehicle::CarSample>& samples,
