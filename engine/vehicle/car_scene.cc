@@ -98,6 +98,10 @@ void ParseDriver(YamlMap& d, CarScene& scene) {
   p.speed_gain = d.NumberOr("speed_gain_per_mps", p.speed_gain, Range::Closed(0.0, 100.0, "1/(m/s)"));
   p.speed_integral = d.NumberOr("speed_integral_per_m", p.speed_integral, Range::Closed(0.0, 100.0, "1/m"));
   p.brake_gain = d.NumberOr("brake_gain_per_mps", p.brake_gain, Range::Closed(0.0, 100.0, "1/(m/s)"));
+  p.brake_band = d.NumberOr("brake_band_mps", p.brake_band, Range::Closed(0.0, 10.0, "m/s"));
+  p.max_brake = d.NumberOr("max_brake", p.max_brake, Range::Closed(0.0, 1.0));
+  p.brake_rate = d.NumberOr("brake_rate_per_s", p.brake_rate, Range::Positive(1000.0, "1/s"));
+  p.clutch_rate = d.NumberOr("clutch_rate_per_s", p.clutch_rate, Range::Positive(1000.0, "1/s"));
   p.upshift_rpm = d.NumberOr("upshift_rpm", p.upshift_rpm, Range::Positive(20000.0, "rpm"));
   p.downshift_rpm = d.NumberOr("downshift_rpm", p.downshift_rpm, Range::Positive(20000.0, "rpm"));
   p.shift_time = d.NumberOr("shift_time_s", p.shift_time, Range::Positive(5.0, "s"));

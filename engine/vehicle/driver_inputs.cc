@@ -183,6 +183,7 @@ PathDriver::PathDriver(PathDriverParams params, std::vector<PathPoint> path, std
 
 void PathDriver::StartRolling(int gear) {
   mode_ = gear > 0 ? Mode::kDrive : Mode::kStopped;
+  clutch_ = gear > 0 ? 0.0 : 1.0;
   gear_ = gear;
   integral_ = 0.0;
 }
@@ -214,6 +215,16 @@ PathPoint PathDriver::PointAt(double s) const {
 }
 
 DriverInput PathDriver::Step(const Vehicle& car, const VehicleState& state, double dt) {
+  DriverInput in = Decide(car, state, dt);
+  in.brake = std::min(in.brake, brake_ + params_.brake_rate * dt);  // a foot presses progressively
+  brake_ = in.brake;
+  const double step = params_.clutch_rate * dt;
+  in.clutch = std::clamp(in.clutch, clutch_ - step, clutch_ + step);  // a foot moves the pedal in time
+  clutch_ = in.clutch;
+  return in;
+}
+
+DriverInput PathDriver::Decide(const Vehicle& car, const VehicleState& state, double dt) {
   // progress: nearest point on the segments around the last one
   {
     double best = std::numeric_limits<double>::infinity();
@@ -270,7 +281,7 @@ DriverInput PathDriver::Step(const Vehicle& car, const VehicleState& state, doub
   if (target < 1.5 && state.u < params_.stop_speed) {
     // slowing to a halt: clutch in, neutral once (almost) stopped, brake firmly
     in.clutch = 1.0;
-    in.brake = std::clamp(0.3 + params_.brake_gain * -error, 0.0, 1.0);
+    in.brake = std::clamp(0.3 + params_.brake_gain * -error, 0.0, params_.max_brake);
     in.gear = gear_;
     if (state.u < 0.05 && target <= 0.5) {
       mode_ = Mode::kStopped;
@@ -309,24 +320,33 @@ DriverInput PathDriver::Step(const Vehicle& car, const VehicleState& state, doub
     }
     return in;
   }
-  // drive
-  integral_ = std::clamp(integral_ + error * dt, -10.0, 1.0 / std::max(params_.speed_integral, 1e-9));
-  const double command = params_.speed_gain * error + params_.speed_integral * integral_;
+  // drive: throttle (PI) within the dead band below the target, brake (P) beyond it, the brake
+  // growing from 0 at the band's edge so that the feet never chatter between the pedals
   in.gear = gear_;
-  if (command >= 0.0) {
-    in.throttle = std::clamp(command, 0.0, 1.0);
+  if (error >= -params_.brake_band) {
+    integral_ = std::clamp(integral_ + error * dt, 0.0, 1.0 / std::max(params_.speed_integral, 1e-9));
+    in.throttle = std::clamp(params_.speed_gain * error + params_.speed_integral * integral_, 0.0, 1.0);
   } else {
-    in.brake = std::clamp(-params_.brake_gain * error, 0.0, 1.0);
-    if (error > -0.3) in.brake = 0.0;
+    integral_ = 0.0;
+    in.brake = std::clamp(params_.brake_gain * (-error - params_.brake_band), 0.0, params_.max_brake);
   }
   if (rpm > params_.upshift_rpm && gear_ < top) {
     mode_ = Mode::kShift;
     next_gear_ = gear_ + 1;
     timer_ = 0.0;
-  } else if (rpm < params_.downshift_rpm && gear_ > 1) {
+  } else if (rpm < params_.downshift_rpm && gear_ > 2) {
     mode_ = Mode::kShift;
     next_gear_ = gear_ - 1;
     timer_ = 0.0;
+  } else if (rpm < params_.downshift_rpm && gear_ == 2) {
+    if (target > state.u + params_.brake_band) {  // pulling away again: back to first
+      mode_ = Mode::kShift;
+      next_gear_ = 1;
+      timer_ = 0.0;
+    } else {
+      in.clutch = 1.0;  // slowing down in second: coast with the clutch in, as drivers do
+      in.throttle = 0.0;
+    }
   } else if (gear_ == 1 && rpm < 0.5 * (car.engine.idle_rpm + car.engine.stall_rpm) + 200.0) {
     in.clutch = car.clutch.free_pedal;  // would stall in first: slip the clutch
   }

@@ -60,7 +60,11 @@ struct PathDriverParams {
   double min_preview{5.0};       ///< [m]
   double speed_gain{0.35};       ///< [1/(m/s)] throttle per m/s of speed error
   double speed_integral{0.08};   ///< [1/m] throttle per m of integrated speed error
-  double brake_gain{0.25};       ///< [1/(m/s)] brake per m/s of overspeed
+  double brake_gain{0.25};       ///< [1/(m/s)] brake per m/s of overspeed beyond the band
+  double brake_band{0.5};        ///< [m/s] overspeed left to engine braking (no brake)
+  double max_brake{0.5};         ///< [-] most brake pedal used (short of locking the wheels)
+  double brake_rate{1.5};        ///< [1/s] fastest brake pedal application (release is instant)
+  double clutch_rate{8.0};       ///< [1/s] fastest clutch pedal travel, either way
   double upshift_rpm{3000.0};
   double downshift_rpm{1300.0};
   double shift_time{0.7};        ///< [s] clutch in, change, clutch out
@@ -78,6 +82,8 @@ class PathDriver {
   void StartRolling(int gear);
   /// The controls for this tick from the current state; advances the driver's own state.
   DriverInput Step(const Vehicle& car, const VehicleState& state, double dt);
+  /// The same before the brake-pedal rate limit.
+  DriverInput Decide(const Vehicle& car, const VehicleState& state, double dt);
 
   double progress() const { return progress_; }   ///< [m] along the path (nearest point)
   double lateral_error() const { return lateral_error_; }  ///< [m] left of the path positive
@@ -96,6 +102,8 @@ class PathDriver {
   int gear_{0};
   int next_gear_{0};
   double timer_{0.0};
+  double brake_{0.0};  ///< brake pedal of the last tick
+  double clutch_{1.0}; ///< clutch pedal of the last tick
   double integral_{0.0};
   std::size_t segment_{0};
   double progress_{0.0};

@@ -15,6 +15,9 @@
 //   σ_κ dκ'/dt = (R_e ω - V_cx) - V κ',   σ_α dα'/dt = -V_cy - V α',   V = max(|V_cx|, v_low)
 // with V_cx, V_cy the contact-point velocity in the wheel frame (x along the wheel heading).
 // In steady state κ' = (R_e ω - V_cx)/V and α' = tan α = -V_cy/V (α > 0 pushes the tyre left).
+// The longitudinal force is evaluated at κ' + τ_x dκ'/dt: a carcass damper beside the tread
+// spring, which damps the wheel-spin / tyre-deflection mode (≈ 30 Hz) that the lag alone leaves
+// almost undamped at low speed (ζ = V/(2 σ_κ ω_n)).
 // Integrated with the decay term implicit (stable for any step). Below v_low a contact damping
 // -c_low (1 - |V_cx|/v_low) V_s is added so that a car braked to a halt settles instead of
 // rocking on its tyre springs.
@@ -66,7 +69,10 @@ inline TyreSlipState RelaxSlip(const TyreParams& tyre, const TyreSlipState& s, d
 /// Force of a tyre from its lagged slips plus the low-speed contact damping.
 inline TyreForce TyreForceFromState(const TyreParams& tyre, const TyreSlipState& s, double fz,
                                     double vcx, double vcy, double rim_speed) {
-  TyreForce f = CombinedSlipForce(tyre, s.kappa, s.tan_alpha, fz);
+  // carcass damping: the force follows κ' + τ_x dκ'/dt (a damper beside the tread spring)
+  const double v = std::max(std::abs(vcx), tyre.low_speed);
+  const double kappa_rate = (rim_speed - vcx - v * s.kappa) / tyre.relax_x;
+  TyreForce f = CombinedSlipForce(tyre, s.kappa + tyre.carcass_damping_time * kappa_rate, s.tan_alpha, fz);
   const double fade = 1.0 - std::abs(vcx) / tyre.low_speed;
   if (fade > 0.0 && fz > 0.0) {
     const double c = tyre.low_speed_damping * fade;

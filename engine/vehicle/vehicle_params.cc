@@ -124,6 +124,7 @@ Vehicle ParseVehicle(YamlMap& map) {
   t.relax_y = ty.Number("relaxation_y_m", Range::Positive(5.0, "m"));
   t.low_speed = ty.Number("low_speed_mps", Range::Positive(10.0, "m/s"));
   t.low_speed_damping = ty.Number("low_speed_damping_nspm", Range::Closed(0.0, 1.0e5, "N s/m"));
+  t.carcass_damping_time = ty.Number("carcass_damping_time_s", Range::Closed(0.0, 0.1, "s"));
   t.rolling_resistance = ty.Number("rolling_resistance", Range::Closed(0.0, 0.2));
   ty.Finish();
 

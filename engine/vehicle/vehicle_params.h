@@ -69,6 +69,7 @@ struct TyreParams {
   double relax_y{0.45};           ///< σ_α [m] lateral relaxation length
   double low_speed{1.0};          ///< v_low [m/s] slip speed floor (no division by 0)
   double low_speed_damping{4.0e3};///< c_low [N s/m] contact damping below v_low (faded out)
+  double carcass_damping_time{0.004};  ///< τ_x [s] longitudinal carcass damping (force at κ' + τ_x κ̇')
   double rolling_resistance{0.012};  ///< f_r [-] rolling resistance coefficient
 };
 
