@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "engine/input_error.h"
+#include "engine/scene.h"
 
 namespace pwsim::vehicle {
 namespace {
@@ -14,6 +15,16 @@ std::filesystem::path Scene(const char* name) { return std::filesystem::path(PWS
 TEST(CarScene, KindTellsCarFromWheelchair) {
   EXPECT_EQ(SceneKind(Scene("car_launch.yaml")), "car");
   EXPECT_EQ(SceneKind(Scene("speed_cushion.yaml")), "wheelchair");
+}
+
+TEST(CarScene, TheWheelchairLoaderPointsToTheCarLoader) {
+  try {
+    LoadScene(Scene("car_launch.yaml"));
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "kind");
+    EXPECT_NE(std::string(e.what()).find("LoadCarScene"), std::string::npos) << e.what();
+  }
 }
 
 TEST(CarScene, LaunchReachesThirdGearAndStops) {
