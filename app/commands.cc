@@ -14,6 +14,8 @@ const std::vector<Command>& AllCommands() {
       {&GenerateSpec(), &GenerateCommand},
       {&IdentifySpec(), &IdentifyCommand},
       {&DiagnoseSpec(), &DiagnoseCommand},
+      {&StudySpec(), &StudyCommand},
+      {&SweepSpec(), &SweepCommand},
       {&DriveSpec(), &DriveCommand},
       {&CarChecksSpec(), &CarChecksCommand},
   };

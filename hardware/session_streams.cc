@@ -18,8 +18,7 @@ Pose CameraPose(double x, double z, double pitch) {
   return p;
 }
 
-SessionStreams BuildSessionStreams(const Scene& scene, const SessionConfig& config,
-                                   std::string* description) {
+mca::McaConfig SessionMcaConfig(const Scene& scene) {
   mca::McaConfig mca_config = mca::LoadMcaConfig(scene);
   // The hardware link drives the 2-DoF rail + yaw platform of seed 001. A scene platform with
   // both axes is used as given; otherwise (e.g. the 4-DoF PW platform) the MCA is re-targeted
@@ -32,6 +31,12 @@ SessionStreams BuildSessionStreams(const Scene& scene, const SessionConfig& conf
     mca_config.platform = mca::MakeCar2DofPlatform();
     mca_config.platform_source = "built-in car 2-DoF (seed 001)" + note;
   }
+  return mca_config;
+}
+
+SessionStreams BuildSessionStreams(const Scene& scene, const SessionConfig& config,
+                                   std::string* description) {
+  const mca::McaConfig mca_config = SessionMcaConfig(scene);
   if (scene.clock.rate_hz != config.clock_rate_hz) {
     throw std::invalid_argument("scene clock " + std::to_string(scene.clock.rate_hz) +
                                 " Hz differs from the session clock " +

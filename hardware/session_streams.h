@@ -7,6 +7,7 @@
 #include <string>
 
 #include "engine/scene.h"
+#include "mca/config.h"
 #include "hardware/session.h"
 #include "hardware/session_runner.h"
 
@@ -19,5 +20,9 @@ SessionStreams BuildSessionStreams(const Scene& scene, const SessionConfig& conf
 
 /// Camera pose for a head at (x, z) [m] with nose-up `pitch` [rad] (y left, z up).
 Pose CameraPose(double x, double z, double pitch);
+
+/// The scene's MCA configuration as the session runs it: a scene platform without surge and
+/// yaw is replaced by the car 2-DoF platform (said in platform_source).
+mca::McaConfig SessionMcaConfig(const Scene& scene);
 
 }  // namespace pwsim::hw

@@ -145,8 +145,11 @@ std::string PlotBody(const Figure& figure, const std::string& data_file) {
     else
       gp << "set yrange [*:*]\n";
     if (!panel.boxes.empty()) {
+      gp << (panel.box_show_points ? "set jitter overlap 0.5 spread 2.5 wrap 10\n" : "unset jitter\n");
       gp << "set xlabel ''\nset style data boxplot\n"
-         << "set style boxplot outliers pointtype 7\nset style fill solid 0.35 border -1\n"
+         << (panel.box_whiskers_to_extremes ? "set style boxplot fraction 1.0 nooutliers\n"
+                                            : "set style boxplot range 1.5 outliers pointtype 7\n")
+         << "set style fill solid 0.35 border -1\n"
          << "set boxwidth 0.5\nset xrange [0.4:" << panel.boxes.size() << ".6]\n"
          << "set xtics (";
       for (std::size_t b = 0; b < panel.boxes.size(); ++b)
@@ -156,6 +159,11 @@ std::string PlotBody(const Figure& figure, const std::string& data_file) {
         const unsigned color = kPalette[b % std::size(kPalette)];
         gp << (b ? ", \\\n     " : "") << Quote(data_file) << " index " << index
            << " using (" << b + 1 << "):2 with boxplot lc rgb '" << Hex(color) << "' notitle";
+      }
+      if (panel.box_show_points) {
+        for (std::size_t b = 0; b < panel.boxes.size(); ++b)
+          gp << ", \\\n     " << Quote(data_file) << " index " << index - panel.boxes.size() + b
+             << " using (" << b + 1 << "):2 with points pt 7 ps 0.9 lc rgb '#333333' notitle";
       }
       gp << "\nset key\nunset style data\nset style fill empty\n";
       continue;

@@ -50,6 +50,11 @@ struct Panel {
   std::vector<BoxGroup> boxes;  ///< if non-empty, the panel is a box plot (series ignored)
   bool log_y{false};
   double y_min{0.0}, y_max{0.0};  ///< fixed y range when y_min < y_max; autoscaled otherwise
+  /// Box plots: whiskers reach the smallest and largest values (no outliers drawn), as a
+  /// "median, quartiles and extremes" figure, instead of Tukey's 1.5 IQR.
+  bool box_whiskers_to_extremes{false};
+  /// Box plots: every value drawn as a point over its box (jittered where values repeat).
+  bool box_show_points{false};
 };
 
 struct Figure {

@@ -8,12 +8,14 @@ cd "$(dirname "$0")/.." || exit 2
 declare -A allowed=(
   [engine]="engine"
   [plot]="plot engine"
+  [study]="study engine"
+  [sweep]="sweep engine"
   [sysid]="sysid engine"
   [synth]="synth sysid engine"
   [mca]="mca engine"
   [render]="render engine"
   [hardware]="hardware mca engine"
-  [report]="report plot sysid synth mca render hardware engine"
+  [report]="report plot sysid synth mca render hardware study sweep engine"
 )
 status=0
 for folder in "${!allowed[@]}"; do

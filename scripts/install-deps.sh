@@ -10,6 +10,7 @@ packages=(
   can-utils iproute2 clang libclang-rt-14-dev
   gnuplot-nox libmatio-dev r-base-core libsdl2-dev stress-ng
   slurmctld slurmd slurm-client munge
+  libboost-dev
 )
 missing=()
 for package in "${packages[@]}"; do

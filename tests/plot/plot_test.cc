@@ -116,6 +116,25 @@ TEST_F(PlotTest, BoxPlotCsvHoldsEveryValuePerGroup) {
   EXPECT_EQ(csv[1], "ratings,T_r,,1");
   EXPECT_EQ(csv[9], "ratings,T_m,,4");
   EXPECT_TRUE(fs::exists(dir / "box.png"));
+  // Tukey whiskers by default: gnuplot's 1.5 IQR range with outliers.
+  EXPECT_NE(Slurp(dir / "box.gp").find("boxplot range 1.5 outliers"), std::string::npos);
+}
+
+TEST_F(PlotTest, BoxPlotWithExtremeWhiskersShowsEveryValue) {
+  const fs::path dir = TempDir("box_extremes");
+  Figure fig;
+  Panel panel = MakePanel("ratings", "rating [1-6]", {});
+  panel.boxes = {{"T_r", {1, 2, 2, 2, 2, 6}}, {"T_m", {2, 3, 3, 4}}};
+  panel.box_whiskers_to_extremes = true;
+  panel.box_show_points = true;
+  fig.panels.push_back(panel);
+  WriteFigure(dir / "box", fig);
+  const std::string gp = Slurp(dir / "box.gp");
+  EXPECT_NE(gp.find("boxplot fraction 1.0 nooutliers"), std::string::npos) << gp;
+  EXPECT_NE(gp.find("using (1):2 with points"), std::string::npos) << gp;
+  EXPECT_NE(gp.find("using (2):2 with points"), std::string::npos) << gp;
+  EXPECT_NE(gp.find("set jitter"), std::string::npos) << gp;
+  EXPECT_TRUE(fs::exists(dir / "box.png"));
 }
 
 TEST_F(PlotTest, ReplacesAnOldFigureAndLeavesNothingWhenGnuplotFails) {

@@ -1,0 +1,115 @@
+// pwsim study RATINGS.csv --out DIR: the statistics of a perception study (study/analysis.h)
+// as DIR/study.json, DIR/study.md and DIR/boxplot.png (shared/spec/study.md).
+// pwsim study plan --participants N --conditions A,B --seed S --out DIR: a counterbalanced,
+// randomised order per participant (DIR/plan.csv, study/plan.h) and DIR/ratings_template.csv.
+
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <stdexcept>
+
+#include "app/commands.h"
+#include "engine/atomic_file.h"
+#include "report/study_report.h"
+#include "study/analysis.h"
+#include "study/plan.h"
+#include "study/ratings.h"
+#include "study/report.h"
+
+namespace pwsim::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<std::string> SplitNames(const std::string& option, const std::string& text) {
+  std::vector<std::string> names;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    if (item.empty()) throw std::invalid_argument("option --" + option + ": empty name in \"" + text + "\"");
+    names.push_back(item);
+  }
+  if (names.size() < 2) throw std::invalid_argument("option --" + option + ": expected at least two names, e.g. T_r,T_m");
+  return names;
+}
+
+int PlanCommand(const ParsedArgs& args) {
+  if (args.positional().size() != 1) throw std::invalid_argument("study plan: unexpected arguments");
+  study::PlanOptions options;
+  const long long n = args.GetInt("participants");
+  if (n < 1 || n > 100000) throw std::invalid_argument("option --participants: expected 1..100000");
+  options.participants = static_cast<int>(n);
+  options.conditions = SplitNames("conditions", args.Has("conditions") ? args.Get("conditions") : "T_r,T_m");
+  const long long seed = args.GetInt("seed");
+  if (seed < 0) throw std::invalid_argument("option --seed: expected a non-negative integer");
+  options.seed = static_cast<std::uint64_t>(seed);
+  if (const std::string bad = options.Validate(); !bad.empty()) throw std::invalid_argument("study plan: " + bad);
+  const fs::path out = args.Get("out");
+  const study::StudyPlan plan = study::MakePlan(options);
+  WriteFileAtomically(out / "plan.csv", study::PlanCsv(plan));
+  WriteFileAtomically(out / "ratings_template.csv", study::RatingsTemplateCsv(plan));
+  std::cout << "pwsim study plan: " << options.participants << " participants, "
+            << plan.sequences.size() << " counterbalanced sequences (";
+  for (std::size_t s = 0; s < plan.sequences.size(); ++s) {
+    std::cout << (s ? "; " : "");
+    for (std::size_t c = 0; c < plan.sequences[s].size(); ++c) std::cout << (c ? " " : "") << plan.sequences[s][c];
+    std::cout << ": " << plan.participants_per_sequence[s];
+  }
+  std::cout << ")\n  " << (out / "plan.csv").string() << ", " << (out / "ratings_template.csv").string() << "\n";
+  return 0;
+}
+
+}  // namespace
+
+const CommandSpec& StudySpec() {
+  static const CommandSpec spec{
+      "study",
+      "pwsim study RATINGS.csv --out DIR [options] | pwsim study plan --participants N [options]",
+      "User-study statistics (seed 000, sec. V): Shapiro-Wilk, Wilcoxon, boxplot; or a study plan.",
+      {
+          {"out", "DIR", "-", "out/study", "output folder"},
+          {"conditions", "A,B", "-", "", "analysis: the headline pair (default: the first two in the file); plan: the conditions (default T_r,T_m)"},
+          {"reported", "TEXT", "-", "", "a published result to check, e.g. test=paired,W=180,p=0.5045"},
+          {"participants", "N", "-", "18", "plan: number of participants"},
+          {"seed", "S", "-", "1", "plan: seed of the randomised sequence assignment"},
+      },
+      "RATINGS.csv  participant,condition,rating[,order] (shared/spec/study.md); or `plan`"};
+  return spec;
+}
+
+int StudyCommand(const ParsedArgs& args) {
+  if (!args.positional().empty() && args.positional()[0] == "plan") return PlanCommand(args);
+  if (args.positional().size() != 1) throw std::invalid_argument("expected one RATINGS.csv (or `plan`)");
+  const fs::path ratings_file = args.positional()[0];
+  const fs::path out = args.Get("out");
+  // Old outputs go first, so a failed run never leaves a previous report looking current.
+  report::RemoveStudyReport(out);
+
+  study::AnalysisOptions options;
+  if (args.Has("conditions")) {
+    const std::vector<std::string> names = SplitNames("conditions", args.Get("conditions"));
+    if (names.size() != 2) throw std::invalid_argument("option --conditions: expected two names A,B");
+    options.conditions = std::make_pair(names[0], names[1]);
+  }
+  if (args.Has("reported")) options.reported = study::ParseReported(args.Get("reported"));
+  const study::Ratings ratings = study::ReadRatings(ratings_file);
+  const study::StudyAnalysis analysis = study::Analyse(ratings, options);
+  report::WriteStudyReport(out, ratings_file, ratings, analysis);
+
+  const study::PairComparison& main = analysis.pairs[analysis.main_pair];
+  std::cout << "pwsim study: " << ratings.rows.size() << " ratings, " << ratings.participants.size()
+            << " participants, conditions";
+  for (const std::string& c : ratings.conditions) std::cout << " " << c;
+  std::cout << "\n";
+  if (main.paired)
+    std::cout << "  paired " << main.a << " vs " << main.b << ": V = " << main.paired->v << ", p = "
+              << main.paired->p << " (" << main.paired->method << ")\n";
+  std::cout << "  unpaired " << main.a << " vs " << main.b << ": W = " << main.unpaired.w << ", p = "
+            << main.unpaired.p << " (" << main.unpaired.method << ")\n";
+  for (const std::string& note : analysis.notes) std::cout << "  note: " << note << "\n";
+  std::cout << "  " << (out / "study.json").string() << ", " << (out / "study.md").string() << ", "
+            << (out / "boxplot.png").string() << "\n";
+  return 0;
+}
+
+}  // namespace pwsim::app
