@@ -299,7 +299,7 @@ DriverInput PathDriver::Decide(const Vehicle& car, const VehicleState& state, do
     in.clutch = free * (1.0 - u);
     if (u >= 1.0) {
       mode_ = Mode::kDrive;
-      integral_ = in.throttle / std::max(params_.speed_integral, 1e-9) * 0.0;
+      integral_ = 0.0;
     }
     return in;
   }
