@@ -12,6 +12,8 @@
 #include "engine/atomic_file.h"
 #include "engine/chair_simulator.h"
 #include "engine/scene.h"
+#include "engine/vehicle/car_scene.h"
+#include "report/car_run.h"
 #include "engine/trial_table.h"
 #include "report/render_stage.h"
 #include "report/run_mca.h"
@@ -66,7 +68,7 @@ const CommandSpec& RunSpec() {
           {"lossless", "", "-", "", "also write DIR/video_lossless.mkv (exact pixels)"},
           {"no-video", "", "-", "off", "skip rendering (no video.mp4, frames.csv)"},
       },
-      "SCENE  a pwsim-scene/1 YAML file (default: the paper's speed-cushion trial)"};
+      "SCENE  a pwsim-scene/1 YAML file (default: the paper's speed-cushion trial); kind: car runs seed 001's car"};
   return spec;
 }
 
@@ -79,6 +81,21 @@ int RunCommand(const ParsedArgs& args) {
   if (decimate < 1) throw std::invalid_argument("option --decimate: expected an integer >= 1");
 
   const report::RenderStageOptions render_options = RenderOptions(args);
+
+  if (vehicle::SceneKind(scene_path) == "car") {  // seed 001's car on the rail + yaw platform
+    const vehicle::CarScene car_scene = vehicle::LoadCarScene(scene_path);
+    report::CarRunOptions car;
+    car.decimate = static_cast<int>(decimate);
+    car.video = !render_options.no_video;
+    car.width = render_options.width_px;
+    car.height = render_options.height_px;
+    car.fps = render_options.fps;
+    const auto written = report::RunCarScene(car_scene, scene_path, car, out_dir);
+    std::cout << "pwsim run: car scene '" << car_scene.name << "' (" << scene_path.string() << "), "
+              << car_scene.tick_count() << " ticks at " << car_scene.clock.rate_hz << " Hz; wrote:\n";
+    for (const auto& file : written) std::cout << "  " << file.string() << "\n";
+    return 0;
+  }
 
   const Scene scene = LoadScene(scene_path);
   const std::vector<ChairSample> samples = SimulateScene(scene);

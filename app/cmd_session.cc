@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -22,6 +23,9 @@
 #include "engine/chair.h"
 #include "sysid/measured/measured_trial.h"
 #include "engine/scene.h"
+#include "engine/vehicle/car_scene.h"
+#include "hardware/car_session_streams.h"
+#include "hardware/sdl/sdl_input.h"
 #include "hardware/session_runner.h"
 #include "hardware/session_streams.h"
 #include "report/trial_track.h"
@@ -98,6 +102,23 @@ hw::SessionStreams ChooseStreams(const ParsedArgs& args, const Scene& scene, con
   return streams;
 }
 
+/// The streams of a car scene (kind: car, seed 001): the car through its controls and the MCA on
+/// the rail + yaw platform. Measured chair trials and study plans do not apply.
+hw::SessionStreams CarStreams(const ParsedArgs& args, const vehicle::CarScene& scene, const hw::SessionConfig& config,
+                              const std::filesystem::path& out_dir, std::string* description) {
+  if (args.Has("trial") || args.Has("plan")) {
+    throw std::invalid_argument("options --trial and --plan replay chair trials; " + scene.file.string() +
+                                " is a car scene (kind: car)");
+  }
+  hw::SessionStreams streams = hw::BuildCarSessionStreams(scene, config, description);
+  nlohmann::ordered_json j;
+  j["format"] = "pwsim-session-trial/1";
+  j["source"] = "car scene";
+  j["description"] = *description;
+  WriteFileAtomically(out_dir / "trial.json", j.dump(2) + "\n");
+  return streams;
+}
+
 int TicksFromMs(double ms, int rate_hz, const char* option) {
   const double ticks = ms * rate_hz / 1000.0;
   const long rounded = std::lround(ticks);
@@ -133,7 +154,7 @@ const CommandSpec& SessionSpec() {
           {"chair", "FILE", "-", "", "model chair for the model source (default: the trial's if identified, else Table I)"},
           {"smooth-ms", "MS", "ms", "20", "with --trial: half-width of the moving average on track derivatives"},
       },
-      "SCENE  a pwsim-scene/1 YAML file (default: the paper's speed-cushion trial)"};
+      "SCENE  a pwsim-scene/1 YAML file (default: the paper's speed-cushion trial); kind: car drives seed 001's car"};
   return spec;
 }
 
@@ -141,28 +162,45 @@ int SessionCommand(const ParsedArgs& args) {
   if (args.positional().size() > 1) throw std::invalid_argument("expected at most one SCENE");
   const std::filesystem::path scene_path =
       args.positional().empty() ? DefaultScene() : std::filesystem::path(args.positional()[0]);
-  const Scene scene = LoadScene(scene_path);
-  if (const SceneSection* s = scene.section("session")) {
-    (void)s;  // reserved: a `session:` section is accepted by the engine but has no keys yet
+  // a wheelchair scene (seed 000) or a car scene (kind: car, seed 001)
+  const bool is_car = vehicle::SceneKind(scene_path) == "car";
+  std::optional<Scene> chair_scene;
+  std::optional<vehicle::CarScene> car_scene;
+  if (is_car) {
+    car_scene = vehicle::LoadCarScene(scene_path);
+  } else {
+    chair_scene = LoadScene(scene_path);
+  }
+  const SceneSection* session_section = is_car ? car_scene->section("session") : chair_scene->section("session");
+  if (const SceneSection* s = session_section) {
+    // reserved for the chair; a car scene may map its wheel and pedals (`controls:`, pwsim drive)
     YamlMap map(s->node, s->file, "session", s->line);
+    if (is_car && map.Has("controls")) {
+      YamlMap controls = map.Map("controls");
+      (void)hw::ParseControlMapping(controls);
+      controls.Finish();
+    }
     map.Finish();
   }
+  const Clock clock = is_car ? car_scene->clock : chair_scene->clock;
+  const std::string scene_name = is_car ? car_scene->name : chair_scene->name;
+  const double scene_duration = is_car ? car_scene->duration : chair_scene->duration();
 
   hw::SessionConfig config;
-  config.clock_rate_hz = scene.clock.rate_hz;
+  config.clock_rate_hz = clock.rate_hz;
   config.drive_cycle_ticks = TicksFromMs(args.GetDouble("drive-cycle-ms"), config.clock_rate_hz, "drive-cycle-ms");
   config.frame_ticks = TicksFromMs(args.GetDouble("frame-ms"), config.clock_rate_hz, "frame-ms");
   config.safety.dt = static_cast<double>(config.drive_cycle_ticks) / config.clock_rate_hz;
   config.master.heartbeat_period_cycles = std::max(1, static_cast<int>(std::lround(0.1 / config.safety.dt)));
   config.master.heartbeat_timeout_cycles = 3 * config.master.heartbeat_period_cycles;
-  const double duration = args.Has("duration") ? args.GetDouble("duration") : scene.duration();
+  const double duration = args.Has("duration") ? args.GetDouble("duration") : scene_duration;
   if (!(duration >= 0.0 && duration <= 3600.0))
     throw std::invalid_argument("option --duration: expected 0..3600 s");
-  config.run_ticks = scene.clock.TicksFor(duration);
+  config.run_ticks = clock.TicksFor(duration);
   const double timeout_ms = args.GetDouble("hmd-timeout-ms");
   if (!(timeout_ms >= 1.0)) throw std::invalid_argument("option --hmd-timeout-ms: expected >= 1 ms");
   config.hmd_timeout_ns = static_cast<std::int64_t>(timeout_ms * 1e6);
-  config.max_stop_ticks = scene.clock.TicksFor(args.GetDouble("max-stop-s"));
+  config.max_stop_ticks = clock.TicksFor(args.GetDouble("max-stop-s"));
   config.session_id = static_cast<std::uint32_t>(hw::MonotonicNs() & 0x7FFFFFFF);
   const std::string hmd_spec = args.Get("hmd");
   config.hmd_required = hmd_spec != "none";
@@ -203,11 +241,12 @@ int SessionCommand(const ParsedArgs& args) {
   const std::filesystem::path out_dir = args.Get("out");
   std::filesystem::create_directories(out_dir);
   std::filesystem::remove(out_dir / "trial.json");
-  const hw::SessionStreams streams = ChooseStreams(args, scene, config, out_dir, &source);
+  const hw::SessionStreams streams = is_car ? CarStreams(args, *car_scene, config, out_dir, &source)
+                                              : ChooseStreams(args, *chair_scene, config, out_dir, &source);
   AtomicFileWriter log(out_dir / "session.log");
   AtomicFileWriter can_log(out_dir / "can.log");
   InstallStopSignalHandlers();
-  std::cout << "pwsim session: scene '" << scene.name << "', " << source << "\n"
+  std::cout << "pwsim session: scene '" << scene_name << "', " << source << "\n"
             << "  CAN " << bus.bus->name() << ", HMD " << (config.hmd_required ? hmd_peer.ToString() : "none")
             << ", drive cycle " << config.drive_cycle_ticks << " ticks, frame " << config.frame_ticks
             << " ticks, motion for " << duration << " s\n" << std::flush;

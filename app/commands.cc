@@ -17,6 +17,8 @@ const std::vector<Command>& AllCommands() {
       {&StudySpec(), &StudyCommand},
       {&SweepSpec(), &SweepCommand},
       {&PlatformSpec(), &PlatformCommand},
+      {&DriveSpec(), &DriveCommand},
+      {&CarChecksSpec(), &CarChecksCommand},
   };
   return commands;
 }

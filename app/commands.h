@@ -44,5 +44,9 @@ const CommandSpec& SweepSpec();
 int SweepCommand(const ParsedArgs& args);
 const CommandSpec& PlatformSpec();
 int PlatformCommand(const ParsedArgs& args);
+const CommandSpec& CarChecksSpec();
+int CarChecksCommand(const ParsedArgs& args);
+const CommandSpec& DriveSpec();
+int DriveCommand(const ParsedArgs& args);
 
 }  // namespace pwsim::app

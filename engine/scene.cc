@@ -32,6 +32,10 @@ Scene ParseSceneRoot(const YamlDocument& document) {
   YamlMap root(document.root, document.file, "");
 
   root.RequireFormat("pwsim-scene/1");
+  // `kind: car` scenes (seed 001) are read by engine/vehicle/car_scene.h
+  if (root.ChoiceOr("kind", "wheelchair", {"wheelchair", "car"}) != "wheelchair") {
+    root.Fail("kind", "wheelchair here (a car scene is loaded with vehicle::LoadCarScene)", "car");
+  }
   scene.name = root.String("name");
   root.StringOr("description", "");
 

@@ -103,4 +103,24 @@ TEST(RunCommandTest, UnknownOptionIsUsageError) {
   EXPECT_NE(result.output.find("unknown option --speed"), std::string::npos);
 }
 
+
+// A car scene (kind: car) through the CLI: the car's columns and the rail + yaw platform.
+TEST(RunCommandTest, CarSceneWritesTheCarOutputs) {
+  const fs::path out = Scratch("car_launch");
+  const Result result = Pwsim("run scenes/car_launch.yaml --no-video --decimate 20 --out " + out.string());
+  ASSERT_EQ(result.status, 0) << result.output;
+  EXPECT_NE(result.output.find("car scene 'car_launch'"), std::string::npos) << result.output;
+  const std::string csv = ReadFile(out / "trial.csv");
+  const std::string header = csv.substr(0, csv.find('\n'));
+  for (const char* column : {"t_s", "x_m", "y_m", "yaw_rad", "v_mps", "yaw_rate_radps", "ax_mps2", "ay_mps2",
+                             "engine_rpm", "gear", "throttle", "brake", "clutch", "steer_rad", "plat_surge_m",
+                             "plat_yaw_rad"}) {
+    EXPECT_NE(header.find(column), std::string::npos) << column << " in " << header;
+  }
+  const std::string summary = ReadFile(out / "summary.json");
+  EXPECT_NE(summary.find("\"within_limits\": true"), std::string::npos);
+  EXPECT_NE(summary.find("\"rail_yaw_false_cue\""), std::string::npos);
+  EXPECT_TRUE(fs::exists(out / "mca.png"));
+}
+
 }  // namespace

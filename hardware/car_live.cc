@@ -1,0 +1,39 @@
+#include "hardware/car_live.h"
+
+namespace pwsim::hw {
+
+mca::McaConfig LoadCarMca(const vehicle::CarScene& scene) {
+  mca::McaConfig config;
+  config.platform = mca::MakeCar2DofPlatform();
+  config.platform_source = "built-in car2dof";
+  if (const SceneSection* platform = scene.section("platform")) mca::ParsePlatformSection(*platform, config);
+  if (const SceneSection* section = scene.section("mca")) mca::ParseMcaSection(*section, config);
+  return config;
+}
+
+CarLiveLoop::CarLiveLoop(const vehicle::CarScene& scene, const mca::McaConfig& config)
+    : scene_(scene), washout_(config.washout, config.platform, scene.clock.dt()) {
+  tick_.sample = vehicle::FirstCarSample(scene);
+  Cue();
+}
+
+void CarLiveLoop::Cue() {
+  const vehicle::CarHeadMotion m = vehicle::HeadMotionOfCar(tick_.sample, scene_.head_offset);
+  mca::HeadMotion head;
+  head.fs = m.fs;
+  head.w = m.w;
+  tick_.command = washout_.Step(head);
+  const auto& c = tick_.command;
+  const double x = c.pose[mca::Index(mca::Dof::kSurge)];
+  const double r = c.rate[mca::Index(mca::Dof::kYaw)];
+  tick_.false_cue_surge = -r * r * x;
+  tick_.false_cue_sway = c.accel[mca::Index(mca::Dof::kYaw)] * x + 2.0 * r * c.rate[mca::Index(mca::Dof::kSurge)];
+}
+
+const CarLiveTick& CarLiveLoop::Step(const vehicle::DriverInput& input) {
+  tick_.sample = vehicle::NextCarSample(scene_.car, tick_.sample, input, scene_.clock.dt());
+  Cue();
+  return tick_;
+}
+
+}  // namespace pwsim::hw

@@ -1,0 +1,24 @@
+#pragma once
+// The session's input streams from a car scene (kind: car): the car of engine/vehicle through
+// the scene's controls, the head motion at the driver's head through the MCA on the rail + yaw
+// platform (mca/rail_yaw.h), giving the platform setpoints (yaw -> q1, surge -> rail q2) per
+// drive cycle; the driver's eye pose (position, yaw, pitch, roll of the car) per frame.
+
+#include <string>
+
+#include "engine/vehicle/car_scene.h"
+#include "hardware/session.h"
+#include "hardware/session_runner.h"
+
+namespace pwsim::hw {
+
+/// @throws InputError (scene sections), std::invalid_argument (clock mismatch, or a scene
+/// platform without surge and yaw: the session drives seed 001's rail + yaw platform).
+SessionStreams BuildCarSessionStreams(const vehicle::CarScene& scene, const SessionConfig& config,
+                                      std::string* description);
+
+/// Camera pose of an eye at p (W) in a car with yaw ψ, nose-up pitch θ and left-up roll φ:
+/// q = q_z(ψ) q_y(-θ) q_x(φ).
+Pose CarCameraPose(const std::array<double, 3>& p, double yaw, double pitch, double roll);
+
+}  // namespace pwsim::hw

@@ -1,0 +1,348 @@
+#include "report/car_run.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "engine/atomic_file.h"
+#include "hardware/car_live.h"
+#include "mca/cueing.h"
+#include "mca/rail_yaw.h"
+#include "plot/plot.h"
+#include "render/dashboard.h"
+#include "render/image_io.h"
+#include "render/offscreen_renderer.h"
+#include "render/render_config.h"
+#include "render/road_scene.h"
+#include "render/video_writer.h"
+
+namespace pwsim::report {
+namespace {
+
+using mca::Dof;
+using vehicle::CarSample;
+
+template <typename Get>
+std::vector<double> Column(std::size_t rows, Get get) {
+  std::vector<double> values(rows);
+  for (std::size_t r = 0; r < rows; ++r) values[r] = get(r);
+  return values;
+}
+
+nlohmann::ordered_json AxisJson(const mca::AxisConsistency& c, const char* unit) {
+  return {{"correlation", c.correlation},
+          {std::string("rms_error_") + unit, c.rms_error},
+          {"gain", c.gain},
+          {"lag_s", c.lag},
+          {std::string("peak_true_") + unit, c.peak_true},
+          {std::string("peak_platform_") + unit, c.peak_platform},
+          {"wrong_sign_count", c.wrong_sign_count},
+          {"wrong_sign_duration_s", c.wrong_sign_duration}};
+}
+
+}  // namespace
+
+TrialTable CarColumns(const vehicle::CarScene& scene, const std::vector<CarSample>& samples) {
+  const std::size_t n = samples.size();
+  TrialTable table(n);
+  auto add = [&](const char* name, auto get) {
+    table.Add(name, Column(n, [&](std::size_t k) { return static_cast<double>(get(samples[k])); }));
+  };
+  add("t_s", [&](const CarSample& s) { return scene.clock.TimeAt(s.tick); });
+  add("x_m", [](const CarSample& s) { return s.state.x; });
+  add("y_m", [](const CarSample& s) { return s.state.y; });
+  add("yaw_rad", [](const CarSample& s) { return s.state.yaw; });
+  add("v_mps", [](const CarSample& s) { return vehicle::Speed(s.state); });
+  add("vx_mps", [](const CarSample& s) { return s.state.u; });
+  add("vy_mps", [](const CarSample& s) { return s.state.v; });
+  add("yaw_rate_radps", [](const CarSample& s) { return s.state.r; });
+  add("ax_mps2", [](const CarSample& s) { return s.state.ax; });
+  add("ay_mps2", [](const CarSample& s) { return s.state.ay; });
+  add("roll_rad", [](const CarSample& s) { return s.state.roll; });
+  add("pitch_rad", [](const CarSample& s) { return s.state.pitch; });
+  add("engine_rpm", [](const CarSample& s) { return vehicle::EngineRpm(s.state); });
+  add("engine_running", [](const CarSample& s) { return s.state.engine_running ? 1.0 : 0.0; });
+  add("clutch_locked", [](const CarSample& s) { return s.state.clutch_locked ? 1.0 : 0.0; });
+  add("gear", [](const CarSample& s) { return s.input.gear; });
+  add("throttle", [](const CarSample& s) { return s.input.throttle; });
+  add("throttle_effective", [](const CarSample& s) { return s.throttle_effective; });
+  add("brake", [](const CarSample& s) { return s.input.brake; });
+  add("clutch", [](const CarSample& s) { return s.input.clutch; });
+  add("steer_rad", [](const CarSample& s) { return s.input.steer; });
+  add("road_wheel_angle_rad", [](const CarSample& s) { return s.road_wheel_angle; });
+  add("engine_torque_nm", [](const CarSample& s) { return s.engine_torque; });
+  add("clutch_torque_nm", [](const CarSample& s) { return s.clutch_torque; });
+  return table;
+}
+
+void AddCarCueing(const vehicle::CarScene& scene, const std::vector<CarSample>& samples, TrialTable& table,
+                  nlohmann::ordered_json& summary, const std::filesystem::path& out_dir) {
+  const mca::McaConfig config = hw::LoadCarMca(scene);
+  const double dt = scene.clock.dt();
+  const std::size_t n = samples.size();
+  std::vector<mca::HeadMotion> head(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const vehicle::CarHeadMotion m = vehicle::HeadMotionOfCar(samples[k], scene.head_offset);
+    head[k].fs = m.fs;
+    head[k].w = m.w;
+  }
+  const bool rail_yaw = config.platform.Has(Dof::kSurge) && config.platform.Has(Dof::kYaw);
+  const mca::CueingTrace trace = rail_yaw ? mca::RunRailYawCueing(config, head, dt) : mca::RunCueing(config, head, dt);
+  const mca::ConsistencyReport report = mca::EvaluateConsistency(config, trace, dt);
+  const mca::RailYawFalseCues false_cue = mca::RailYawFalseCue(config.vestibular, trace.commands, dt);
+
+  static const char* const kAxis[3] = {"x", "y", "z"};
+  for (std::size_t i = 0; i < 3; ++i) {
+    table.Add(std::string("head_fs_") + kAxis[i] + "_mps2", Column(n, [&](std::size_t k) { return trace.truth[k].fs[i]; }));
+  }
+  for (std::size_t i = 0; i < 3; ++i) {
+    table.Add(std::string("head_w_") + kAxis[i] + "_radps", Column(n, [&](std::size_t k) { return trace.truth[k].w[i]; }));
+  }
+  for (Dof dof : mca::kAllDofs) {
+    if (!config.platform.Has(dof)) continue;
+    const auto i = static_cast<std::size_t>(mca::Index(dof));
+    table.Add("plat_" + std::string(mca::DofName(dof)) + "_" + std::string(mca::DofUnit(dof)),
+              Column(n, [&](std::size_t k) { return trace.commands[k].pose[i]; }));
+  }
+  for (std::size_t i = 0; i < 3; ++i) {
+    table.Add(std::string("head_plat_fs_") + kAxis[i] + "_mps2", Column(n, [&](std::size_t k) { return trace.delivered[k].fs[i]; }));
+  }
+  for (std::size_t i = 0; i < 3; ++i) {
+    table.Add(std::string("head_plat_w_") + kAxis[i] + "_radps", Column(n, [&](std::size_t k) { return trace.delivered[k].w[i]; }));
+  }
+  table.Add("false_cue_surge_mps2", false_cue.surge);
+  table.Add("false_cue_sway_mps2", false_cue.sway);
+  for (const char* who : {"true", "plat"}) {
+    const auto& perceived = std::string(who) == "true" ? trace.perceived_true : trace.perceived_platform;
+    for (std::size_t i = 0; i < 3; ++i) {
+      table.Add(std::string("vest_") + who + "_oto_" + kAxis[i] + "_mps2", Column(n, [&](std::size_t k) { return perceived[k].fs[i]; }));
+    }
+    for (std::size_t i = 0; i < 3; ++i) {
+      table.Add(std::string("vest_") + who + "_scc_" + kAxis[i] + "_radps", Column(n, [&](std::size_t k) { return perceived[k].w[i]; }));
+    }
+  }
+  table.Add("mca_fault", Column(n, [&](std::size_t k) { return trace.commands[k].fault ? 1.0 : 0.0; }));
+
+  // summary
+  nlohmann::ordered_json platform_json;
+  platform_json["name"] = config.platform.name;
+  platform_json["source"] = config.platform_source;
+  platform_json["kinematics"] = rail_yaw ? "rail on the turntable (RP chain, mca/rail_yaw.h)" : "generic (mca/cue_analysis.h)";
+  nlohmann::ordered_json usage = nlohmann::ordered_json::array();
+  bool within = true;
+  for (const mca::DofUsage& u : report.usage) {
+    const bool rot = mca::IsRotational(u.dof);
+    const double k = rot ? 1.0 / mca::kDegToRad : 1.0;
+    within = within && u.pose_fraction <= 1.0 + 1e-9 && u.rate_fraction <= 1.0 + 1e-9 && u.accel_fraction <= 1.0 + 1e-9;
+    usage.push_back({{"dof", std::string(mca::DofName(u.dof))},
+                     {rot ? "peak_pose_deg" : "peak_pose_m", u.peak_pose * k},
+                     {rot ? "peak_rate_degps" : "peak_rate_mps", u.peak_rate * k},
+                     {rot ? "peak_accel_degps2" : "peak_accel_mps2", u.peak_accel * k},
+                     {"pose_fraction_of_limit", u.pose_fraction},
+                     {"rate_fraction_of_limit", u.rate_fraction},
+                     {"accel_fraction_of_limit", u.accel_fraction}});
+  }
+  platform_json["usage"] = usage;
+  platform_json["within_limits"] = within;
+  nlohmann::ordered_json mca_json;
+  mca_json["platform"] = platform_json;
+  nlohmann::ordered_json consistency;
+  for (std::size_t i = 0; i < 3; ++i) consistency["otolith"][kAxis[i]] = AxisJson(report.otolith[i], "mps2");
+  for (std::size_t i = 0; i < 3; ++i) consistency["canals"][kAxis[i]] = AxisJson(report.canals[i], "radps");
+  mca_json["consistency"] = consistency;
+  int wrong_count = 0;
+  double wrong_duration = 0.0;
+  for (const auto* axes : {&report.otolith, &report.canals}) {
+    for (const mca::AxisConsistency& c : *axes) {
+      wrong_count += c.wrong_sign_count;
+      wrong_duration += c.wrong_sign_duration;
+    }
+  }
+  mca_json["false_cues"] = {{"wrong_sign_count", wrong_count}, {"wrong_sign_duration_s", wrong_duration}};
+  mca_json["rail_yaw_false_cue"] = {
+      {"what", "specific force the turntable's yaw adds on the rail: surge -r^2 x, sway r' x + 2 r x'"},
+      {"peak_surge_mps2", false_cue.peak_surge},
+      {"peak_sway_mps2", false_cue.peak_sway},
+      {"rms_surge_mps2", false_cue.rms_surge},
+      {"rms_sway_mps2", false_cue.rms_sway},
+      {"surge_above_threshold_count", false_cue.surge_above_threshold_count},
+      {"surge_above_threshold_s", false_cue.surge_above_threshold_s},
+      {"sway_above_threshold_count", false_cue.sway_above_threshold_count},
+      {"sway_above_threshold_s", false_cue.sway_above_threshold_s},
+      {"threshold_surge_mps2", config.vestibular.thresholds.fs[0]},
+      {"threshold_sway_mps2", config.vestibular.thresholds.fs[1]}};
+  mca_json["fault_ticks"] = report.fault_ticks;
+  summary["mca"] = mca_json;
+
+  // mca.png, plotted at 100 Hz at most (the full rate is in trial.csv)
+  const std::size_t stride = static_cast<std::size_t>(std::max(1, scene.clock.rate_hz / 100));
+  const std::size_t m = (n + stride - 1) / stride;
+  auto col = [&](auto get) { return Column(m, [&](std::size_t j) { return get(j * stride); }); };
+  const std::vector<double> t = col([&](std::size_t k) { return scene.clock.TimeAt(samples[k].tick); });
+  std::vector<plot::SharedXPanel> panels;
+  panels.push_back({"surge specific force at the head", "fs_x [m/s^2]",
+                    {{"vehicle", col([&](std::size_t k) { return trace.truth[k].fs[0]; }), 0x1f77b4},
+                     {"platform", col([&](std::size_t k) { return trace.delivered[k].fs[0]; }), 0xd62728}}});
+  panels.push_back({"lateral specific force at the head", "fs_y [m/s^2]",
+                    {{"vehicle", col([&](std::size_t k) { return trace.truth[k].fs[1]; }), 0x1f77b4},
+                     {"platform", col([&](std::size_t k) { return trace.delivered[k].fs[1]; }), 0xd62728}}});
+  panels.push_back({"yaw rate", "r [deg/s]",
+                    {{"vehicle", col([&](std::size_t k) { return trace.truth[k].w[2] / mca::kDegToRad; }), 0x1f77b4},
+                     {"platform", col([&](std::size_t k) { return trace.delivered[k].w[2] / mca::kDegToRad; }), 0xd62728}}});
+  panels.push_back({"platform: rail position and turntable yaw", "x [m], yaw [rad]",
+                    {{"rail x [m]", col([&](std::size_t k) { return trace.commands[k].pose[mca::Index(Dof::kSurge)]; }), 0x2ca02c},
+                     {"yaw [rad]", col([&](std::size_t k) { return trace.commands[k].pose[mca::Index(Dof::kYaw)]; }), 0x9467bd}}});
+  panels.push_back({"false cue of the turntable on the rail", "[m/s^2]",
+                    {{"surge -r^2 x", col([&](std::size_t k) { return false_cue.surge[k]; }), 0xff7f0e},
+                     {"sway r' x + 2 r x'", col([&](std::size_t k) { return false_cue.sway[k]; }), 0x8c564b}}});
+  std::filesystem::create_directories(out_dir);
+  plot::WriteSharedXFigure(out_dir / "mca", t, panels);
+}
+
+void RenderCarTrial(const vehicle::CarScene& scene, const std::vector<CarSample>& samples,
+                    const CarRunOptions& options, nlohmann::ordered_json& summary,
+                    const std::filesystem::path& out_dir) {
+  // the render: section is parsed as for the wheelchair; a road needs a far clip plane
+  Scene shim;
+  shim.clock = scene.clock;
+  if (const SceneSection* section = scene.section("render")) shim.sections["render"] = *section;
+  render::RenderConfig config = render::ParseRenderConfig(shim);
+  const SceneSection* section = scene.section("render");
+  if (section == nullptr || !section->node["far_m"]) config.far = 1500.0;
+  if (section == nullptr || !section->node["near_m"]) config.near = 0.2;
+  if (options.width > 0) {
+    config.width = options.width;
+    config.height = options.height;
+  }
+  if (options.fps > 0) config.fps = options.fps;
+  config.stereo = false;
+  if (const std::string error = config.Validate(scene.clock); !error.empty()) {
+    throw std::invalid_argument("render: " + error);
+  }
+  const int ticks_per_frame = config.TicksPerFrame(scene.clock);
+  const std::size_t frames = (samples.size() - 1) / static_cast<std::size_t>(ticks_per_frame) + 1;
+
+  render::RoadGeometry road;
+  for (const auto& p : scene.road.centre) road.centre.push_back({p.x, p.y});
+  road.lane_width = scene.road.lane_width;
+  road.lanes = scene.road.lanes;
+  for (const auto& c : scene.road.cones) road.cones.push_back({c.x, c.y});
+  render::CabinGeometry cabin;
+  cabin.cg_height = scene.car.chassis.cg_height;
+  cabin.front = scene.car.chassis.cg_to_front + 0.9;
+  cabin.half_width = 0.5 * scene.car.chassis.width;
+  cabin.windscreen_x = scene.head_offset[0] + 0.55;
+
+  render::OffscreenRenderer renderer(render::BuildRoadScene(road, cabin, config.texture_seed), config);
+  render::VideoWriter video({out_dir / "video.mp4", renderer.width(), renderer.height(), config.fps,
+                             render::VideoCodec::kH264, config.crf});
+  std::vector<double> frame(frames), tick(frames), time(frames), cx(frames), cy(frames), cz(frames), cyaw(frames);
+  for (std::size_t k = 0; k < frames; ++k) {
+    const std::size_t row = k * static_cast<std::size_t>(ticks_per_frame);
+    const CarSample& s = samples[row];
+    const Eigen::Isometry3d X_WV =
+        render::CarPose(s.state.x, s.state.y, cabin.cg_height, s.state.yaw, s.state.roll, s.state.pitch);
+    const Eigen::Isometry3d X_WC = render::EyePoseInCar(X_WV, scene.head_offset);
+    const double t = scene.clock.TimeAt(s.tick);
+    render::Image image = render::CopyImage(renderer.Render(X_WV, X_WC, t));
+    render::DashboardReading reading;
+    reading.engine_rpm = vehicle::EngineRpm(s.state);
+    reading.speed_kmh = vehicle::Speed(s.state) * 3.6;
+    reading.gear = s.input.gear;
+    reading.engine_running = s.state.engine_running;
+    reading.redline_rpm = scene.car.engine.max_rpm;
+    render::DrawDashboard(image, reading);
+    video.Push(image.view());
+    frame[k] = static_cast<double>(k);
+    tick[k] = static_cast<double>(s.tick);
+    time[k] = t;
+    cx[k] = X_WC.translation().x();
+    cy[k] = X_WC.translation().y();
+    cz[k] = X_WC.translation().z();
+    cyaw[k] = s.state.yaw;
+  }
+  video.Close();
+  TrialTable table(frames);
+  table.Add("frame", frame);
+  table.Add("tick", tick);
+  table.Add("t_s", time);
+  table.Add("cam_x_m", cx);
+  table.Add("cam_y_m", cy);
+  table.Add("cam_z_m", cz);
+  table.Add("cam_yaw_rad", cyaw);
+  table.WriteCsv(out_dir / "frames.csv");
+  summary["render"] = {{"video", "video.mp4"},
+                       {"frames_csv", "frames.csv"},
+                       {"frames", frames},
+                       {"fps", config.fps},
+                       {"size", {renderer.width(), renderer.height()}},
+                       {"encoder", video.encoder()},
+                       {"gl_renderer", renderer.gl_renderer()}};
+}
+
+std::vector<std::filesystem::path> RunCarScene(const vehicle::CarScene& scene, const std::filesystem::path& scene_file,
+                                               const CarRunOptions& options, const std::filesystem::path& out_dir) {
+  std::filesystem::create_directories(out_dir);
+  for (const char* name : {"trial.csv", "summary.json", "mca.png", "mca.svg", "mca.plot.csv", "mca.plot.dat", "mca.gp", "video.mp4", "frames.csv"}) {
+    std::filesystem::remove(out_dir / name);  // no stale outputs from an earlier run
+  }
+  const std::vector<CarSample> samples = vehicle::SimulateCarScene(scene);
+  TrialTable table = CarColumns(scene, samples);
+
+  nlohmann::ordered_json summary;
+  summary["format"] = "pwsim-run-summary/1";
+  summary["scene"] = {{"file", scene_file.string()}, {"name", scene.name}, {"kind", "car"}};
+  summary["clock_rate_hz"] = scene.clock.rate_hz;
+  summary["duration_s"] = table.Column("t_s").back();
+  summary["ticks"] = samples.size();
+  summary["vehicle"] = {{"name", scene.car.name}, {"file", scene.vehicle_file.string()}};
+  const char* source = scene.source == vehicle::CarScene::Source::kTables        ? "time tables"
+                       : scene.source == vehicle::CarScene::Source::kRecordedDrive ? "recorded drive"
+                                                                                   : "closed-loop driver";
+  summary["controls"] = source;
+  double distance = 0.0, v_max = 0.0, ax_min = 0.0, ax_max = 0.0, ay_peak = 0.0, r_peak = 0.0, rpm_max = 0.0;
+  double y_min = samples.front().state.y, y_max = y_min;
+  int gear_max = 0;
+  bool stalled = false;
+  for (std::size_t k = 1; k < samples.size(); ++k) {
+    const vehicle::VehicleState& s = samples[k].state;
+    distance += std::hypot(s.x - samples[k - 1].state.x, s.y - samples[k - 1].state.y);
+    v_max = std::max(v_max, vehicle::Speed(s));
+    ax_min = std::min(ax_min, s.ax);
+    ax_max = std::max(ax_max, s.ax);
+    ay_peak = std::max(ay_peak, std::abs(s.ay));
+    r_peak = std::max(r_peak, std::abs(s.r));
+    rpm_max = std::max(rpm_max, vehicle::EngineRpm(s));
+    y_min = std::min(y_min, s.y);
+    y_max = std::max(y_max, s.y);
+    if (s.clutch_locked) gear_max = std::max(gear_max, samples[k].input.gear);
+    stalled = stalled || !s.engine_running;
+  }
+  summary["drive"] = {{"distance_m", distance},
+                      {"max_speed_mps", v_max},
+                      {"max_speed_kmh", v_max * 3.6},
+                      {"highest_gear_engaged", gear_max},
+                      {"max_engine_rpm", rpm_max},
+                      {"min_ax_mps2", ax_min},
+                      {"max_ax_mps2", ax_max},
+                      {"peak_abs_ay_mps2", ay_peak},
+                      {"peak_abs_yaw_rate_radps", r_peak},
+                      {"y_range_m", {y_min, y_max}},
+                      {"final_speed_mps", vehicle::Speed(samples.back().state)},
+                      {"stalled", stalled}};
+  AddCarCueing(scene, samples, table, summary, out_dir);
+  table.WriteCsv(out_dir / "trial.csv", options.decimate);
+  if (options.video) {
+    RenderCarTrial(scene, samples, options, summary, out_dir);
+  } else {
+    summary["render"] = {{"skipped", "--no-video"}};
+  }
+  WriteFileAtomically(out_dir / "summary.json", summary.dump(2) + "\n");
+  std::vector<std::filesystem::path> written;
+  for (const char* name : {"trial.csv", "summary.json", "mca.png", "mca.svg", "mca.plot.csv", "video.mp4", "frames.csv"}) {
+    if (std::filesystem::exists(out_dir / name)) written.push_back(out_dir / name);
+  }
+  return written;
+}
+
+}  // namespace pwsim::report
