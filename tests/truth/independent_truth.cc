@@ -239,7 +239,8 @@ TruthTrial SimulateTruthTrial(const TruthTrialConfig& c) {
   std::vector<double> times;
   for (double t = 0.0; t <= sys.prof.t_end + 1e-12; t += dt) times.push_back(t);
   namespace ode = boost::numeric::odeint;
-  auto stepper = ode::make_dense_output(1e-9, 1e-7, ode::runge_kutta_dopri5<State>());
+  // The step is capped (2 ms) so that the controller, idle at rest on the flat, cannot step over the obstacle.
+  auto stepper = ode::make_dense_output(1e-9, 1e-7, 2e-3, ode::runge_kutta_dopri5<State>());
   std::vector<State> states;
   ode::integrate_times(stepper, std::ref(sys), s, times.begin(), times.end(), 1e-3,
                        [&](const State& st, double) { states.push_back(st); });

@@ -17,7 +17,7 @@
 //   weight), M_c = M_0 + (1-f) M_u, J_c = J_0 + d_CM² (M_0 + (1-f) M_u) (seed 000 eq. 4-5 when
 //   f = 0). The drive x(t) follows a jerk-limited profile (accelerate, cruise over the
 //   obstacle, decelerate). Integration: Dormand-Prince 5(4) with step-size control and dense
-//   output (Boost.Odeint), tolerances 1e-9 abs / 1e-7 rel, sampled at the mocap frame times.
+//   output (Boost.Odeint), tolerances 1e-9 abs / 1e-7 rel, steps ≤ 2 ms, sampled at the frame times.
 //   Mocap: a marker at lever (r_x, r_z) in the chair frame measures x + r_x cos θ - r_z sin θ and
 //   z + r_x sin θ + r_z cos θ; Gaussian noise on x, z, θ.
 // With every effect off and Σ k_i x_i = Σ c_i x_i = 0, the small-angle motion is the paper's
