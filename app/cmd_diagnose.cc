@@ -2,8 +2,8 @@
 // measured trials, names the cause among the effect ids of measured-trials.md, extends and
 // re-identifies the model and measures the gain on held-out trials (engine/diagnose/).
 // Writes DIR/diagnosis.json (pwsim-diagnosis/1) and DIR/diagnosis.md with plots. Wiring and
-// reporting only. Stale outputs are removed first; diagnosis.json is written last, so a
-// failed run never leaves a report that looks complete.
+// reporting only. Stale outputs are removed before the inputs are read; diagnosis.json is
+// written last, so a failed run never leaves a report that looks complete.
 
 #include <nlohmann/json.hpp>
 
@@ -86,10 +86,28 @@ nlohmann::ordered_json DiagnosisJson(const Diagnosis& d, const std::string& base
                             {"heldout_fit_pct", FitJson(e.heldout)},
                             {"parameters", params},
                             {"heldout_gain", JsonNumber(e.heldout_gain)},
+                            {"selection_gain", JsonNumber(e.selection_gain)},
                             {"earns", e.earns}});
   }
   j["heldout_fit_pct"] = {{"base", FitJson(d.base_heldout)}, {"extended", FitJson(d.extended_heldout)}};
   j["heldout_trials"] = d.heldout_trials;
+  // Additions of measured-trials.md (v1).
+  j["verdict"] = diagnose::VerdictName(d.verdict);
+  j["causes"] = nlohmann::ordered_json::array();
+  for (const diagnose::Cause& c : d.causes) {
+    j["causes"].push_back({{"effect", effects::EffectName(c.effect)},
+                           {"heldout_gain_pct", JsonNumber(c.heldout_gain_pct)},
+                           {"selection_gain_pct", JsonNumber(100.0 * c.selection_gain)},
+                           {"delta_bic", JsonNumber(c.delta_bic)}});
+  }
+  j["noise_floor_fit_pct"] = FitJson(d.noise_floor);
+  j["noise_sigma"] = {{"z_m", JsonNumber(d.sigma_z)}, {"pitch_rad", JsonNumber(d.sigma_pitch)}};
+  if (d.verdict == diagnose::Verdict::kUnexplained || d.verdict == diagnose::Verdict::kPartlyExplained) {
+    j["unexplained"] = {{"heldout_fit_pct", FitJson(d.extended_heldout)},
+                        {"evidence", d.extended_check.Evidence()}};
+  }
+  j["residual_tests"] = {{"base", d.base_check.Evidence()}, {"extended", d.extended_check.Evidence()}};
+  j["selection_trials"] = d.selection_trials;
   // Additions beyond the contract's minimum (allowed: add, never rename).
   j["training_trials"] = d.training_trials;
   j["split"] = d.split;
@@ -163,13 +181,35 @@ std::string Markdown(const Diagnosis& d, const std::string& base_source,
         Fixed(seconds, 1) + " s). Base model: geometric + lumped model of the paper, " + base_source +
         ", K and C re-identified by output error on the training trials. Held out of every fit: " +
         d.split + " (" + std::to_string(d.heldout_trials.size()) + " trials).\n\n";
-  md += "## Cause: **" + d.cause + "**\n\n";
-  if (d.cause == "none") {
-    md += "No extension earns its extra parameters on the held-out trials (ΔBIC and held-out "
-          "gain both required).\n\n";
-  } else {
-    md += std::string(effects::EffectDescription(*effects::ParseEffect(d.cause))) + ".\n\n";
+  md += "## Verdict: **" + std::string(diagnose::VerdictName(d.verdict)) + "**, cause: **" + d.cause + "**\n\n";
+  switch (d.verdict) {
+    case diagnose::Verdict::kAdequate:
+      md += "The base model's residual on the held-out trials cannot be told from the measurement "
+            "noise: there is nothing to explain.\n\n";
+      break;
+    case diagnose::Verdict::kUnexplained:
+      md += "The base model is measurably wrong, and no extension of the catalogue earns its "
+            "parameters: **the cause is not in the catalogue** (cause `none` here does NOT mean the "
+            "model is fine).\n\n";
+      break;
+    case diagnose::Verdict::kExplained:
+      md += "The causes found bring the held-out residual down to the noise.\n\n";
+      break;
+    case diagnose::Verdict::kPartlyExplained:
+      md += "The causes found earn their parameters, but a structured residual is left.\n\n";
+      break;
   }
+  for (const diagnose::Cause& c : d.causes) {
+    md += "- `" + std::string(effects::EffectName(c.effect)) + "`: " +
+          effects::EffectDescription(c.effect) + "; removes " + Fixed(c.heldout_gain_pct, 1) +
+          " % of the held-out error above noise (chosen on the selection trials: " +
+          Fixed(100.0 * c.selection_gain, 1) + " %).\n";
+  }
+  md += "\nNoise (from the data, 4th differences): Z " + Sig(1e3 * d.sigma_z, 3) + " mm, pitch " +
+        Sig(1e3 * d.sigma_pitch, 3) + " mrad; noise floor on the held-out trials: Z " +
+        Fixed(d.noise_floor.z, 1) + " %, pitch " + Fixed(d.noise_floor.pitch, 1) + " %.\n\n";
+  md += "- Base model residual tests: " + d.base_check.Evidence() + "\n";
+  md += "- Extended model residual tests: " + d.extended_check.Evidence() + "\n\n";
   md += "| held-out fitness (MATLAB compare) | Z [%] | pitch [%] |\n|---|---|---|\n";
   md += "| base model | " + Fixed(d.base_heldout.z, 1) + " | " + Fixed(d.base_heldout.pitch, 1) + " |\n";
   md += "| extended model (" + d.cause + ") | " + Fixed(d.extended_heldout.z, 1) + " | " +
@@ -256,7 +296,13 @@ int DiagnoseCommand(const ParsedArgs& args) {
   const long long max_plots = args.GetInt("max-plots");
   if (max_plots < 0) throw std::invalid_argument("option --max-plots: expected an integer >= 0");
 
-  // 1. Read everything first: a bad file stops here, before anything is written.
+  // 1. Old results go first, so that a run that fails below never leaves a report that looks
+  //    complete; then every input is read before anything new is written.
+  for (const char* name : {"diagnosis.json", "diagnosis.md"}) std::filesystem::remove(out / name);
+  if (std::filesystem::exists(out / "plots")) {
+    for (const auto& entry : std::filesystem::directory_iterator(out / "plots"))
+      if (entry.path().extension() == ".png") std::filesystem::remove(entry.path());
+  }
   std::vector<MeasuredTrial> trials;
   for (const std::string& folder : args.positional()) trials.push_back(ReadMeasuredTrial(folder));
 
@@ -269,7 +315,6 @@ int DiagnoseCommand(const ParsedArgs& args) {
 
   // 3. Write: stale results first, then plots, the report, and diagnosis.json last.
   std::filesystem::create_directories(out / "plots");
-  for (const char* name : {"diagnosis.json", "diagnosis.md"}) std::filesystem::remove(out / name);
   std::vector<std::string> plots{"plots/located-residual.png"};
   PlotLocated(d.residuals.located, out / plots.front());
   long long drawn = 0;
@@ -282,7 +327,10 @@ int DiagnoseCommand(const ParsedArgs& args) {
   WriteFileAtomically(out / "diagnosis.md", Markdown(d, base_source, plots, seconds));
   WriteFileAtomically(out / "diagnosis.json", DiagnosisJson(d, base_source, seconds).dump(2) + "\n");
 
-  std::cout << "pwsim diagnose: " << trials.size() << " trials, cause: " << d.cause << "\n"
+  std::cout << "pwsim diagnose: " << trials.size() << " trials, verdict: "
+            << diagnose::VerdictName(d.verdict) << ", cause: " << d.cause;
+  for (std::size_t k = 1; k < d.causes.size(); ++k) std::cout << " + " << effects::EffectName(d.causes[k].effect);
+  std::cout << "\n"
             << "  held-out fit (base -> extended): Z " << Fixed(d.base_heldout.z, 1) << " -> "
             << Fixed(d.extended_heldout.z, 1) << " %, pitch " << Fixed(d.base_heldout.pitch, 1)
             << " -> " << Fixed(d.extended_heldout.pitch, 1) << " %\n";

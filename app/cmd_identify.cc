@@ -2,7 +2,7 @@
 // measured trials (engine/identify/identify.h) and writes DIR/identified-chair.yaml,
 // DIR/fit.json (measured-trials.md), DIR/identify.md with overlay plots like the paper's
 // Fig. 5, and prints the identified table beside Table I (and the truth, when the trial
-// folders carry a truth-chair.yaml, as generated trials do). Wiring only.
+// set has a truth-chair.yaml beside it, `<set>.truth-chair.yaml`, as generated sets do). Wiring only.
 
 #include <nlohmann/json.hpp>
 
@@ -14,6 +14,7 @@
 #include <stdexcept>
 
 #include "app/commands.h"
+#include "engine/synth/generate.h"
 #include "engine/atomic_file.h"
 #include "engine/chair.h"
 #include "engine/identify/identify.h"
@@ -204,11 +205,16 @@ int IdentifyCommand(const ParsedArgs& args) {
   role_options.holdout_every = static_cast<int>(args.GetInt("holdout-every"));
   const long long max_plots = args.GetInt("max-plots");
 
-  // 1. Read everything first: a bad file stops here, before anything is written.
+  // 1. Old results go first, so that a run that fails below never leaves a report that looks
+  //    complete; then every input is read before anything new is written.
+  for (const char* name : {"fit.json", "identify.md", "identified-chair.yaml"}) {
+    std::filesystem::remove(out / name);
+  }
   std::vector<MeasuredTrial> trials;
   for (const std::string& folder : args.positional()) trials.push_back(ReadMeasuredTrial(folder));
   std::optional<Chair> truth;
-  const std::filesystem::path truth_file = trials.front().folder / "truth-chair.yaml";
+  const std::filesystem::path truth_file =
+      TruthFileBeside(trials.front().folder.parent_path(), "truth-chair.yaml");
   if (std::filesystem::exists(truth_file)) truth = ReadChairFile(truth_file);
 
   // 2. Identify.
@@ -217,9 +223,6 @@ int IdentifyCommand(const ParsedArgs& args) {
 
   // 3. Write: stale results go first, the plots, then the report and fit.json last.
   std::filesystem::create_directories(out / "plots");
-  for (const char* name : {"fit.json", "identify.md", "identified-chair.yaml"}) {
-    std::filesystem::remove(out / name);
-  }
   std::vector<std::size_t> plot_order;
   for (TrialRole want : {TrialRole::kValidation, TrialRole::kLumped, TrialRole::kGeometric}) {
     for (std::size_t k = 0; k < trials.size(); ++k) {

@@ -43,12 +43,12 @@ const char* EffectDescription(EffectId id) {
   static constexpr std::array<const char*, kEffectCount> text{
       "finite wheel radius: wheel centres ride the rolling-disc envelope of the ground",
       "vertical tyre compliance: series spring-damper (with unsprung mass) per wheel",
-      "the obstacle yields under wheel load: effective height h (g - c W) falls with load",
+      "the obstacle yields under load: effective height h (g - c (W/1 kN)^p), W per wheel or whole chair",
       "off-diagonal stiffness and damping between heave and pitch",
       "progressive (hardening) suspension stiffness",
       "dry (Coulomb) friction in the suspension",
       "pitch torque from longitudinal acceleration (the Γθ term)",
-      "tracked origin not at O_V: a lever arm mixes pitch into the measured altitude"};
+      "tracked origin not at O_V: a lever arm (forward, up) mixes pitch into the measured x and altitude"};
   return text[Index(id)];
 }
 
@@ -76,14 +76,16 @@ const std::vector<ParamSpec>& EffectParameters(EffectId id) {
        {"drive_tyre_period_s", 0.1, 0.045, 1.0, {0.05, 0.15}},
        {"tyre_damping_ratio", 0.3, 0.05, 1.0, {0.3}}},
       {{"cushion_loss_per_kn", 0.2, 0.0, 1.2, {0.1, 0.4}},
-       {"cushion_height_gain", 0.2, 0.5, 1.5, {1.0}}},
+       {"cushion_height_gain", 0.2, 0.5, 1.5, {1.0}},
+       {"cushion_exponent", 0.5, 0.3, 2.5, {1.0}}},
       {{"stiffness_coupling", 0.2, -0.8, 0.8, {-0.2, 0.2}},
        {"damping_coupling", 0.2, -0.8, 0.8, {0.0}}},
       {{"heave_hardening", 0.5, 0.0, 10.0, {0.3}}, {"pitch_hardening", 0.5, 0.0, 10.0, {0.3}}},
       {{"heave_friction_n", 30.0, 0.0, 250.0, {15.0}},
        {"pitch_friction_nm", 5.0, 0.0, 150.0, {3.0}}},
       {{"cm_lever_m", 0.2, -1.5, 1.5, {0.0}}},
-      {{"marker_lever_x_m", 0.1, -1.0, 1.0, {0.0}}},
+      {{"marker_lever_x_m", 0.1, -1.0, 1.0, {0.0, 0.15}},
+       {"marker_lever_z_m", 0.2, -1.5, 1.5, {0.0, 0.5}}},
   }};
   return specs[Index(id)];
 }
@@ -103,6 +105,7 @@ void SetEffectValues(EffectId id, std::span<const double> v, EffectParams& fx) {
     case EffectId::kCushionCompliance:
       fx.cushion_loss_per_kn = v[0];
       fx.cushion_height_gain = v[1];
+      fx.cushion_exponent = v[2];
       break;
     case EffectId::kHeavePitchCoupling:
       fx.stiffness_coupling = v[0];
@@ -121,6 +124,7 @@ void SetEffectValues(EffectId id, std::span<const double> v, EffectParams& fx) {
       break;
     case EffectId::kMarkerOffset:
       fx.marker_lever_x = v[0];
+      fx.marker_lever_z = v[1];
       break;
   }
 }
@@ -132,7 +136,7 @@ std::vector<double> GetEffectValues(EffectId id, const EffectParams& fx) {
     case EffectId::kTyreCompliance:
       return {fx.caster_tyre_period, fx.drive_tyre_period, fx.tyre_damping};
     case EffectId::kCushionCompliance:
-      return {fx.cushion_loss_per_kn, fx.cushion_height_gain};
+      return {fx.cushion_loss_per_kn, fx.cushion_height_gain, fx.cushion_exponent};
     case EffectId::kHeavePitchCoupling:
       return {fx.stiffness_coupling, fx.damping_coupling};
     case EffectId::kNonlinearStiffness:
@@ -142,7 +146,7 @@ std::vector<double> GetEffectValues(EffectId id, const EffectParams& fx) {
     case EffectId::kInertialPitch:
       return {fx.cm_lever};
     case EffectId::kMarkerOffset:
-      return {fx.marker_lever_x};
+      return {fx.marker_lever_x, fx.marker_lever_z};
   }
   return {};
 }

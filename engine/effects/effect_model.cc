@@ -99,8 +99,14 @@ struct Rhs {
   }
 
   /// ds/dt at one instant; fills gm_out with the GM output seen by the LM.
+  double marker_x{0.0}, marker_z{0.0};
+
   void Eval(double x, double v, double a, const State& s, State& ds, Gm* gm_out,
             long point) const {
+    if (marker_x != 0.0 || marker_z != 0.0) {
+      x -= marker_x * std::cos(s[2]) - marker_z * std::sin(s[2]);
+      point = -1;
+    }
     Gm gm;
     if (use_gm_cache && point >= 0) {
       const double* c = trial->gm_cache.data() + point * 4;
@@ -271,8 +277,12 @@ Rhs MakeRhs(const PreparedTrial& trial, const ExtendedParams& params, int* state
     rhs.omega[i] = period > 1e-6 ? 2.0 * std::numbers::pi / period : 0.0;
     rhs.tyre_slot[i] = rhs.omega[i] > 0.0 ? slot : -1;
     if (rhs.omega[i] > 0.0) slot += 2;
-    rhs.height_factor[i] =
-        std::max(0.0, fx.cushion_height_gain - fx.cushion_loss_per_kn * loads[i] * 1e-3);
+    const double load_kn =
+        1e-3 * (fx.cushion_whole_chair ? MovingMass(chair, trial.load_kg) * kGravity : loads[i]);
+    const double loss = fx.cushion_loss_per_kn == 0.0
+                            ? 0.0
+                            : fx.cushion_loss_per_kn * std::pow(std::max(0.0, load_kn), fx.cushion_exponent);
+    rhs.height_factor[i] = std::max(0.0, fx.cushion_height_gain - loss);
   }
   for (const PairWeight& p : chair.gm->beta) {
     if (p.weight == 0.0) continue;
@@ -292,6 +302,8 @@ Rhs MakeRhs(const PreparedTrial& trial, const ExtendedParams& params, int* state
   rhs.fric_z = fx.heave_friction;
   rhs.fric_t = fx.pitch_friction;
   rhs.lever = fx.cm_lever;
+  rhs.marker_x = fx.marker_lever_x;
+  rhs.marker_z = fx.marker_lever_z;
   if (state_size) *state_size = slot;
   return rhs;
 }
@@ -364,7 +376,8 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
   State s{};
   {
     std::array<double, kMaxWheels> h{}, h_rate{};
-    rhs.Contacts(trial.x[0], 0.0, h.data(), h_rate.data(), cached ? 0 : -1);
+    const bool marker = rhs.marker_x != 0.0 || rhs.marker_z != 0.0;
+    rhs.Contacts(trial.x[0] - rhs.marker_x, 0.0, h.data(), h_rate.data(), cached && !marker ? 0 : -1);
     for (int i = 0; i < rhs.wheels; ++i) {
       if (rhs.tyre_slot[i] >= 0) s[rhs.tyre_slot[i]] = h[i];
     }

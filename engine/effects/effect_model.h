@@ -31,10 +31,13 @@ struct EffectParams {
   double caster_tyre_period{0.0};  ///< [s] 1/f of the caster tyre mode (0 = rigid)
   double drive_tyre_period{0.0};   ///< [s] 1/f of the drive tyre mode (0 = rigid)
   double tyre_damping{0.5};        ///< [-] damping ratio of the tyre modes
-  // cushion_compliance: the obstacle height falls with the static wheel load W_i = α_i M g:
-  // h_eff = h (g - c W_i), g the unloaded height relative to the terrain file.
-  double cushion_loss_per_kn{0.0};  ///< c [1/kN] fraction of obstacle height lost per kN
+  // cushion_compliance: the obstacle height falls with the load on it, W = the static wheel
+  // load α_i M g (per wheel) or the whole chair's weight M g, by a power law the data choose:
+  // h_eff = h max(0, g - c (W / 1 kN)^p), g the unloaded height relative to the terrain file.
+  double cushion_loss_per_kn{0.0};  ///< c [-] fraction of obstacle height lost at W = 1 kN
   double cushion_height_gain{1.0};  ///< g [-]
+  double cushion_exponent{1.0};     ///< p [-] (1: linear yield)
+  bool cushion_whole_chair{false};  ///< W = M g instead of the wheel's α_i M g
   // heave_pitch_coupling: off-diagonal K, C as a fraction of sqrt(K_Z K_θ), sqrt(C_Z C_θ).
   double stiffness_coupling{0.0};  ///< [-] in (-1, 1)
   double damping_coupling{0.0};    ///< [-] in (-1, 1)
@@ -46,9 +49,11 @@ struct EffectParams {
   double pitch_friction{0.0};  ///< [N m]
   // inertial_pitch: Γ_θ = M h a_x (nose-up when accelerating for h > 0).
   double cm_lever{0.0};  ///< h [m]
-  // marker_offset: Z_measured = Z + r_x sin θ + r_z (cos θ - 1).
-  double marker_lever_x{0.0};  ///< [m]
-  double marker_lever_z{0.0};  ///< [m]
+  // marker_offset: the tracked origin sits at lever (r_x, r_z) in the chair frame, so
+  // x_measured = x + r_x cos θ - r_z sin θ and Z_measured = Z + r_x sin θ + r_z (cos θ - 1): the
+  // model places its wheels at x = x_measured - r_x cos θ + r_z sin θ (θ its own pitch state).
+  double marker_lever_x{0.0};  ///< r_x [m], forward
+  double marker_lever_z{0.0};  ///< r_z [m], up
 };
 
 inline constexpr double kHeaveRef = 0.01;          ///< [m] δ_ref of the heave hardening
