@@ -12,7 +12,7 @@
 //
 // A residual e is "noise-like" when, in both channels, none of these tests fails
 // (ρ = structured RMS in units of σ̂; structure S and white noise σ add in power):
-//  (a) magnitude: ρ = sqrt(max(0, mean e² - σ̂²)) / σ̂ > rho_max (0.5) fails;
+//  (a) magnitude: ρ = sqrt(max(0, mean e² - σ̂²)) / σ̂ > rho_max (0.75) fails;
 //  (b) position (on the terrain, in the trial): in windows of `window_s`, the structured RMS
 //      beyond the χ² allowance, ρ_w = sqrt(max(0, mean_w e² - σ̂² q_w)) / σ̂ with
 //      q_w = χ²_{n_w}(1 - α/m) / n_w (α = 0.01, Bonferroni over the m windows), fails when the
@@ -23,9 +23,16 @@
 //      slow structure S in white noise (independent of σ̂), fails when r̄ > rho_max²/(1+rho_max²)
 //      and r̄ exceeds the white-noise 99 % bound 2.58/√(5N);
 //  (d) input correlation: the largest |r| between e and the channel's GM output at lags ±25
-//      (residual_analysis.h) fails when > input_r_max (0.3) and outside its 99 % bound;
+//      (residual_analysis.h) fails when > input_r_max (0.4) and outside its 99 % bound;
 //  (e) speed and load: ρ per trial against speed and load is evidence only (too few trials to
 //      decide).
+// Calibration (disclosed): the limits were first 0.5, 1.0 and 0.3. Even a correct model leaves
+// structure: the centring on the rest window (σ/√n_rest, ≈ 0.2 σ), parameter and GM
+// identification errors, the paper's small-angle contact geometry. On the first no-effect set
+// of the independent truth (seed 2) the base model left 0.47 σ (pitch), 1.05 σ in its worst
+// window and |r| 0.29 with the input, so the limits were raised to 0.75, 1.5 and 0.4 before the
+// confusion matrix (other seeds) was run. A structured RMS of 0.75 σ is a fit 0.25 (1 - floor/100)
+// ·100 points, i.e. ≈ 0.3 points, below the noise floor.
 // Verdict: base noise-like → adequate; otherwise, causes found and the extended model
 // noise-like → explained; causes found but not noise-like → partly_explained; no cause →
 // unexplained. `cause` is none for adequate and unexplained, never meaning both.
@@ -59,11 +66,11 @@ struct ResidualRecord {
 };
 
 struct VerdictOptions {
-  double rho_max{0.5};      ///< (a), (c): structured RMS allowed, in σ̂
+  double rho_max{0.75};     ///< (a), (c): structured RMS allowed, in σ̂
   double rho_local{1.5};    ///< (b)
   double window_s{0.5};     ///< (b) [s]
   double alpha{0.01};       ///< (b) family-wise false-alarm rate
-  double input_r_max{0.3};  ///< (d)
+  double input_r_max{0.4};  ///< (d)
 };
 
 struct ChannelCheck {

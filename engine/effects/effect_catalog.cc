@@ -45,7 +45,7 @@ const char* EffectDescription(EffectId id) {
       "vertical tyre compliance: series spring-damper (with unsprung mass) per wheel",
       "the obstacle yields under load: effective height h (g - c (W/1 kN)^p), W per wheel or whole chair",
       "off-diagonal stiffness and damping between heave and pitch",
-      "progressive (hardening) suspension stiffness",
+      "progressive (hardening) suspension stiffness: symmetric cubic and per-wheel one-sided bump stops",
       "dry (Coulomb) friction in the suspension",
       "pitch torque from longitudinal acceleration (the Γθ term)",
       "tracked origin not at O_V: a lever arm (forward, up) mixes pitch into the measured x and altitude"};
@@ -80,7 +80,8 @@ const std::vector<ParamSpec>& EffectParameters(EffectId id) {
        {"cushion_exponent", 0.5, 0.3, 2.5, {1.0}}},
       {{"stiffness_coupling", 0.2, -0.8, 0.8, {-0.2, 0.2}},
        {"damping_coupling", 0.2, -0.8, 0.8, {0.0}}},
-      {{"heave_hardening", 0.5, 0.0, 10.0, {0.3}}, {"pitch_hardening", 0.5, 0.0, 10.0, {0.3}}},
+      {{"heave_hardening", 0.5, 0.0, 10.0, {0.3}}, {"pitch_hardening", 0.5, 0.0, 10.0, {0.3}},
+       {"bump_gain", 0.5, 0.0, 20.0, {0.0, 1.0}}, {"bump_gap_m", 0.005, 0.0, 0.03, {0.004}}},
       {{"heave_friction_n", 30.0, 0.0, 250.0, {15.0}},
        {"pitch_friction_nm", 5.0, 0.0, 150.0, {3.0}}},
       {{"cm_lever_m", 0.2, -1.5, 1.5, {0.0}}},
@@ -114,6 +115,8 @@ void SetEffectValues(EffectId id, std::span<const double> v, EffectParams& fx) {
     case EffectId::kNonlinearStiffness:
       fx.heave_hardening = v[0];
       fx.pitch_hardening = v[1];
+      fx.bump_gain = v[2];
+      fx.bump_gap = v[3];
       break;
     case EffectId::kSuspensionFriction:
       fx.heave_friction = v[0];
@@ -140,7 +143,7 @@ std::vector<double> GetEffectValues(EffectId id, const EffectParams& fx) {
     case EffectId::kHeavePitchCoupling:
       return {fx.stiffness_coupling, fx.damping_coupling};
     case EffectId::kNonlinearStiffness:
-      return {fx.heave_hardening, fx.pitch_hardening};
+      return {fx.heave_hardening, fx.pitch_hardening, fx.bump_gain, fx.bump_gap};
     case EffectId::kSuspensionFriction:
       return {fx.heave_friction, fx.pitch_friction};
     case EffectId::kInertialPitch:

@@ -47,6 +47,7 @@ struct Rhs {
   double mass{1.0}, inertia{1.0};
   double k_z{0}, c_z{0}, k_t{0}, c_t{0}, k_zt{0}, c_zt{0};
   double hard_z{0}, hard_t{0}, fric_z{0}, fric_t{0}, lever{0};
+  double bump_gain{0}, bump_gap{0};  ///< per-wheel bump stops (nonlinear_stiffness)
 
   struct Gm {
     double z, z_rate, pitch, pitch_rate;
@@ -108,17 +109,33 @@ struct Rhs {
       point = -1;
     }
     Gm gm;
+    std::array<double, kMaxWheels> zc{};
     if (use_gm_cache && point >= 0) {
       const double* c = trial->gm_cache.data() + point * 4;
       gm = {c[0], c[1] * v, c[2], c[3] * v};
     } else {
-      gm = ContactGm(x, v, s, ds, point);
+      gm = ContactGm(x, v, s, ds, point, zc.data());
     }
     Lumped(a, s, ds, gm);
+    if (bump_gain > 0.0) {
+      // Bump stops: F_i = b K_Z α_i max(0, c_i - g)² / δ_ref on each wheel's compression
+      // c_i = Z_Oi - (Z + x_i sin θ), pushing the chassis up at x_i.
+      double fz = 0.0, fp = 0.0;
+      const double sin_t = std::sin(s[2]);
+      for (int i = 0; i < wheels; ++i) {
+        const double over = zc[i] - (s[0] + wheel_x[i] * sin_t) - bump_gap;
+        if (over <= 0.0) continue;
+        const double f = bump_gain * k_z * alpha[i] * over * over / kHeaveRef;
+        fz += f;
+        fp += f * wheel_x[i];
+      }
+      ds[1] += fz / mass;
+      ds[3] += fp / inertia;
+    }
     if (gm_out) *gm_out = gm;
   }
 
-  Gm ContactGm(double x, double v, const State& s, State& ds, long point) const {
+  Gm ContactGm(double x, double v, const State& s, State& ds, long point, double* zc_out = nullptr) const {
     std::array<double, kMaxWheels> h{}, h_rate{}, zc{}, zc_rate{};
     Contacts(x, v, h.data(), h_rate.data(), point);
     for (int i = 0; i < wheels; ++i) {
@@ -134,6 +151,7 @@ struct Rhs {
         ds[slot + 1] = omega[i] * omega[i] * (h[i] - zt) + 2.0 * zeta * omega[i] * (h_rate[i] - zt_rate);
       }
     }
+    if (zc_out) std::copy(zc.begin(), zc.begin() + wheels, zc_out);
     return Geometric(zc.data(), zc_rate.data());
   }
 
@@ -302,6 +320,8 @@ Rhs MakeRhs(const PreparedTrial& trial, const ExtendedParams& params, int* state
   rhs.fric_z = fx.heave_friction;
   rhs.fric_t = fx.pitch_friction;
   rhs.lever = fx.cm_lever;
+  rhs.bump_gain = fx.bump_gain;
+  rhs.bump_gap = fx.bump_gap;
   rhs.marker_x = fx.marker_lever_x;
   rhs.marker_z = fx.marker_lever_z;
   if (state_size) *state_size = slot;
@@ -361,6 +381,7 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
   for (int i = 0; i < rhs.wheels; ++i) {
     if (rhs.radius[i] > 0.0) rigid_points = false;
     if (rhs.radius[i] > 0.0 || rhs.omega[i] > 0.0 || rhs.height_factor[i] != 1.0) plain = false;
+    if (rhs.bump_gain > 0.0) plain = false;  // needs each wheel's contact height
   }
   rhs.use_wheel_cache = cached && rigid_points;
   rhs.use_gm_cache = cached && plain;

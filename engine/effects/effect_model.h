@@ -44,6 +44,10 @@ struct EffectParams {
   // nonlinear_stiffness: K δ (1 + κ (δ/δ_ref)²), δ_ref = kHeaveRef, kPitchRef.
   double heave_hardening{0.0};  ///< κ_Z [-]
   double pitch_hardening{0.0};  ///< κ_θ [-]
+  // ... and per-wheel bump stops on compression only (progressive, one-sided): wheel i adds
+  // F_i = b K_Z α_i max(0, c_i - g)² / δ_ref, c_i = Z_Oi - (Z + x_i sin θ), at x_i.
+  double bump_gain{0.0};  ///< b [-]
+  double bump_gap{0.0};   ///< g [m] compression before the stop engages
   // suspension_friction: Coulomb force F_c tanh(δ̇/ε) on each axis.
   double heave_friction{0.0};  ///< [N]
   double pitch_friction{0.0};  ///< [N m]
