@@ -1,5 +1,5 @@
 // pwsim generate --out DIR [options]: synthetic measured trials in the folder format of
-// measured-trials.md (engine/synth/generate.h), from a truth chair and the paper's protocol.
+// measured-trials.md (synth/generate.h), from a truth chair and the paper's protocol.
 
 #include <filesystem>
 #include <map>
@@ -9,8 +9,8 @@
 
 #include "app/commands.h"
 #include "engine/chair.h"
-#include "engine/effects/effect_truth_model.h"
-#include "engine/synth/generate.h"
+#include "synth/effect_truth_model.h"
+#include "synth/generate.h"
 
 namespace pwsim::app {
 namespace {

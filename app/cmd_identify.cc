@@ -1,173 +1,24 @@
 // pwsim identify TRIAL_DIR... --out DIR: identifies the chair's GM (α, β) and LM (K, C) from
-// measured trials (engine/identify/identify.h) and writes DIR/identified-chair.yaml,
+// measured trials (sysid/identify/identify.h) and writes DIR/identified-chair.yaml,
 // DIR/fit.json (measured-trials.md), DIR/identify.md with overlay plots like the paper's
 // Fig. 5, and prints the identified table beside Table I (and the truth, when the trial
-// set has a truth-chair.yaml beside it, `<set>.truth-chair.yaml`, as generated sets do). Wiring only.
+// set has a truth beside it, <set>.truth-chair.yaml, as generated sets do). Wiring only.
 
 #include <nlohmann/json.hpp>
 
-#include <cmath>
 #include <filesystem>
-#include <iomanip>
 #include <iostream>
-#include <sstream>
 #include <stdexcept>
 
 #include "app/commands.h"
-#include "engine/synth/generate.h"
-#include "engine/atomic_file.h"
 #include "engine/chair.h"
-#include "engine/identify/identify.h"
-#include "engine/measured/measured_trial.h"
-#include "app/plot_png.h"
+#include "sysid/identify/identify.h"
+#include "sysid/measured/measured_trial.h"
+#include "report/format.h"
+#include "report/identification_report.h"
+#include "synth/generate.h"
 
 namespace pwsim::app {
-namespace {
-
-constexpr double kRadToDeg = 57.29577951308232;
-
-std::string Format(double value, int precision) {
-  if (!std::isfinite(value)) return "n/a";
-  std::ostringstream out;
-  out << std::setprecision(precision) << value;
-  return out.str();
-}
-
-std::string Fixed(double value, int decimals) {
-  if (!std::isfinite(value)) return "n/a";
-  std::ostringstream out;
-  out << std::fixed << std::setprecision(decimals) << value;
-  return out.str();
-}
-
-/// JSON number, or null for NaN/inf (JSON has neither).
-nlohmann::ordered_json JsonNumber(double value) {
-  if (!std::isfinite(value)) return nullptr;
-  return std::round(value * 1000.0) / 1000.0;
-}
-
-struct ParameterRow {
-  std::string name;
-  std::string unit;
-  double identified{0.0};
-  double table_one{0.0};
-  std::optional<double> truth;
-};
-
-double BetaOf(const GeometricParams& gm, int i, int j) {
-  for (const PairWeight& pair : gm.beta) {
-    if (pair.i == i && pair.j == j) return pair.weight;
-  }
-  return 0.0;
-}
-
-std::vector<ParameterRow> ParameterRows(const Chair& identified, const Chair* truth) {
-  const Chair table = MakeTableOneChair();
-  std::vector<ParameterRow> rows;
-  const int n = identified.wheel_count();
-  const bool table_applies = n == table.wheel_count();
-  auto opt = [&](auto get) -> std::optional<double> {
-    if (!truth || !truth->gm || !truth->lm || truth->wheel_count() != n) return std::nullopt;
-    return get(*truth);
-  };
-  for (int i = 0; i < n; ++i) {
-    rows.push_back({"alpha_" + std::to_string(i + 1), "-", identified.gm->alpha[i],
-                    table_applies ? table.gm->alpha[i] : NAN,
-                    opt([i](const Chair& c) { return c.gm->alpha[static_cast<std::size_t>(i)]; })});
-  }
-  for (int i = 0; i < n; ++i) {
-    for (int j = i + 1; j < n; ++j) {
-      rows.push_back({"beta_" + std::to_string(i + 1) + std::to_string(j + 1), "-",
-                      BetaOf(*identified.gm, i, j), table_applies ? BetaOf(*table.gm, i, j) : NAN,
-                      opt([i, j](const Chair& c) { return BetaOf(*c.gm, i, j); })});
-    }
-  }
-  rows.push_back({"K_z", "N/m", identified.lm->k_z, table.lm->k_z,
-                  opt([](const Chair& c) { return c.lm->k_z; })});
-  rows.push_back({"C_z", "N s/m", identified.lm->c_z, table.lm->c_z,
-                  opt([](const Chair& c) { return c.lm->c_z; })});
-  rows.push_back({"K_theta", "N m/rad", identified.lm->k_theta, table.lm->k_theta,
-                  opt([](const Chair& c) { return c.lm->k_theta; })});
-  rows.push_back({"C_theta", "N m s/rad", identified.lm->c_theta, table.lm->c_theta,
-                  opt([](const Chair& c) { return c.lm->c_theta; })});
-  return rows;
-}
-
-std::string ErrorText(double value, double reference, bool relative) {
-  if (!std::isfinite(reference)) return "";
-  if (relative && reference != 0.0) {
-    return Fixed(100.0 * (value - reference) / reference, 2) + " %";
-  }
-  return Fixed(value - reference, 4);
-}
-
-std::string TextTable(const std::vector<ParameterRow>& rows, bool with_truth) {
-  std::ostringstream out;
-  out << std::left << std::setw(10) << "parameter" << std::setw(11) << "unit" << std::right
-      << std::setw(12) << "identified" << std::setw(12) << "Table I";
-  if (with_truth) out << std::setw(12) << "truth" << std::setw(12) << "error";
-  out << "\n";
-  for (const ParameterRow& row : rows) {
-    const bool lm = row.unit != "-";
-    out << std::left << std::setw(10) << row.name << std::setw(11) << row.unit << std::right
-        << std::setw(12) << Format(row.identified, lm ? 5 : 3) << std::setw(12)
-        << Format(row.table_one, lm ? 5 : 3);
-    if (with_truth && row.truth) {
-      out << std::setw(12) << Format(*row.truth, lm ? 5 : 3) << std::setw(12)
-          << ErrorText(row.identified, *row.truth, lm);
-    }
-    out << "\n";
-  }
-  return out.str();
-}
-
-std::string MarkdownTable(const std::vector<ParameterRow>& rows, bool with_truth) {
-  std::string text = "| parameter | unit | identified | Table I (paper)";
-  text += with_truth ? " | truth | error |\n|---|---|---|---|---|---|\n" : " |\n|---|---|---|---|\n";
-  for (const ParameterRow& row : rows) {
-    const bool lm = row.unit != "-";
-    text += "| " + row.name + " | " + row.unit + " | " + Format(row.identified, lm ? 5 : 3) +
-            " | " + Format(row.table_one, lm ? 5 : 3);
-    if (with_truth) {
-      text += row.truth ? " | " + Format(*row.truth, lm ? 5 : 3) + " | " +
-                              ErrorText(row.identified, *row.truth, lm)
-                        : " | | ";
-    }
-    text += " |\n";
-  }
-  return text;
-}
-
-/// The overlay figure of one trial, like Fig. 5: GM input, Z and θ, measured vs model.
-void PlotTrial(const MeasuredTrial& trial, const Chair& chair, const TrialComparison& cmp,
-               const std::filesystem::path& file) {
-  std::vector<double> ground(cmp.t.size());
-  std::vector<double> front(cmp.t.size());
-  for (std::size_t k = 0; k < cmp.t.size(); ++k) {
-    ground[k] = 1e3 * trial.terrain.HeightAt(trial.track.x[k]);
-    front[k] = 1e3 * trial.terrain.HeightAt(trial.track.x[k] + chair.wheels.front().x);
-  }
-  std::vector<double> z_meas, z_model, p_meas, p_model;
-  for (std::size_t k = 0; k < cmp.t.size(); ++k) {
-    z_meas.push_back(1e3 * cmp.z_measured[k]);
-    z_model.push_back(1e3 * cmp.z_model[k]);
-    p_meas.push_back(kRadToDeg * cmp.pitch_measured[k]);
-    p_model.push_back(kRadToDeg * cmp.pitch_model[k]);
-  }
-  std::vector<PlotPanel> panels;
-  panels.push_back({"(a) ground under O_V and under the front wheel: the model input",
-                    "z [mm]",
-                    {{"ground at O_V", ground, 0x7f7f7f}, {"ground at front wheel", front, 0xbcbd22}}});
-  panels.push_back({"(b) Z, fit " + Fixed(cmp.fit_z, 1) + " %",
-                    "Z [mm]",
-                    {{"measured (mocap, centred)", z_meas, 0x1f77b4}, {"model GM+LM", z_model, 0xd62728}}});
-  panels.push_back({"(c) pitch, fit " + Fixed(cmp.fit_pitch, 1) + " %",
-                    "theta [deg]",
-                    {{"measured (mocap, centred)", p_meas, 0x1f77b4}, {"model GM+LM", p_model, 0xd62728}}});
-  WritePlotPng(file, cmp.t, panels, "t [s]", 1000, 260);
-}
-
-}  // namespace
 
 const CommandSpec& IdentifySpec() {
   static const CommandSpec spec{
@@ -205,11 +56,9 @@ int IdentifyCommand(const ParsedArgs& args) {
   role_options.holdout_every = static_cast<int>(args.GetInt("holdout-every"));
   const long long max_plots = args.GetInt("max-plots");
 
-  // 1. Old results go first, so that a run that fails below never leaves a report that looks
-  //    complete; then every input is read before anything new is written.
-  for (const char* name : {"fit.json", "identify.md", "identified-chair.yaml"}) {
-    std::filesystem::remove(out / name);
-  }
+  // 1. Old results go first (a failed run must not leave a report that looks complete), then
+  //    every input is read: a bad file stops here, before anything is written.
+  report::RemoveIdentificationReport(out);
   std::vector<MeasuredTrial> trials;
   for (const std::string& folder : args.positional()) trials.push_back(ReadMeasuredTrial(folder));
   std::optional<Chair> truth;
@@ -222,83 +71,20 @@ int IdentifyCommand(const ParsedArgs& args) {
   const IdentifyResult result = IdentifyChair(trials, roles, options);
 
   // 3. Write: stale results go first, the plots, then the report and fit.json last.
-  std::filesystem::create_directories(out / "plots");
-  std::vector<std::size_t> plot_order;
-  for (TrialRole want : {TrialRole::kValidation, TrialRole::kLumped, TrialRole::kGeometric}) {
-    for (std::size_t k = 0; k < trials.size(); ++k) {
-      if (roles[k] == want && trials[k].terrain.MaxHeight() > 0.0) plot_order.push_back(k);
-    }
-  }
-  if (plot_order.size() > static_cast<std::size_t>(std::max(0LL, max_plots))) {
-    plot_order.resize(static_cast<std::size_t>(std::max(0LL, max_plots)));
-  }
-  std::vector<std::string> plot_files(trials.size());
-  for (std::size_t k : plot_order) {
-    const TrialComparison cmp =
-        CompareTrial(trials[k], result.chair, options.simulation, options.offset_window);
-    plot_files[k] = "plots/" + trials[k].name + ".png";
-    PlotTrial(trials[k], result.chair, cmp, out / plot_files[k]);
-  }
-
-  const std::vector<ParameterRow> rows = ParameterRows(result.chair, truth ? &*truth : nullptr);
-  WriteFileAtomically(out / "identified-chair.yaml", ChairToYaml(result.chair));
-
-  std::string md = "# Identification report\n\n";
-  md += "pwsim identify on " + std::to_string(trials.size()) +
-        " trials (seed 000 §IV): the geometric model by linear least squares on the slowest "
-        "trials, the lumped model by output-error minimisation (Ceres, Levenberg-Marquardt) on "
-        "the fastest, validated on trials held out of both fits. Mode: " +
-        std::string(options.shared_mode ? "one natural frequency and damping ratio for Z and "
-                                          "pitch at " + Fixed(result.reference_load_kg, 0) + " kg"
-                                        : "independent K, C per axis") +
-        "; " + std::to_string(options.passes) + " GM/LM pass(es).\n\n";
-  md += "## Identified parameters beside Table I\n\n" + MarkdownTable(rows, truth.has_value());
-  if (truth) md += "\n(truth: `" + truth_file.string() + "`, written by `pwsim generate`.)\n";
-  md += "\nFitness (MATLAB `compare`, 100 (1 - |y - ŷ| / |y - mean y|), model driven by the "
-        "measured x(t), channels centred at the start):\n\n";
-  md += "| trial | role | load [kg] | speed [m/s] | untracked frames | fit Z [%] | fit θ [%] |\n";
-  md += "|---|---|---|---|---|---|---|\n";
-  for (std::size_t k = 0; k < trials.size(); ++k) {
-    const TrialFit& fit = result.trials[k];
-    md += "| " + fit.trial + " | " + RoleName(fit.role) + " | " + Fixed(trials[k].load_kg, 0) +
-          " | " + Fixed(trials[k].NominalSpeed(), 2) + " | " +
-          std::to_string(trials[k].track.untracked_frames) + " | " + Fixed(fit.fit_z, 1) +
-          " | " + Fixed(fit.fit_pitch, 1) + " |\n";
-  }
-  md += "\n**Validation (held out, pooled): Z " + Fixed(result.validation_fit_z, 1) +
-        " %, θ " + Fixed(result.validation_fit_pitch, 1) +
-        " %** (the paper reports 79.3 % and 57.6 % on its real chair).\n\n";
-  md += "## Overlays (like Fig. 5)\n\n";
-  for (std::size_t k : plot_order) {
-    md += "### " + trials[k].name + " (" + RoleName(roles[k]) + ")\n\n![" + trials[k].name +
-          "](" + plot_files[k] + ")\n\n";
-  }
-  md += "## Solver\n\nLinear start: K_z " + Format(result.start.lm.k_z, 5) + ", C_z " +
-        Format(result.start.lm.c_z, 5) + ", K_θ " + Format(result.start.lm.k_theta, 5) +
-        ", C_θ " + Format(result.start.lm.c_theta, 5) + (result.start.fallback_z ||
-        result.start.fallback_pitch ? " (partly a default: the linear estimate was unusable)" : "") +
-        ". Ceres: " + std::to_string(result.solver_iterations) + " iterations in all; last solve: " +
-        result.solver_summary + "\n";
-  WriteFileAtomically(out / "identify.md", md);
-
-  nlohmann::ordered_json fit;
-  fit["format"] = "pwsim-fit/1";
-  fit["trials"] = nlohmann::ordered_json::array();
-  for (const TrialFit& t : result.trials) {
-    fit["trials"].push_back({{"trial", t.trial},
-                             {"role", RoleName(t.role)},
-                             {"fit_pct", {{"z", JsonNumber(t.fit_z)}, {"pitch", JsonNumber(t.fit_pitch)}}}});
-  }
-  fit["validation_fit_pct"] = {{"z", JsonNumber(result.validation_fit_z)},
-                               {"pitch", JsonNumber(result.validation_fit_pitch)}};
-  fit["shared_mode"] = options.shared_mode;
-  fit["identified_chair"] = "identified-chair.yaml";
-  WriteFileAtomically(out / "fit.json", fit.dump(2) + "\n");
+  report::IdentificationReportInput report_input;
+  report_input.trials = &trials;
+  report_input.roles = &roles;
+  report_input.result = &result;
+  report_input.options = &options;
+  report_input.truth = truth ? &*truth : nullptr;
+  report_input.truth_file = truth_file;
+  report_input.max_plots = max_plots;
+  const std::vector<report::ParameterRow> rows = report::WriteIdentificationReport(out, report_input);
 
   std::cout << "pwsim identify: " << trials.size() << " trials\n\n"
-            << TextTable(rows, truth.has_value()) << "\nvalidation fit (held out): Z "
-            << Fixed(result.validation_fit_z, 1) << " %, pitch "
-            << Fixed(result.validation_fit_pitch, 1) << " %\n  " << (out / "identified-chair.yaml").string()
+            << report::TextTable(rows, truth.has_value()) << "\nvalidation fit (held out): Z "
+            << report::Fixed(result.validation_fit_z, 1) << " %, pitch "
+            << report::Fixed(result.validation_fit_pitch, 1) << " %\n  " << (out / "identified-chair.yaml").string()
             << "\n  " << (out / "fit.json").string() << "\n  " << (out / "identify.md").string()
             << "\n";
   return 0;

@@ -2,7 +2,7 @@
 // For each measured trial the MCA runs twice, on the tracked motion (Fig. 6a) and on the model
 // driven by the trial's measured x(t) (Fig. 6b); the heave and pitch commands are compared by
 // their maximum normalised cross-correlation over lags (the paper reports > 0.98). Without
-// TRIAL_DIR, trials are generated in-process (engine/synth: the paper's protocol at 1.2 m/s,
+// TRIAL_DIR, trials are generated in-process (synth: the paper's protocol at 1.2 m/s,
 // 100 kg, over the cushion). Writes DIR/mca_validation.json, DIR/<trial>/commands.csv and
 // DIR/mca_validation.png (the first trial, as Fig. 7).
 
@@ -16,14 +16,14 @@
 #include <stdexcept>
 
 #include "app/commands.h"
-#include "app/plot_png.h"
+#include "plot/plot.h"
 #include "engine/atomic_file.h"
 #include "engine/chair.h"
-#include "engine/effects/effect_catalog.h"
-#include "engine/effects/effect_truth_model.h"
-#include "engine/measured/measured_trial.h"
+#include "sysid/effects/effect_catalog.h"
+#include "synth/effect_truth_model.h"
+#include "sysid/measured/measured_trial.h"
 #include "engine/number_format.h"
-#include "engine/synth/generate.h"
+#include "synth/generate.h"
 #include "engine/trial_table.h"
 #include "mca/config.h"
 #include "mca/cue_analysis.h"
@@ -148,7 +148,7 @@ int McaValidateCommand(const ParsedArgs& args) {
     generate.loads = {scene.load_kg};
     generate.without_cushion = false;
     generate.seed = static_cast<std::uint64_t>(args.GetInt("seed"));
-    source = "generated (engine/synth, truth = Table I chair)";
+    source = "generated (synth, truth = Table I chair)";
     if (args.Has("effect")) {
       const std::optional<effects::EffectId> effect = effects::ParseEffect(args.Get("effect"));
       if (!effect) {
@@ -211,16 +211,15 @@ int McaValidateCommand(const ParsedArgs& args) {
       pitch_model_deg[k] = r.pitch_model[k] / mca::kDegToRad;
       pitch_measured_deg[k] = r.pitch_measured[k] / mca::kDegToRad;
     }
-    PngFigure figure;
-    figure.title = "MCA outputs, model vs tracking data (" + r.name + ")";
-    figure.x_label = "t [s]";
-    figure.panels.push_back({"heave command, xcorr " + FormatDouble(std::round(r.heave_xcorr[0] * 1e4) / 1e4), "m",
-                             {{"model", r.t, r.heave_model, 0x1f77b4, false},
-                              {"tracking", r.t, r.heave_measured, 0xd62728, false}}});
-    figure.panels.push_back({"pitch command, xcorr " + FormatDouble(std::round(r.pitch_xcorr[0] * 1e4) / 1e4), "deg",
-                             {{"model", r.t, pitch_model_deg, 0x1f77b4, false},
-                              {"tracking", r.t, pitch_measured_deg, 0xd62728, false}}});
-    WriteFigurePng(out_dir / "mca_validation.png", figure);
+    plot::WriteSharedXFigure(
+        out_dir / "mca_validation.png", r.t,
+        {{"heave command, xcorr " + FormatDouble(std::round(r.heave_xcorr[0] * 1e4) / 1e4),
+          "heave [m]",
+          {{"model", r.heave_model, 0x0072B2}, {"tracking", r.heave_measured, 0xD55E00}}},
+         {"pitch command, xcorr " + FormatDouble(std::round(r.pitch_xcorr[0] * 1e4) / 1e4),
+          "pitch [deg]",
+          {{"model", pitch_model_deg, 0x0072B2}, {"tracking", pitch_measured_deg, 0xD55E00}}}},
+        "t [s]");
   }
   std::cout << "pwsim mca-validate: " << results.size() << " trial(s), " << source << ", "
             << (pass ? "all" : "NOT all") << " cross-correlations >= " << min_xcorr << "\n"

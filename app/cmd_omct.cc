@@ -8,7 +8,7 @@
 #include <stdexcept>
 
 #include "app/commands.h"
-#include "app/plot_png.h"
+#include "plot/plot.h"
 #include "engine/atomic_file.h"
 #include "engine/number_format.h"
 #include "engine/scene.h"
@@ -65,21 +65,28 @@ int OmctCommand(const ParsedArgs& args) {
   std::filesystem::create_directories(out_dir);
   WriteFileAtomically(out_dir / "omct.csv", csv.str());
 
-  PngFigure figure;
-  figure.title = "OMCT, platform " + config.platform.name + " (gain: output/input, phase: deg)";
+  plot::Figure figure;
+  figure.title = "OMCT, platform " + config.platform.name;
   figure.x_label = "frequency [rad/s]";
   figure.log_x = true;
-  PngPanel gain{"gain", "-", {}, true};
-  PngPanel phase{"phase", "deg", {}, false};
+  plot::Panel gain;
+  gain.title = "gain";
+  gain.y_label = "gain, output/input [-]";
+  gain.log_y = true;
+  plot::Panel phase;
+  phase.title = "phase";
+  phase.y_label = "phase [deg]";
   for (const mca::OmctTest& test : mca::OmctTests()) {
-    PngSeries g{test.name, {}, {}, 0, true};
+    plot::Series g;
+    g.label = test.name;
+    g.style = plot::Style::kLinesPoints;
     for (const mca::OmctPoint& p : points) {
       if (p.test != test.name) continue;
       g.x.push_back(p.frequency);
       g.y.push_back(p.gain);
     }
     if (g.x.empty()) continue;
-    PngSeries ph = g;
+    plot::Series ph = g;
     ph.y.clear();
     for (const mca::OmctPoint& p : points) {
       if (p.test == test.name) ph.y.push_back(p.phase);
@@ -88,8 +95,8 @@ int OmctCommand(const ParsedArgs& args) {
     phase.series.push_back(std::move(ph));
   }
   figure.panels = {gain, phase};
-  figure.panel_height = 420;
-  WriteFigurePng(out_dir / "omct.png", figure);
+  figure.panel_height_px = 420;
+  plot::WriteFigure(out_dir / "omct.png", figure);
 
   std::cout << "pwsim omct: platform '" << config.platform.name << "', " << points.size()
             << " points (" << points.size() / 12 << " tests x 12 frequencies)\n"

@@ -3,63 +3,49 @@
 
 #include <nlohmann/json.hpp>
 
-#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 
 #include "app/commands.h"
-#include "app/run_mca.h"
-#include "app/run_render.h"
 #include "app/scene_path.h"
 #include "engine/atomic_file.h"
 #include "engine/chair_simulator.h"
 #include "engine/scene.h"
 #include "engine/trial_table.h"
+#include "report/render_stage.h"
+#include "report/run_mca.h"
+#include "report/run_report.h"
 
 namespace pwsim::app {
 namespace {
 
-/// The engine's per-tick samples as the trial.csv columns of the foundation.
-TrialTable ChairColumns(const Scene& scene, const std::vector<ChairSample>& samples) {
-  const std::size_t rows = samples.size();
-  TrialTable table(rows);
-  auto column = [&](auto&& get) {
-    std::vector<double> values(rows);
-    for (std::size_t r = 0; r < rows; ++r) values[r] = get(samples[r]);
-    return values;
-  };
-  table.Add("t_s", column([&](const ChairSample& s) { return scene.clock.TimeAt(s.tick); }));
-  table.Add("x_m", column([](const ChairSample& s) { return s.drive.x; }));
-  table.Add("v_mps", column([](const ChairSample& s) { return s.drive.v; }));
-  table.Add("a_mps2", column([](const ChairSample& s) { return s.drive.a; }));
-  for (int i = 0; i < scene.chair.wheel_count(); ++i) {
-    table.Add("z_o" + std::to_string(i + 1) + "_m",
-              column([i](const ChairSample& s) { return s.z_O[static_cast<std::size_t>(i)]; }));
+/// --size WxH (px), --fps N and the render flags, each number checked with its option's name.
+report::RenderStageOptions RenderOptions(const ParsedArgs& args) {
+  report::RenderStageOptions options;
+  if (args.Has("size")) {
+    const std::string text = args.Get("size");
+    int width = 0, height = 0;
+    char x = 0, extra = 0;
+    if (std::sscanf(text.c_str(), "%d%c%d%c", &width, &x, &height, &extra) != 3 || x != 'x' ||
+        width < 16 || height < 16 || width > 16384 || height > 16384) {
+      throw std::invalid_argument("option --size: expected WxH in px, each 16..16384 (e.g. 1280x720), got '" +
+                                  text + "'");
+    }
+    options.width_px = width;
+    options.height_px = height;
   }
-  table.Add("z_gm_m", column([](const ChairSample& s) { return s.gm.z; }));
-  table.Add("pitch_gm_rad", column([](const ChairSample& s) { return s.gm.pitch; }));
-  table.Add("z_m", column([](const ChairSample& s) { return s.lm.z; }));
-  table.Add("pitch_rad", column([](const ChairSample& s) { return s.lm.pitch; }));
-  table.Add("z_rate_mps", column([](const ChairSample& s) { return s.lm.z_rate; }));
-  table.Add("pitch_rate_radps", column([](const ChairSample& s) { return s.lm.pitch_rate; }));
-  table.Add("z_acc_mps2", column([](const ChairSample& s) { return s.lm_acc.z; }));
-  table.Add("pitch_acc_radps2", column([](const ChairSample& s) { return s.lm_acc.pitch; }));
-  table.Add("pitch_torque_nm", column([](const ChairSample& s) { return s.pitch_torque; }));
-  return table;
-}
-
-/// Largest |value - reference| over the trial, with its time.
-nlohmann::ordered_json Peak(const TrialTable& table, const std::string& name, const char* unit) {
-  const auto& t = table.Column("t_s");
-  const auto& values = table.Column(name);
-  std::size_t best = 0;
-  for (std::size_t r = 1; r < values.size(); ++r) {
-    if (std::abs(values[r] - values[0]) > std::abs(values[best] - values[0])) best = r;
+  if (args.Has("fps")) {
+    const long long fps = args.GetInt("fps");
+    if (fps < 1 || fps > 1000) throw std::invalid_argument("option --fps: expected 1..1000");
+    options.fps = static_cast<int>(fps);
   }
-  return {{"column", name},
-          {std::string("value_") + unit, values[best]},
-          {std::string("excursion_") + unit, values[best] - values[0]},
-          {"t_s", t[best]}};
+  options.stereo = args.Flag("stereo");
+  options.no_tilt_removal = args.Flag("no-tilt-removal");
+  options.no_video = args.Flag("no-video");
+  options.lossless = args.Flag("lossless");
+  options.png_frames = args.Flag("png-frames");
+  return options;
 }
 
 }  // namespace
@@ -92,30 +78,22 @@ int RunCommand(const ParsedArgs& args) {
   const long long decimate = args.GetInt("decimate");
   if (decimate < 1) throw std::invalid_argument("option --decimate: expected an integer >= 1");
 
+  const report::RenderStageOptions render_options = RenderOptions(args);
+
   const Scene scene = LoadScene(scene_path);
   const std::vector<ChairSample> samples = SimulateScene(scene);
-  TrialTable table = ChairColumns(scene, samples);
-
-  nlohmann::ordered_json summary;
-  summary["format"] = "pwsim-run-summary/1";
-  summary["scene"] = {{"file", scene_path.string()}, {"name", scene.name}};
-  summary["clock_rate_hz"] = scene.clock.rate_hz;
-  summary["duration_s"] = table.Column("t_s").back();
-  summary["ticks"] = samples.size();
-  summary["load_kg"] = scene.load_kg;
-  summary["speed_mps"] = scene.drive.speed;
-  summary["peak_heave"] = Peak(table, "z_m", "m");
-  summary["peak_pitch"] = Peak(table, "pitch_rad", "rad");
-  AddMotionCueing(scene, samples, table, summary, out_dir);  // mca/: platform, visual, vestibular
+  TrialTable table = report::ChairColumns(scene, samples);
+  nlohmann::ordered_json summary = report::RunSummary(scene, scene_path.string(), table);
+  report::AddMotionCueing(scene, samples, table, summary, out_dir);  // platform, visual, vestibular
 
   std::filesystem::create_directories(out_dir);
   table.WriteCsv(out_dir / "trial.csv", static_cast<int>(decimate));
-  RenderTrial(scene, table, args, summary, out_dir);  // render/: video, frames.csv
+  report::RenderTrial(scene, table, render_options, summary, out_dir);  // video, frames.csv
   WriteFileAtomically(out_dir / "summary.json", summary.dump(2) + "\n");
   std::cout << "pwsim run: scene '" << scene.name << "' (" << scene_path.string() << "), "
             << samples.size() << " ticks at " << scene.clock.rate_hz << " Hz; wrote:\n";
-  for (const char* name : {"trial.csv", "summary.json", "mca.png", "video.mp4", "video_lossless.mkv",
-                           "frames.csv", "visual_check.csv", "visual_check.png"}) {
+  for (const char* name : {"trial.csv", "summary.json", "mca.png", "mca.svg", "mca.plot.csv", "video.mp4", "video_lossless.mkv",
+                           "frames.csv", "visual_check.csv", "visual_check.png", "visual_check.svg"}) {
     if (std::filesystem::exists(out_dir / name)) std::cout << "  " << (out_dir / name).string() << "\n";
   }
   return 0;

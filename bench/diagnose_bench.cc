@@ -1,5 +1,5 @@
 // diagnose_bench: the confusion matrix of the diagnosis (hidden effect × named cause) and its
-// fitness gains, on seeded synthetic trial sets (engine/effects/synthetic_trials.h), and the
+// fitness gains, on seeded synthetic trial sets (synth/synthetic_trials.h), and the
 // time to diagnose a set of 30 trials. Plain executable (no Google Benchmark: one run of each
 // diagnosis is the measurement).
 //
@@ -17,10 +17,10 @@
 #include <string>
 #include <vector>
 
-#include "engine/diagnose/diagnose.h"
-#include "engine/effects/effect_truth_model.h"
-#include "engine/effects/synthetic_trials.h"
-#include "engine/synth/generate.h"
+#include "sysid/diagnose/diagnose.h"
+#include "synth/effect_truth_model.h"
+#include "synth/synthetic_trials.h"
+#include "synth/generate.h"
 
 namespace {
 

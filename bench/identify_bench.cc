@@ -18,8 +18,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/identify/identify.h"
-#include "engine/synth/generate.h"
+#include "sysid/identify/identify.h"
+#include "synth/generate.h"
 
 namespace {
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Solves the output-error problem exported by identify_bench with scipy.optimize.least_squares.
 
-Same problem as pwsim's Ceres stage (engine/identify/identify.cc): per trial and axis, the lumped
+Same problem as pwsim's Ceres stage (sysid/identify/identify.cc): per trial and axis, the lumped
 model (M s^2 + C s + K) X = (C s + K) X_GM, discretised exactly for a first-order hold on the
 1 kHz grid, started at rest, sampled at the mocap times by linear interpolation; residuals are
 the measured output minus its initial-window offset minus the model, weighted by 1/rms of each

@@ -35,3 +35,38 @@ function(pwsim_add_test name)
   gtest_discover_tests(${name} WORKING_DIRECTORY ${PROJECT_BINARY_DIR} DISCOVERY_TIMEOUT 60
                        PROPERTIES LABELS "${ARG_LABELS}")
 endfunction()
+
+# The dependency direction between pwsim's libraries, enforced at configure time:
+#   pwsim_allow_dependencies(<lib> <allowed pwsim libs>...)  records what <lib> may link;
+#   pwsim_check_dependencies()  (end of the top-level CMakeLists.txt) fails the configuration
+#   when a library links another pwsim library outside its list, or when a library declared
+#   real-time (pwsim_forbid_links) links a forbidden package.
+function(pwsim_allow_dependencies name)
+  set_property(GLOBAL APPEND PROPERTY PWSIM_LAYERED_LIBRARIES ${name})
+  set_property(TARGET ${name} PROPERTY PWSIM_ALLOWED_DEPENDENCIES ${ARGN})
+endfunction()
+
+function(pwsim_forbid_links name)
+  set_property(TARGET ${name} PROPERTY PWSIM_FORBIDDEN_LINKS ${ARGN})
+endfunction()
+
+function(pwsim_check_dependencies)
+  get_property(layered GLOBAL PROPERTY PWSIM_LAYERED_LIBRARIES)
+  foreach(lib IN LISTS layered)
+    get_target_property(allowed ${lib} PWSIM_ALLOWED_DEPENDENCIES)
+    if(NOT allowed)
+      set(allowed "")
+    endif()
+    get_target_property(links ${lib} LINK_LIBRARIES)
+    get_target_property(forbidden ${lib} PWSIM_FORBIDDEN_LINKS)
+    foreach(dep IN LISTS links)
+      if(dep IN_LIST layered AND NOT dep STREQUAL lib AND NOT dep IN_LIST allowed)
+        message(FATAL_ERROR "pwsim layering: ${lib} links ${dep}, but may link only: ${allowed}"
+                            " (see the README's layout section)")
+      endif()
+      if(forbidden AND dep IN_LIST forbidden)
+        message(FATAL_ERROR "pwsim layering: ${lib} is real-time core and must not link ${dep}")
+      endif()
+    endforeach()
+  endforeach()
+endfunction()

@@ -1,5 +1,5 @@
 #pragma once
-// Always-on invariant checks for programmer errors (error kind 1 in docs/design.md).
+// Always-on invariant checks for programmer errors (error kind 1 of the design: ../shared/design.md, "Errors").
 // A failed check prints the condition with file and line, then aborts. Bad *input* never
 // reaches these: it is rejected at load time with an InputError (see input_error.h).
 

@@ -212,7 +212,7 @@ FigureFiles FigureFilesFor(const fs::path& stem_in) {
   fs::path stem = stem_in;
   if (stem.extension() == ".png" || stem.extension() == ".svg") stem.replace_extension();
   const std::string base = stem.string();
-  return {base + ".png", base + ".svg", base + ".csv", base + ".gp"};
+  return {base + ".png", base + ".svg", base + ".plot.csv", base + ".gp"};
 }
 
 bool GnuplotAvailable() {
@@ -233,7 +233,7 @@ void WriteFigure(const fs::path& stem, const Figure& figure) {
   for (const fs::path& f : {files.png, files.svg, files.csv, files.gp}) fs::remove(f);
 
   // The data file is named relative to the script, so the .gp replays from its folder.
-  const fs::path data = fs::path(files.csv).replace_extension(".dat");
+  const fs::path data = fs::path(files.csv).replace_extension(".dat");  // STEM.plot.dat
   const std::string data_name = data.filename().string();
   const std::string body = PlotBody(figure, data_name);
   const int height = figure.panel_height_px * static_cast<int>(figure.panels.size()) +

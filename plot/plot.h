@@ -7,13 +7,15 @@
 // renamed, so a failed call never leaves a half-written figure that looks complete:
 //   STEM.png   pngcairo, for reports
 //   STEM.svg   svg, for papers
-//   STEM.csv   the plotted data in long form: panel,series,x,y (one row per point)
-//   STEM.gp    the gnuplot script that drew both images (rerun it to restyle a figure)
+//   STEM.plot.csv  the plotted data in long form: panel,series,x,y (one row per point)
+//   STEM.gp        the gnuplot script that drew both images, reading STEM.plot.dat (the same
+//                  data in gnuplot's block format): rerun `gnuplot STEM.gp` to restyle a figure
+// (".plot.csv", so a figure never overwrites a command's own STEM.csv table.)
 //
 //   plot::Figure fig{.x_label = "t [s]"};
 //   fig.panels.push_back({.title = "heave", .y_label = "a_z [m/s^2]",
 //                         .series = {{"vehicle", t, y1}, {"platform", t, y2}}});
-//   plot::WriteFigure("out/mca", fig);   // out/mca.png, .svg, .csv, .gp
+//   plot::WriteFigure("out/mca", fig);   // out/mca.png, .svg, .plot.csv, .gp
 //
 // Labels are printed literally (no gnuplot "enhanced text" markup), so `a_z` stays `a_z`.
 
@@ -59,7 +61,7 @@ struct Figure {
   int panel_height_px{320};
 };
 
-/// Writes STEM.png, STEM.svg, STEM.csv and STEM.gp (STEM may carry a ".png" extension, which
+/// Writes STEM.png, STEM.svg, STEM.plot.csv, STEM.plot.dat and STEM.gp (STEM may carry a ".png" extension, which
 /// is dropped). @throws std::runtime_error naming the file or the failing gnuplot command.
 /// @throws std::invalid_argument if a series has x and y of different lengths or the figure
 /// has no panel (a bug in the caller).

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -110,7 +111,7 @@ TEST_F(PlotTest, BoxPlotCsvHoldsEveryValuePerGroup) {
   panel.boxes = {{"T_r", {1, 2, 2, 3, 6}}, {"T_m", {2, 3, 3, 4}}};
   fig.panels.push_back(panel);
   WriteFigure(dir / "box", fig);
-  const auto csv = Lines(dir / "box.csv");
+  const auto csv = Lines(dir / "box.plot.csv");
   ASSERT_EQ(csv.size(), 10u);
   EXPECT_EQ(csv[1], "ratings,T_r,,1");
   EXPECT_EQ(csv[9], "ratings,T_m,,4");
@@ -124,14 +125,27 @@ TEST_F(PlotTest, ReplacesAnOldFigureAndLeavesNothingWhenGnuplotFails) {
   ok.panels.push_back(MakePanel("p", "y [m]", {MakeSeries("s", {1, 2, 3}, {1, 4, 9})}));
   WriteFigure(dir / "f", ok);
   ASSERT_TRUE(fs::exists(dir / "f.png"));
-  // A log axis over non-positive data with a fixed range is an error in gnuplot.
-  Figure bad = ok;
-  bad.panels[0].log_y = true;
-  bad.panels[0].y_min = -1;
-  bad.panels[0].y_max = 1;
-  EXPECT_THROW(WriteFigure(dir / "f", bad), std::runtime_error);
+  // A gnuplot that fails (a stand-in on PATH: a real gnuplot failure cannot be provoked
+  // reliably from valid input) must leave neither the old nor a partial figure behind.
+  const fs::path fake = dir / "fakebin";
+  fs::create_directories(fake);
+  {
+    std::ofstream script(fake / "gnuplot");
+    script << "#!/bin/sh\necho 'simulated gnuplot failure' >&2\nexit 3\n";
+  }
+  fs::permissions(fake / "gnuplot", fs::perms::owner_all);
+  const std::string old_path = std::getenv("PATH");
+  setenv("PATH", (fake.string() + ":" + old_path).c_str(), 1);
+  try {
+    WriteFigure(dir / "f", ok);
+    ADD_FAILURE() << "expected a failure";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("status 3"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("simulated gnuplot failure"), std::string::npos);
+  }
+  setenv("PATH", old_path.c_str(), 1);
   EXPECT_FALSE(fs::exists(dir / "f.png"));
-  EXPECT_FALSE(fs::exists(dir / "f.csv"));
+  EXPECT_FALSE(fs::exists(dir / "f.plot.csv"));
 }
 
 TEST(PlotValidation, MismatchedLengthsAreRejected) {

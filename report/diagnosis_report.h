@@ -1,0 +1,40 @@
+#pragma once
+// The report of `pwsim diagnose` (measured-trials.md, pwsim-diagnosis/1): diagnosis.json, the
+// human report diagnosis.md, and its plots (plot/plot.h: PNG, SVG and the data as CSV):
+// plots/located-residual.* (residual against wheel position from a terrain breakpoint) and
+// plots/residual-<trial>.* (measured, base and extended model of held-out trials).
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "sysid/diagnose/diagnose.h"
+
+namespace pwsim::report {
+
+/// diagnosis.json's content.
+nlohmann::ordered_json DiagnosisJson(const diagnose::Diagnosis& d, const std::string& base_source,
+                                     double seconds);
+
+/// diagnosis.md's content; `plots` are paths relative to the report, located residual first.
+std::string DiagnosisMarkdown(const diagnose::Diagnosis& d, const std::string& base_source,
+                              const std::vector<std::string>& plots, double seconds);
+
+/// Measured, base and extended model of one held-out trial, and both residuals.
+void PlotResiduals(const diagnose::TrialAnalysis& t, const std::string& cause,
+                   const std::filesystem::path& file);
+
+/// The residual against the wheel's distance from a terrain breakpoint, slow vs fast trials.
+void PlotLocated(const diagnose::LocatedResidual& loc, const std::filesystem::path& file);
+
+/// Removes an earlier run's diagnosis.json, diagnosis.md and plots: call it BEFORE reading the
+/// inputs, so that a run that fails never leaves an old report that looks like its own.
+void RemoveDiagnosisReport(const std::filesystem::path& out);
+
+/// Writes everything under `out`: stale reports removed first, then the plots (at most
+/// `max_plots` held-out trials), diagnosis.md, and diagnosis.json last.
+void WriteDiagnosisReport(const std::filesystem::path& out, const diagnose::Diagnosis& d,
+                          const std::string& base_source, double seconds, long long max_plots);
+
+}  // namespace pwsim::report

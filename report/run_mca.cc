@@ -1,0 +1,174 @@
+#include "report/run_mca.h"
+
+#include <cmath>
+#include <string>
+
+#include "mca/config.h"
+#include "mca/cueing.h"
+#include "mca/head_motion.h"
+#include "plot/plot.h"
+
+namespace pwsim::report {
+namespace {
+
+using mca::Dof;
+
+nlohmann::ordered_json AxisJson(const mca::AxisConsistency& c, const char* unit) {
+  return {{"correlation", c.correlation},
+          {std::string("rms_error_") + unit, c.rms_error},
+          {"gain", c.gain},
+          {"lag_s", c.lag},
+          {std::string("peak_true_") + unit, c.peak_true},
+          {std::string("peak_platform_") + unit, c.peak_platform},
+          {"wrong_sign_count", c.wrong_sign_count},
+          {"wrong_sign_duration_s", c.wrong_sign_duration}};
+}
+
+nlohmann::ordered_json RateCuesJson(const mca::RateCues& r) {
+  return {{"count", r.count}, {"duration_s", r.duration}, {"max_rate_degps", r.max_rate / mca::kDegToRad}};
+}
+
+template <typename Get>
+std::vector<double> Column(std::size_t rows, Get get) {
+  std::vector<double> values(rows);
+  for (std::size_t r = 0; r < rows; ++r) values[r] = get(r);
+  return values;
+}
+
+}  // namespace
+
+void AddMotionCueing(const Scene& scene, const std::vector<ChairSample>& samples, TrialTable& table,
+                     nlohmann::ordered_json& summary, const std::filesystem::path& out_dir) {
+  const mca::McaConfig config = mca::LoadMcaConfig(scene);
+  const double dt = scene.clock.dt();
+  const std::size_t n = samples.size();
+  std::vector<mca::HeadMotion> head(n);
+  for (std::size_t k = 0; k < n; ++k) head[k] = mca::HeadMotionFromChair(samples[k], scene.occupant.head_offset);
+  const mca::CueingTrace trace = mca::RunCueing(config, head, dt);
+  const mca::ConsistencyReport report = mca::EvaluateConsistency(config, trace, dt);
+
+  // trial.csv columns
+  static const char* const kAxis[3] = {"x", "y", "z"};
+  for (std::size_t i = 0; i < 3; ++i) {
+    table.Add(std::string("head_fs_") + kAxis[i] + "_mps2", Column(n, [&](std::size_t k) { return trace.truth[k].fs[i]; }));
+  }
+  for (std::size_t i = 0; i < 3; ++i) {
+    table.Add(std::string("head_w_") + kAxis[i] + "_radps", Column(n, [&](std::size_t k) { return trace.truth[k].w[i]; }));
+  }
+  for (Dof dof : mca::kAllDofs) {
+    if (!config.platform.Has(dof)) continue;
+    const auto i = static_cast<std::size_t>(mca::Index(dof));
+    table.Add("plat_" + std::string(mca::DofName(dof)) + "_" + std::string(mca::DofUnit(dof)),
+              Column(n, [&](std::size_t k) { return trace.commands[k].pose[i]; }));
+  }
+  for (std::size_t i = 0; i < 3; ++i) {
+    table.Add(std::string("head_plat_fs_") + kAxis[i] + "_mps2",
+              Column(n, [&](std::size_t k) { return trace.delivered[k].fs[i]; }));
+  }
+  for (std::size_t i = 0; i < 3; ++i) {
+    table.Add(std::string("head_plat_w_") + kAxis[i] + "_radps",
+              Column(n, [&](std::size_t k) { return trace.delivered[k].w[i]; }));
+  }
+  // the vehicle motion to show: the chair pose X_WV (render/ puts the eyes at head_offset on it)
+  table.Add("vis_x_m", Column(n, [&](std::size_t k) { return samples[k].drive.x; }));
+  table.Add("vis_z_m", Column(n, [&](std::size_t k) { return samples[k].lm.z; }));
+  table.Add("vis_pitch_rad", Column(n, [&](std::size_t k) { return samples[k].lm.pitch; }));
+  table.Add("vis_tilt_pitch_rad", Column(n, [&](std::size_t k) { return trace.commands[k].tilt_pitch; }));
+  table.Add("vis_tilt_roll_rad", Column(n, [&](std::size_t k) { return trace.commands[k].tilt_roll; }));
+  for (const char* who : {"true", "plat"}) {
+    const auto& perceived = std::string(who) == "true" ? trace.perceived_true : trace.perceived_platform;
+    for (std::size_t i = 0; i < 3; ++i) {
+      table.Add(std::string("vest_") + who + "_oto_" + kAxis[i] + "_mps2",
+                Column(n, [&](std::size_t k) { return perceived[k].fs[i]; }));
+    }
+    for (std::size_t i = 0; i < 3; ++i) {
+      table.Add(std::string("vest_") + who + "_scc_" + kAxis[i] + "_radps",
+                Column(n, [&](std::size_t k) { return perceived[k].w[i]; }));
+    }
+  }
+  table.Add("mca_fault", Column(n, [&](std::size_t k) { return trace.commands[k].fault ? 1.0 : 0.0; }));
+
+  // summary.json
+  nlohmann::ordered_json mca_json;
+  nlohmann::ordered_json platform_json;
+  platform_json["name"] = config.platform.name;
+  platform_json["source"] = config.platform_source;
+  nlohmann::ordered_json usage = nlohmann::ordered_json::array();
+  for (const mca::DofUsage& u : report.usage) {
+    const bool rot = mca::IsRotational(u.dof);
+    const double k = rot ? 1.0 / mca::kDegToRad : 1.0;
+    usage.push_back({{"dof", std::string(mca::DofName(u.dof))},
+                     {rot ? "peak_pose_deg" : "peak_pose_m", u.peak_pose * k},
+                     {rot ? "peak_rate_degps" : "peak_rate_mps", u.peak_rate * k},
+                     {rot ? "peak_accel_degps2" : "peak_accel_mps2", u.peak_accel * k},
+                     {"pose_fraction_of_limit", u.pose_fraction},
+                     {"rate_fraction_of_limit", u.rate_fraction},
+                     {"accel_fraction_of_limit", u.accel_fraction}});
+  }
+  platform_json["usage"] = usage;
+  mca_json["platform"] = platform_json;
+  double max_tilt = 0.0;
+  for (const mca::McaCommand& c : trace.commands) max_tilt = std::max(max_tilt, std::abs(c.tilt_pitch));
+  mca_json["tilt"] = {{"max_pitch_deg", max_tilt / mca::kDegToRad},
+                      {"rate_limit_degps", config.washout.tilt_pitch.max_rate / mca::kDegToRad},
+                      {"pitch_rate_above_threshold", RateCuesJson(report.tilt_pitch)},
+                      {"roll_rate_above_threshold", RateCuesJson(report.tilt_roll)}};
+  nlohmann::ordered_json consistency;
+  for (std::size_t i = 0; i < 3; ++i) consistency["otolith"][kAxis[i]] = AxisJson(report.otolith[i], "mps2");
+  for (std::size_t i = 0; i < 3; ++i) consistency["canals"][kAxis[i]] = AxisJson(report.canals[i], "radps");
+  mca_json["consistency"] = consistency;
+  int wrong_count = 0;
+  double wrong_duration = 0.0;
+  for (const auto* axes : {&report.otolith, &report.canals}) {
+    for (const mca::AxisConsistency& c : *axes) {
+      wrong_count += c.wrong_sign_count;
+      wrong_duration += c.wrong_sign_duration;
+    }
+  }
+  mca_json["false_cues"] = {{"wrong_sign_count", wrong_count},
+                            {"wrong_sign_duration_s", wrong_duration},
+                            {"tilt_rate_count", report.tilt_pitch.count + report.tilt_roll.count},
+                            {"tilt_rate_duration_s", report.tilt_pitch.duration + report.tilt_roll.duration}};
+  mca_json["fault_ticks"] = report.fault_ticks;
+  summary["mca"] = mca_json;
+
+  // mca.png: vehicle against platform at the head
+  std::vector<double> t(n);
+  for (std::size_t k = 0; k < n; ++k) t[k] = scene.clock.TimeAt(samples[k].tick);
+  auto series = [&](const char* label, unsigned color, auto get) {
+    plot::Series s;
+    s.label = label;
+    s.x = t;
+    s.y = Column(n, get);
+    s.color = color;
+    return s;
+  };
+  auto panel = [](const char* title, const char* y_label, std::vector<plot::Series> series_list) {
+    plot::Panel p;
+    p.title = title;
+    p.y_label = y_label;
+    p.series = std::move(series_list);
+    return p;
+  };
+  plot::Figure figure;
+  figure.title = "pwsim run: vehicle vs platform at the head (" + config.platform.name + ")";
+  figure.x_label = "t [s]";
+  figure.panels.push_back(panel("surge specific force", "f_x [m/s^2]",
+                           {series("vehicle", 0x0072B2, [&](std::size_t k) { return trace.truth[k].fs[0]; }),
+                            series("platform", 0xD55E00, [&](std::size_t k) { return trace.delivered[k].fs[0]; })}));
+  figure.panels.push_back(panel("heave specific force - g", "f_z - g [m/s^2]",
+                           {series("vehicle", 0x0072B2, [&](std::size_t k) { return trace.truth[k].fs[2] - mca::kGravity; }),
+                            series("platform", 0xD55E00, [&](std::size_t k) { return trace.delivered[k].fs[2] - mca::kGravity; })}));
+  figure.panels.push_back(panel("pitch rate (nose-up)", "pitch rate [deg/s]",
+                           {series("vehicle", 0x0072B2, [&](std::size_t k) { return -trace.truth[k].w[1] / mca::kDegToRad; }),
+                            series("platform", 0xD55E00, [&](std::size_t k) { return -trace.delivered[k].w[1] / mca::kDegToRad; })}));
+  figure.panels.push_back(panel("platform pitch and its tilt-coordination part", "pitch [deg]",
+                           {series("platform pitch", 0x009E73,
+                                   [&](std::size_t k) { return trace.commands[k].pose[mca::Index(Dof::kPitch)] / mca::kDegToRad; }),
+                            series("tilt (not shown)", 0xE69F00,
+                                   [&](std::size_t k) { return trace.commands[k].tilt_pitch / mca::kDegToRad; })}));
+  std::filesystem::create_directories(out_dir);
+  plot::WriteFigure(out_dir / "mca.png", figure);
+}
+
+}  // namespace pwsim::report

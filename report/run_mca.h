@@ -1,0 +1,33 @@
+#pragma once
+// The motion-cueing stage of `pwsim run`: head motion from the chair samples, the classical
+// washout on the scene's platform, the visual channel and both vestibular responses.
+// Adds to trial.csv (see docs/mca.md for units and signs):
+//   head_fs_{x,y,z}_mps2, head_w_{x,y,z}_radps         vehicle motion at the head (MCA input)
+//   plat_<dof>_<m|rad>                                  platform pose setpoint per present axis
+//   head_plat_fs_{x,y,z}_mps2, head_plat_w_{x,y,z}_radps  what the platform delivers at the head
+//   vis_x_m, vis_z_m, vis_pitch_rad                     vehicle pose the visuals show: the chair
+//                                                       pose X_WV (O_V and θ); the eyes sit at
+//                                                       occupant.head_offset_m on it
+//   vis_tilt_pitch_rad, vis_tilt_roll_rad               tilt-coordination angle NOT to show
+//   vest_{true,plat}_oto_{x,y,z}_mps2, vest_{true,plat}_scc_{x,y,z}_radps
+//   mca_fault                                           1 on ticks with non-finite input
+// summary["mca"] gets the platform, its use of the limits, tilt and consistency metrics;
+// DIR/mca.png (with .svg, .csv and .gp beside it, plot/plot.h) plots vehicle against platform
+// specific force and pitch rate.
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <vector>
+
+#include "engine/chair_simulator.h"
+#include "engine/scene.h"
+#include "engine/trial_table.h"
+
+namespace pwsim::report {
+
+/// @throws InputError for a bad mca: or platform: section.
+void AddMotionCueing(const Scene& scene, const std::vector<ChairSample>& samples, TrialTable& table,
+                     nlohmann::ordered_json& summary, const std::filesystem::path& out_dir);
+
+}  // namespace pwsim::report

@@ -1,0 +1,90 @@
+#pragma once
+// Grey-box output-error fit of the extended model (sysid/effects/) on measured trials with
+// Ceres Solver: the lumped model's K_Z, C_Z, K_θ, C_θ (log multipliers) are re-identified
+// together with one effect's parameters (none: the base model). The criterion is the
+// simulation error of both channels, each centred on the trial's initial rest window (as
+// the paper's Fig. 5) and weighted by 1/std of the measured channel over the training set.
+
+#include <optional>
+#include <vector>
+
+#include "engine/chair.h"
+#include "sysid/effects/effect_catalog.h"
+#include "sysid/effects/effect_model.h"
+
+namespace pwsim::diagnose {
+
+/// One trial ready for fitting.
+struct FitTrial {
+  std::string name;
+  effects::PreparedTrial prepared;
+  std::vector<double> z;      ///< [m] measured
+  std::vector<double> pitch;  ///< [rad] measured
+  double speed{0.0};          ///< [m/s] nominal
+  std::size_t rest_samples{1};  ///< samples of the initial centring window (≥ 1)
+};
+
+/// Builds a FitTrial from a record; `chair` must have gm (its lm is not used here).
+FitTrial MakeFitTrial(const effects::TrialRecord& record, const Chair& chair,
+                      double rest_window = 0.25);
+
+struct ChannelWeights {
+  double z{1.0};      ///< [1/m]
+  double pitch{1.0};  ///< [1/rad]
+};
+/// 1/std of each measured channel pooled over `trials` (each trial centred on its mean).
+ChannelWeights MakeChannelWeights(const std::vector<FitTrial>& trials);
+
+/// Centred model output and residual of one trial for `params`.
+struct TrialResidual {
+  effects::ModelOutput model;   ///< raw model output
+  std::vector<double> z_model;  ///< model + initial offset (comparable with measured)
+  std::vector<double> pitch_model;
+  std::vector<double> e_z;      ///< measured - z_model [m]
+  std::vector<double> e_pitch;  ///< [rad]
+  bool finite{true};
+};
+TrialResidual ComputeResidual(const FitTrial& trial, const effects::ExtendedParams& params);
+
+struct FitOptions {
+  int max_iterations{15};
+  int threads{2};
+  double function_tolerance{1e-6};
+};
+
+struct FitResult {
+  std::vector<effects::EffectId> effects;  ///< empty: base model; fitted jointly, in this order
+  effects::ExtendedParams params;
+  std::vector<double> effect_values;  ///< EffectParameters of each effect, concatenated
+  int parameter_count{4};             ///< LM 4 + effect parameters
+  double sse{0.0};                    ///< weighted sum of squared training residuals
+  std::size_t residual_count{0};
+  double bic{0.0};                    ///< N ln(sse/N) + p ln N on the training residuals
+  int iterations{0};
+};
+
+/// Fits LM (+ the effect's parameters) on `training` from `start` (LM) with multi-start over
+/// the effect's catalogue starting points.
+FitResult FitModel(const std::vector<FitTrial>& training, std::optional<effects::EffectId> effect,
+                   const LumpedParams& start, const ChannelWeights& weights,
+                   const FitOptions& options = {});
+
+/// Fits LM and every effect of `effects` jointly. The effects but the last start from their
+/// values in `start.fx` (a previous fit); the last is multi-started over its catalogue starting
+/// points (cushion_compliance: over both load bases, per wheel and whole chair, as well).
+FitResult FitModelJoint(const std::vector<FitTrial>& training,
+                        const std::vector<effects::EffectId>& effects,
+                        const effects::ExtendedParams& start, const ChannelWeights& weights,
+                        const FitOptions& options = {});
+
+/// Weighted sum of squares of `params` on `trials` (same weights as the fit).
+double WeightedSse(const std::vector<FitTrial>& trials, const effects::ExtendedParams& params,
+                   const ChannelWeights& weights, std::size_t* residual_count = nullptr);
+
+/// RK4 sub-step the fit uses for an effect (small enough for its stiffest admissible values).
+double FitStep(std::optional<effects::EffectId> effect);
+/// Copies of `trials` set to FitStep(effect) with their input caches filled.
+std::vector<FitTrial> WithFitStep(const std::vector<FitTrial>& trials,
+                                  std::optional<effects::EffectId> effect);
+
+}  // namespace pwsim::diagnose

@@ -1,0 +1,197 @@
+#include "sysid/effects/effect_catalog.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "engine/check.h"
+
+namespace pwsim::effects {
+namespace {
+
+constexpr std::array<EffectId, kEffectCount> kAll{
+    EffectId::kWheelRadius,        EffectId::kTyreCompliance,     EffectId::kCushionCompliance,
+    EffectId::kHeavePitchCoupling, EffectId::kNonlinearStiffness, EffectId::kSuspensionFriction,
+    EffectId::kInertialPitch,      EffectId::kMarkerOffset};
+
+int Index(EffectId id) { return static_cast<int>(id); }
+
+double MeanRadius(const Chair& chair, bool casters) {
+  const std::vector<bool> caster = CasterWheels(chair);
+  double sum = 0.0;
+  int count = 0;
+  for (std::size_t i = 0; i < chair.wheels.size(); ++i) {
+    if (caster[i] != casters) continue;
+    sum += chair.wheels[i].radius;
+    ++count;
+  }
+  return count > 0 ? sum / count : 0.0;
+}
+
+}  // namespace
+
+std::span<const EffectId> AllEffects() { return kAll; }
+
+const char* EffectName(EffectId id) {
+  static constexpr std::array<const char*, kEffectCount> names{
+      "wheel_radius",        "tyre_compliance",     "cushion_compliance", "heave_pitch_coupling",
+      "nonlinear_stiffness", "suspension_friction", "inertial_pitch",     "marker_offset"};
+  return names[Index(id)];
+}
+
+const char* EffectDescription(EffectId id) {
+  static constexpr std::array<const char*, kEffectCount> text{
+      "finite wheel radius: wheel centres ride the rolling-disc envelope of the ground",
+      "vertical tyre compliance: series spring-damper (with unsprung mass) per wheel",
+      "the obstacle yields under load: effective height h (g - c (W/1 kN)^p), W per wheel or whole chair",
+      "off-diagonal stiffness and damping between heave and pitch",
+      "progressive (hardening) suspension stiffness: symmetric cubic and per-wheel one-sided bump stops",
+      "dry (Coulomb) friction in the suspension",
+      "pitch torque from longitudinal acceleration (the Γθ term)",
+      "tracked origin not at O_V: a lever arm (forward, up) mixes pitch into the measured x and altitude"};
+  return text[Index(id)];
+}
+
+std::optional<EffectId> ParseEffect(const std::string& name) {
+  for (EffectId id : kAll) {
+    if (name == EffectName(id)) return id;
+  }
+  return std::nullopt;
+}
+
+std::string EffectNameList() {
+  std::string list;
+  for (EffectId id : kAll) {
+    if (!list.empty()) list += ", ";
+    list += EffectName(id);
+  }
+  return list;
+}
+
+const std::vector<ParamSpec>& EffectParameters(EffectId id) {
+  static const std::array<std::vector<ParamSpec>, kEffectCount> specs{{
+      {{"caster_radius_m", 0.1, 0.0, 0.35, {0.04, 0.12}},
+       {"drive_radius_m", 0.1, 0.0, 0.40, {0.04, 0.18}}},
+      {{"caster_tyre_period_s", 0.1, 0.045, 1.0, {0.06, 0.15, 0.4}},
+       {"drive_tyre_period_s", 0.1, 0.045, 1.0, {0.05, 0.15}},
+       {"tyre_damping_ratio", 0.3, 0.05, 1.0, {0.3}}},
+      {{"cushion_loss_per_kn", 0.2, 0.0, 1.2, {0.1, 0.4}},
+       {"cushion_height_gain", 0.2, 0.5, 1.5, {1.0}},
+       {"cushion_exponent", 0.5, 0.3, 2.5, {1.0}}},
+      {{"stiffness_coupling", 0.2, -0.8, 0.8, {-0.2, 0.2}},
+       {"damping_coupling", 0.2, -0.8, 0.8, {0.0}}},
+      {{"heave_hardening", 0.5, 0.0, 10.0, {0.3}}, {"pitch_hardening", 0.5, 0.0, 10.0, {0.3}},
+       {"bump_gain", 0.5, 0.0, 20.0, {0.0, 1.0}}, {"bump_gap_m", 0.005, 0.0, 0.03, {0.004}}},
+      {{"heave_friction_n", 30.0, 0.0, 250.0, {15.0}},
+       {"pitch_friction_nm", 5.0, 0.0, 150.0, {3.0}}},
+      {{"cm_lever_m", 0.2, -1.5, 1.5, {0.0}}},
+      {{"marker_lever_x_m", 0.1, -1.0, 1.0, {0.0, 0.15}},
+       {"marker_lever_z_m", 0.2, -1.5, 1.5, {0.0, 0.5}}},
+  }};
+  return specs[Index(id)];
+}
+
+void SetEffectValues(EffectId id, std::span<const double> v, EffectParams& fx) {
+  PWSIM_DEMAND(v.size() == EffectParameters(id).size());
+  switch (id) {
+    case EffectId::kWheelRadius:
+      fx.caster_radius = v[0];
+      fx.drive_radius = v[1];
+      break;
+    case EffectId::kTyreCompliance:
+      fx.caster_tyre_period = v[0];
+      fx.drive_tyre_period = v[1];
+      fx.tyre_damping = v[2];
+      break;
+    case EffectId::kCushionCompliance:
+      fx.cushion_loss_per_kn = v[0];
+      fx.cushion_height_gain = v[1];
+      fx.cushion_exponent = v[2];
+      break;
+    case EffectId::kHeavePitchCoupling:
+      fx.stiffness_coupling = v[0];
+      fx.damping_coupling = v[1];
+      break;
+    case EffectId::kNonlinearStiffness:
+      fx.heave_hardening = v[0];
+      fx.pitch_hardening = v[1];
+      fx.bump_gain = v[2];
+      fx.bump_gap = v[3];
+      break;
+    case EffectId::kSuspensionFriction:
+      fx.heave_friction = v[0];
+      fx.pitch_friction = v[1];
+      break;
+    case EffectId::kInertialPitch:
+      fx.cm_lever = v[0];
+      break;
+    case EffectId::kMarkerOffset:
+      fx.marker_lever_x = v[0];
+      fx.marker_lever_z = v[1];
+      break;
+  }
+}
+
+std::vector<double> GetEffectValues(EffectId id, const EffectParams& fx) {
+  switch (id) {
+    case EffectId::kWheelRadius:
+      return {fx.caster_radius, fx.drive_radius};
+    case EffectId::kTyreCompliance:
+      return {fx.caster_tyre_period, fx.drive_tyre_period, fx.tyre_damping};
+    case EffectId::kCushionCompliance:
+      return {fx.cushion_loss_per_kn, fx.cushion_height_gain, fx.cushion_exponent};
+    case EffectId::kHeavePitchCoupling:
+      return {fx.stiffness_coupling, fx.damping_coupling};
+    case EffectId::kNonlinearStiffness:
+      return {fx.heave_hardening, fx.pitch_hardening, fx.bump_gain, fx.bump_gap};
+    case EffectId::kSuspensionFriction:
+      return {fx.heave_friction, fx.pitch_friction};
+    case EffectId::kInertialPitch:
+      return {fx.cm_lever};
+    case EffectId::kMarkerOffset:
+      return {fx.marker_lever_x, fx.marker_lever_z};
+  }
+  return {};
+}
+
+EffectParams TruthEffect(EffectId id, double strength, const Chair& chair) {
+  EffectParams fx;
+  const double s = strength;
+  if (s <= 0.0) return fx;
+  switch (id) {
+    case EffectId::kWheelRadius:
+      fx.caster_radius = s * MeanRadius(chair, true);
+      fx.drive_radius = s * MeanRadius(chair, false);
+      break;
+    case EffectId::kTyreCompliance:
+      // Casters 5 Hz and drive wheels 12.5 Hz at s = 1; softer and less damped above.
+      fx.caster_tyre_period = std::clamp(0.2 * s, 0.045, 1.0);
+      fx.drive_tyre_period = std::clamp(0.08 * s, 0.045, 1.0);
+      fx.tyre_damping = std::max(0.05, 0.25 / std::pow(std::max(1.0, s), 1.75));
+      break;
+    case EffectId::kCushionCompliance:
+      fx.cushion_loss_per_kn = 0.12 * s;
+      break;
+    case EffectId::kHeavePitchCoupling:
+      fx.stiffness_coupling = std::min(0.8, 0.3 * s);
+      fx.damping_coupling = std::min(0.8, 0.3 * s);
+      break;
+    case EffectId::kNonlinearStiffness:
+      fx.heave_hardening = 1.0 * s;
+      fx.pitch_hardening = 1.0 * s;
+      break;
+    case EffectId::kSuspensionFriction:
+      fx.heave_friction = 150.0 * s;
+      fx.pitch_friction = 40.0 * s;
+      break;
+    case EffectId::kInertialPitch:
+      fx.cm_lever = chair.cm_height * s;
+      break;
+    case EffectId::kMarkerOffset:
+      fx.marker_lever_x = 0.15 * s;
+      break;
+  }
+  return fx;
+}
+
+}  // namespace pwsim::effects

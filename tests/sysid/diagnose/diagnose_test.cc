@@ -1,0 +1,136 @@
+#include "sysid/diagnose/diagnose.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <ostream>
+#include <string>
+
+#include "synth/effect_truth_model.h"
+#include "synth/synthetic_trials.h"
+#include "synth/generate.h"
+
+namespace pwsim::diagnose {
+namespace {
+
+using effects::EffectId;
+using effects::EffectName;
+
+effects::SyntheticSet MakeSet(std::optional<EffectId> effect, double strength, std::uint64_t seed,
+                              int trials = 7) {
+  effects::SyntheticConfig config;
+  config.seed = seed;
+  config.effect = effect;
+  config.strength = strength;
+  config.trials = trials;
+  return effects::MakeSyntheticTrials(config);
+}
+
+TEST(ChooseHeldOutTest, LeavesTheMiddleSpeedOutThenALoad) {
+  std::vector<effects::TrialRecord> trials(6);
+  const double speeds[] = {0.6, 1.2, 1.2, 1.8, 2.4, 0.6};
+  for (int i = 0; i < 6; ++i) {
+    trials[i].speed = speeds[i];
+    trials[i].load_kg = 50.0 * (i % 3);
+  }
+  std::string why;
+  EXPECT_EQ(ChooseHeldOut(trials, &why), (std::vector<bool>{false, true, true, false, false, false}));
+  EXPECT_EQ(why, "speed 1.20 m/s left out");
+  for (auto& t : trials) t.speed = 1.0;  // one speed level: leave a load out
+  EXPECT_EQ(ChooseHeldOut(trials, &why), (std::vector<bool>{false, true, false, false, true, false}));
+  EXPECT_EQ(why, "load 50.00 kg left out");
+}
+
+TEST(SyntheticTrialsTest, SeededAndVaried) {
+  const auto a = MakeSet(EffectId::kTyreCompliance, 1.0, 5);
+  const auto b = MakeSet(EffectId::kTyreCompliance, 1.0, 5);
+  const auto c = MakeSet(EffectId::kTyreCompliance, 1.0, 6);
+  ASSERT_EQ(a.trials.size(), 7u);
+  EXPECT_EQ(a.trials[3].z, b.trials[3].z);
+  EXPECT_NE(a.trials.front().chair.mass, c.trials.front().chair.mass);
+  std::vector<double> speeds;
+  for (const auto& t : a.trials) speeds.push_back(t.speed);
+  for (double v : {0.6, 1.2, 1.8, 2.4}) EXPECT_NE(std::find(speeds.begin(), speeds.end(), v), speeds.end());
+}
+
+struct HiddenCase {
+  std::optional<EffectId> effect;
+  double strength;
+  std::uint64_t seed;
+};
+
+void PrintTo(const HiddenCase& c, std::ostream* os) {
+  *os << (c.effect ? EffectName(*c.effect) : "none") << " strength " << c.strength << " seed "
+      << c.seed;
+}
+
+std::string CaseName(const testing::TestParamInfo<HiddenCase>& info) {
+  const std::string id = info.param.effect ? EffectName(*info.param.effect) : "none";
+  return id + "_s" + std::to_string(static_cast<int>(info.param.strength * 10)) + "_seed" +
+         std::to_string(info.param.seed);
+}
+
+class HiddenEffectTest : public testing::TestWithParam<HiddenCase> {};
+
+// Each effect at a moderate strength under seeded random conditions (chair, cushion, speeds,
+// loads, noise): the diagnosis must name it and the extension must beat the base model on
+// the held-out trials. Nothing but the trials reaches Diagnose.
+TEST_P(HiddenEffectTest, NamesTheCauseAndGainsOnHeldOutTrials) {
+  const HiddenCase c = GetParam();
+  const effects::SyntheticSet set = MakeSet(c.effect, c.strength, c.seed);
+  const Diagnosis d = Diagnose(set.trials);
+  ASSERT_EQ(d.ranking.size(), 8u);
+  EXPECT_FALSE(d.heldout_trials.empty());
+  if (!c.effect) {
+    EXPECT_EQ(d.cause, "none") << "top: " << EffectName(d.ranking.front().effect) << " gain "
+                               << d.ranking.front().heldout_gain;
+    EXPECT_EQ(d.extended_heldout.z, d.base_heldout.z);
+    return;
+  }
+  EXPECT_EQ(d.cause, EffectName(*c.effect));
+  const RankEntry& top = d.ranking.front();
+  EXPECT_EQ(top.effect, *c.effect);
+  EXPECT_TRUE(top.earns);
+  EXPECT_GT(top.heldout_gain, 0.15);
+  EXPECT_LT(top.delta_bic, -10.0);
+  EXPECT_GE(d.extended_heldout.z + d.extended_heldout.pitch, d.base_heldout.z + d.base_heldout.pitch + 0.5);
+  EXPECT_FALSE(top.evidence.empty());
+  for (const RankEntry& e : d.ranking) EXPECT_EQ(e.evidence.find('\n'), std::string::npos);
+}
+
+std::vector<HiddenCase> Cases() {
+  std::vector<HiddenCase> cases;
+  std::uint64_t seed = 11;
+  for (EffectId id : effects::AllEffects()) {
+    cases.push_back({id, 0.7, seed++});
+    cases.push_back({id, 1.4, seed++});
+  }
+  for (std::uint64_t s : {101u, 102u, 103u}) cases.push_back({std::nullopt, 0.0, s});
+  return cases;
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryEffect, HiddenEffectTest, testing::ValuesIn(Cases()), CaseName);
+
+// The paper's case (seed 000 §IV-3): caster (tyre) compliance strong enough that the base
+// model's held-out pitch fitness falls near 57.6 %, trials from `pwsim generate`'s generator
+// (the lab's chair without gm/lm: the base model is identified first, on training trials).
+TEST(PaperCaseTest, CasterComplianceNearTheObservedPitchFitness) {
+  GenerateConfig config;
+  config.without_cushion = false;
+  config.seed = 2024;
+  config.truth_model = effects::MakeEffectTruthModel(EffectId::kTyreCompliance, 2.0, config.truth);
+  const TrialSet set = GenerateTrialSet(config);
+  std::string source;
+  const std::vector<effects::TrialRecord> records = RecordsFromMeasured(set.Measured(), &source);
+  EXPECT_NE(source.find("identified"), std::string::npos);
+  ASSERT_TRUE(records.front().chair.gm.has_value());
+  const Diagnosis d = Diagnose(records);
+  EXPECT_EQ(d.cause, "tyre_compliance");
+  EXPECT_EQ(d.split, "speed 1.20 m/s left out");  // the paper validates at 1.2 m/s
+  EXPECT_NEAR(d.base_heldout.pitch, 57.6, 12.0);
+  EXPECT_GT(d.extended_heldout.pitch, 95.0);
+  EXPECT_GT(d.extended_heldout.z, d.base_heldout.z);
+}
+
+}  // namespace
+}  // namespace pwsim::diagnose

@@ -1,0 +1,235 @@
+#include "sysid/effects/effect_model.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/drive_profile.h"
+#include "sysid/effects/effect_catalog.h"
+#include "synth/effect_truth_model.h"
+#include "sysid/measured/measured_trial.h"
+#include "synth/generate.h"
+
+namespace pwsim::effects {
+namespace {
+
+/// The paper's trial: Table I chair over the speed cushion at `speed`, sampled at 100 Hz.
+PreparedTrial CushionTrial(double speed, double load_kg = 100.0, double max_step = 1e-3) {
+  DriveProfile drive;
+  drive.start_x = 0.0;
+  drive.speed = speed;
+  drive.accel = 1.0;
+  drive.decel = 1.0;
+  drive.stop_x = 7.0;
+  std::vector<double> t, x, a;
+  for (double time = 0.0; time < drive.StopTime() + 0.3; time += 0.01) {
+    const Longitudinal l = EvaluateDrive(drive, time);
+    t.push_back(time);
+    x.push_back(l.x);
+    a.push_back(l.a);
+  }
+  PreparedTrial trial = PrepareTrial(MakeTableOneChair(), MakeSpeedCushion(), load_kg, t, x, a);
+  trial.max_step = max_step;
+  return trial;
+}
+
+double MaxAbsDiff(const std::vector<double>& a, const std::vector<double>& b) {
+  double worst = 0.0;
+  for (std::size_t k = 0; k < a.size(); ++k) worst = std::max(worst, std::abs(a[k] - b[k]));
+  return worst;
+}
+
+TEST(EffectModelTest, NoEffectIsThePapersModel) {
+  const PreparedTrial trial = CushionTrial(1.2);
+  const ModelOutput ours = SimulateExtended(trial, ExtendedParams{*trial.chair.lm, {}});
+  // The foundation's exact-discretised GM + LM driven by the same x(t).
+  const pwsim::ModelOutput exact =
+      SimulateMeasuredTrial(trial.chair, trial.terrain, trial.load_kg, trial.t, trial.x);
+  EXPECT_LT(MaxAbsDiff(ours.z, exact.z), 2e-4);      // m, against a 65 mm cushion
+  EXPECT_LT(MaxAbsDiff(ours.pitch, exact.pitch), 2e-3);  // rad, against ~0.2 rad
+}
+
+TEST(EffectModelTest, CachedInputsGiveTheSameOutput) {
+  PreparedTrial trial = CushionTrial(1.8, 50.0, 0.004);
+  ExtendedParams params{*trial.chair.lm, {}};
+  params.fx.heave_hardening = 1.0;
+  params.fx.cushion_loss_per_kn = 0.2;  // uses the wheel cache, not the GM cache
+  const ModelOutput plain = SimulateExtended(trial, params);
+  CacheInputs(trial);
+  const ModelOutput cached = SimulateExtended(trial, params);
+  EXPECT_LT(MaxAbsDiff(plain.z, cached.z), 1e-12);
+  EXPECT_LT(MaxAbsDiff(plain.pitch, cached.pitch), 1e-12);
+  params.fx.cushion_loss_per_kn = 0.0;  // GM cache
+  const ModelOutput a = SimulateExtended(trial, params);
+  trial.cache_step = 0.0;
+  const ModelOutput b = SimulateExtended(trial, params);
+  EXPECT_LT(MaxAbsDiff(a.z, b.z), 1e-12);
+  EXPECT_LT(MaxAbsDiff(a.pitch, b.pitch), 1e-12);
+}
+
+TEST(EffectModelTest, RollingDiscEnvelopeMatchesBruteForce) {
+  const Terrain terrain = MakeSpeedCushion(1.8, 0.065, 0.30, 1.5, 12.0);
+  const Terrain step{{1.0, 1.0001, 3.0}, {0.0, 0.05, 0.05}};  // an almost vertical 5 cm step
+  for (const Terrain* ground : {&terrain, &step}) {
+    for (double radius : {0.05, 0.10, 0.17}) {
+      for (double x = 0.5; x < 4.5; x += 0.013) {
+        double best = -1e9;
+        for (int i = -4000; i <= 4000; ++i) {
+          const double s = radius * i / 4000.0;
+          best = std::max(best, ground->HeightAt(x + s) + std::sqrt(radius * radius - s * s));
+        }
+        // The grid maximum can only fall short of the exact one.
+        const double exact = RollingDiscEnvelope(*ground, x, radius).height;
+        EXPECT_NEAR(exact, best - radius, 5e-5) << "x " << x << " R " << radius;
+        EXPECT_GE(exact, best - radius - 1e-12) << "x " << x << " R " << radius;
+      }
+    }
+  }
+  // On a step of height h the wheel starts to rise sqrt(2Rh - h²) before the edge (anchors §0).
+  const double r = 0.10, h = 0.05, d = std::sqrt(2 * r * h - h * h);
+  EXPECT_NEAR(RollingDiscEnvelope(step, 1.0 - d - 1e-3, r).height, 0.0, 1e-12);
+  EXPECT_GT(RollingDiscEnvelope(step, 1.0 - d + 5e-3, r).height, 1e-3);
+  EXPECT_NEAR(RollingDiscEnvelope(step, 2.0, r).height, 0.05, 1e-12);
+  // Slope is the derivative of the height.
+  for (double x = 1.7; x < 2.3; x += 0.01) {
+    const double dz = (RollingDiscEnvelope(terrain, x + 1e-6, 0.1).height -
+                       RollingDiscEnvelope(terrain, x - 1e-6, 0.1).height) / 2e-6;
+    EXPECT_NEAR(RollingDiscEnvelope(terrain, x, 0.1).slope, dz, 1e-3) << x;
+  }
+}
+
+TEST(EffectModelTest, EveryEffectOffIsBaseAndOnChangesTheOutput) {
+  const PreparedTrial trial = CushionTrial(1.2);
+  const ExtendedParams base{*trial.chair.lm, {}};
+  const ModelOutput reference = SimulateExtended(trial, base);
+  for (EffectId id : AllEffects()) {
+    ExtendedParams off = base;
+    SetEffectValues(id, GetEffectValues(id, EffectParams{}), off.fx);
+    const ModelOutput same = SimulateExtended(trial, off);
+    EXPECT_EQ(same.z, reference.z) << EffectName(id);
+    ExtendedParams on = base;
+    on.fx = TruthEffect(id, 1.0, trial.chair);
+    const ModelOutput changed = SimulateExtended(trial, on);
+    const double dz = MaxAbsDiff(changed.z, reference.z);
+    const double dp = MaxAbsDiff(changed.pitch, reference.pitch);
+    EXPECT_TRUE(dz > 5e-4 || dp > 2e-3) << EffectName(id) << " dz " << dz << " dp " << dp;
+    for (std::size_t k = 0; k < changed.z.size(); ++k) {
+      ASSERT_TRUE(std::isfinite(changed.z[k]) && std::isfinite(changed.pitch[k])) << EffectName(id);
+    }
+  }
+}
+
+TEST(EffectModelTest, MarkerOffsetIsALeverArmOnPitch) {
+  const PreparedTrial trial = CushionTrial(0.6);
+  ExtendedParams params{*trial.chair.lm, {}};
+  const ModelOutput base = SimulateExtended(trial, params);
+  params.fx.marker_lever_x = 0.2;
+  const ModelOutput shifted = SimulateExtended(trial, params);
+  for (std::size_t k = 0; k < base.z.size(); ++k) {
+    EXPECT_NEAR(shifted.z[k] - base.z[k], 0.2 * std::sin(base.pitch[k]), 1e-12);
+    EXPECT_EQ(shifted.pitch[k], base.pitch[k]);
+  }
+}
+
+TEST(EffectModelTest, CushionYieldsMoreUnderMoreLoadAndTyresKeepUnitGain) {
+  // Quasi-static crossing (0.3 m/s): the plateau height seen by the model.
+  auto plateau_z = [](double load, const EffectParams& fx) {
+    const PreparedTrial trial = CushionTrial(0.3, load);
+    const ModelOutput out = SimulateExtended(trial, ExtendedParams{*trial.chair.lm, fx});
+    double z = 0.0;
+    for (std::size_t k = 0; k < trial.x.size(); ++k) {
+      if (std::abs(trial.x[k] - 2.85) < 0.01) z = out.z[k];  // every wheel on the plateau
+    }
+    return z;
+  };
+  EffectParams cushion;
+  cushion.cushion_loss_per_kn = 0.2;
+  const double rigid = plateau_z(0.0, {});
+  EXPECT_NEAR(rigid, 0.065, 1e-4);
+  const double light = plateau_z(0.0, cushion), heavy = plateau_z(100.0, cushion);
+  EXPECT_LT(heavy, light);
+  // h (1 - c W): drive wheel α = 0.66 of M g, casters 0.17 each; Z_GM = Σ α_i h_i.
+  const Chair chair = MakeTableOneChair();
+  double expected = 0.0;
+  const std::vector<double> loads = StaticWheelLoads(chair, 100.0);
+  for (int i = 0; i < 3; ++i) expected += chair.gm->alpha[i] * 0.065 * (1.0 - 0.2e-3 * loads[i]);
+  EXPECT_NEAR(heavy, expected, 2e-4);
+  EffectParams tyre;
+  tyre.caster_tyre_period = 0.2;
+  tyre.drive_tyre_period = 0.1;
+  tyre.tyre_damping = 0.3;
+  EXPECT_NEAR(plateau_z(50.0, tyre), 0.065, 5e-4);
+}
+
+TEST(EffectModelTest, InertialPitchTorqueFollowsAcceleration) {
+  const PreparedTrial trial = CushionTrial(1.2, 100.0);
+  ExtendedParams params{*trial.chair.lm, {}};
+  params.fx.cm_lever = 0.43;
+  const ModelOutput out = SimulateExtended(trial, params);
+  const ModelOutput base = SimulateExtended(trial, ExtendedParams{*trial.chair.lm, {}});
+  // Mid-acceleration on the flat floor: quasi-static θ = M h a / K_θ.
+  const double m = MovingMass(trial.chair, 100.0);
+  const std::size_t k = 150;  // t = 1.5 s, still accelerating at 1 m/s² (start_delay 0.5 s)
+  ASSERT_NEAR(trial.accel[k], 1.0, 1e-9);
+  EXPECT_NEAR(out.pitch[k] - base.pitch[k], m * 0.43 * 1.0 / trial.chair.lm->k_theta, 5e-4);
+}
+
+TEST(EffectCatalogTest, IdsParseAndParametersRoundTrip) {
+  EXPECT_EQ(AllEffects().size(), 8u);
+  for (EffectId id : AllEffects()) {
+    EXPECT_EQ(ParseEffect(EffectName(id)), id);
+    const auto& specs = EffectParameters(id);
+    ASSERT_FALSE(specs.empty());
+    std::vector<double> values;
+    for (const ParamSpec& s : specs) {
+      EXPECT_LT(s.lower, s.upper) << s.name;
+      for (double start : s.starts) {
+        EXPECT_GE(start, s.lower) << s.name;
+        EXPECT_LE(start, s.upper) << s.name;
+      }
+      values.push_back(0.5 * (s.lower + s.upper));
+    }
+    EffectParams fx;
+    SetEffectValues(id, values, fx);
+    EXPECT_EQ(GetEffectValues(id, fx), values);
+    // Truth values lie inside the fit's bounds at the tested strengths.
+    const Chair chair = MakeTableOneChair();
+    std::vector<double> strengths{0.7, 1.0, 1.5};
+    if (id == EffectId::kTyreCompliance) strengths.push_back(2.0);  // the paper's case
+    for (double strength : strengths) {
+      const std::vector<double> truth = GetEffectValues(id, TruthEffect(id, strength, chair));
+      for (std::size_t j = 0; j < specs.size(); ++j) {
+        EXPECT_GE(truth[j], specs[j].lower) << specs[j].name << " at " << strength;
+        EXPECT_LE(truth[j], specs[j].upper) << specs[j].name << " at " << strength;
+      }
+    }
+  }
+  EXPECT_FALSE(ParseEffect("caster_shimmy").has_value());
+}
+
+TEST(EffectTruthModelTest, GeneratesTheHiddenEffectAndRejectsBadOverrides) {
+  GenerateConfig config;
+  config.speeds = {1.2};
+  config.loads = {100.0};
+  config.without_cushion = false;
+  const TrialSet base = GenerateTrialSet(config);
+  config.truth_model = MakeEffectTruthModel(EffectId::kMarkerOffset, 1.0, config.truth,
+                                            {{"marker_lever_x_m", 0.3}});
+  const TrialSet hidden = GenerateTrialSet(config);
+  ASSERT_EQ(hidden.truth_model_id, "marker_offset");
+  const MocapTrack& a = base.trials.front().measured.track;
+  const MocapTrack& b = hidden.trials.front().measured.track;
+  ASSERT_EQ(a.size(), b.size());
+  double worst = 0.0;
+  for (std::size_t k = 0; k < a.size(); ++k) worst = std::max(worst, std::abs(b.z[k] - a.z[k]));
+  EXPECT_GT(worst, 0.02);  // 0.3 m lever × sin(~0.2 rad)
+  EXPECT_THROW(MakeEffectTruthModel(EffectId::kMarkerOffset, 1.0, config.truth, {{"lever", 0.1}}),
+               std::invalid_argument);
+  EXPECT_THROW(MakeEffectTruthModel(EffectId::kMarkerOffset, 1.0, config.truth,
+                                    {{"marker_lever_x_m", 5.0}}),
+               std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace pwsim::effects
