@@ -47,7 +47,7 @@ const char* EffectDescription(EffectId id) {
       "off-diagonal stiffness and damping between heave and pitch",
       "progressive (hardening) suspension stiffness: symmetric cubic and per-wheel one-sided bump stops",
       "dry (Coulomb) friction in the suspension",
-      "pitch torque from longitudinal acceleration (the Γθ term)",
+      "pitch torque from longitudinal acceleration (the Γθ term), chair and occupant levers",
       "tracked origin not at O_V: a lever arm (forward, up) mixes pitch into the measured x and altitude"};
   return text[Index(id)];
 }
@@ -84,7 +84,7 @@ const std::vector<ParamSpec>& EffectParameters(EffectId id) {
        {"bump_gain", 0.5, 0.0, 20.0, {0.0, 1.0}}, {"bump_gap_m", 0.005, 0.0, 0.03, {0.004}}},
       {{"heave_friction_n", 30.0, 0.0, 250.0, {15.0}},
        {"pitch_friction_nm", 5.0, 0.0, 150.0, {3.0}}},
-      {{"cm_lever_m", 0.2, -1.5, 1.5, {0.0}}},
+      {{"cm_lever_m", 0.2, -1.5, 1.5, {0.0}}, {"load_cm_lever_m", 0.2, -1.5, 1.5, {0.0}}},
       {{"marker_lever_x_m", 0.1, -1.0, 1.0, {0.0, 0.15}},
        {"marker_lever_z_m", 0.2, -1.5, 1.5, {0.0, 0.5}}},
   }};
@@ -124,6 +124,7 @@ void SetEffectValues(EffectId id, std::span<const double> v, EffectParams& fx) {
       break;
     case EffectId::kInertialPitch:
       fx.cm_lever = v[0];
+      fx.load_cm_lever = v[1];
       break;
     case EffectId::kMarkerOffset:
       fx.marker_lever_x = v[0];
@@ -147,7 +148,7 @@ std::vector<double> GetEffectValues(EffectId id, const EffectParams& fx) {
     case EffectId::kSuspensionFriction:
       return {fx.heave_friction, fx.pitch_friction};
     case EffectId::kInertialPitch:
-      return {fx.cm_lever};
+      return {fx.cm_lever, fx.load_cm_lever};
     case EffectId::kMarkerOffset:
       return {fx.marker_lever_x, fx.marker_lever_z};
   }
@@ -186,6 +187,7 @@ EffectParams TruthEffect(EffectId id, double strength, const Chair& chair) {
       break;
     case EffectId::kInertialPitch:
       fx.cm_lever = chair.cm_height * s;
+      fx.load_cm_lever = chair.cm_height * s;
       break;
     case EffectId::kMarkerOffset:
       fx.marker_lever_x = 0.15 * s;

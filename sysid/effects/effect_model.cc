@@ -319,7 +319,8 @@ Rhs MakeRhs(const PreparedTrial& trial, const ExtendedParams& params, int* state
   rhs.hard_t = fx.pitch_hardening;
   rhs.fric_z = fx.heave_friction;
   rhs.fric_t = fx.pitch_friction;
-  rhs.lever = fx.cm_lever;
+  // Γ_θ = M lever a_x with the mass-weighted lever of chair and occupant.
+  rhs.lever = (chair.mass * fx.cm_lever + trial.load_kg * fx.load_cm_lever) / MovingMass(chair, trial.load_kg);
   rhs.bump_gain = fx.bump_gain;
   rhs.bump_gap = fx.bump_gap;
   rhs.marker_x = fx.marker_lever_x;

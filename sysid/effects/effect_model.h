@@ -51,8 +51,10 @@ struct EffectParams {
   // suspension_friction: Coulomb force F_c tanh(δ̇/ε) on each axis.
   double heave_friction{0.0};  ///< [N]
   double pitch_friction{0.0};  ///< [N m]
-  // inertial_pitch: Γ_θ = M h a_x (nose-up when accelerating for h > 0).
-  double cm_lever{0.0};  ///< h [m]
+  // inertial_pitch: Γ_θ = (M_0 h + M_u h_u) a_x (nose-up when accelerating for h > 0): the
+  // chair's and the occupant's centres of mass at their own heights above the contact line.
+  double cm_lever{0.0};       ///< h [m], empty chair
+  double load_cm_lever{0.0};  ///< h_u [m], occupant or dummy
   // marker_offset: the tracked origin sits at lever (r_x, r_z) in the chair frame, so
   // x_measured = x + r_x cos θ - r_z sin θ and Z_measured = Z + r_x sin θ + r_z (cos θ - 1): the
   // model places its wheels at x = x_measured - r_x cos θ + r_z sin θ (θ its own pitch state).
