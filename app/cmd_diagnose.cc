@@ -2,8 +2,8 @@
 // measured trials, names the cause among the effect ids of measured-trials.md, extends and
 // re-identifies the model and measures the gain on held-out trials (sysid/diagnose/).
 // Writes DIR/diagnosis.json (pwsim-diagnosis/1) and DIR/diagnosis.md with plots. Wiring and
-// reporting only. Stale outputs are removed first; diagnosis.json is written last, so a
-// failed run never leaves a report that looks complete.
+// reporting only. Stale outputs are removed before the inputs are read; diagnosis.json is
+// written last, so a failed run never leaves a report that looks complete.
 
 #include <nlohmann/json.hpp>
 
@@ -82,7 +82,9 @@ int DiagnoseCommand(const ParsedArgs& args) {
   const long long max_plots = args.GetInt("max-plots");
   if (max_plots < 0) throw std::invalid_argument("option --max-plots: expected an integer >= 0");
 
-  // 1. Read everything first: a bad file stops here, before anything is written.
+  // 1. Old results go first (a failed run must not leave a report that looks complete), then
+  //    every input is read: a bad file stops here, before anything is written.
+  report::RemoveDiagnosisReport(out);
   std::vector<MeasuredTrial> trials;
   for (const std::string& folder : args.positional()) trials.push_back(ReadMeasuredTrial(folder));
 
@@ -96,7 +98,10 @@ int DiagnoseCommand(const ParsedArgs& args) {
   // 3. Write: stale results first, then plots, the report, and diagnosis.json last.
   report::WriteDiagnosisReport(out, d, base_source, seconds, max_plots);
 
-  std::cout << "pwsim diagnose: " << trials.size() << " trials, cause: " << d.cause << "\n"
+  std::cout << "pwsim diagnose: " << trials.size() << " trials, verdict: "
+            << diagnose::VerdictName(d.verdict) << ", cause: " << d.cause;
+  for (std::size_t k = 1; k < d.causes.size(); ++k) std::cout << " + " << effects::EffectName(d.causes[k].effect);
+  std::cout << "\n"
             << "  held-out fit (base -> extended): Z " << Fixed(d.base_heldout.z, 1) << " -> "
             << Fixed(d.extended_heldout.z, 1) << " %, pitch " << Fixed(d.base_heldout.pitch, 1)
             << " -> " << Fixed(d.extended_heldout.pitch, 1) << " %\n";

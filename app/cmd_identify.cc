@@ -2,7 +2,7 @@
 // measured trials (sysid/identify/identify.h) and writes DIR/identified-chair.yaml,
 // DIR/fit.json (measured-trials.md), DIR/identify.md with overlay plots like the paper's
 // Fig. 5, and prints the identified table beside Table I (and the truth, when the trial
-// folders carry a truth-chair.yaml, as generated trials do). Wiring only.
+// set has a truth beside it, <set>.truth-chair.yaml, as generated sets do). Wiring only.
 
 #include <nlohmann/json.hpp>
 
@@ -16,6 +16,7 @@
 #include "sysid/measured/measured_trial.h"
 #include "report/format.h"
 #include "report/identification_report.h"
+#include "synth/generate.h"
 
 namespace pwsim::app {
 
@@ -55,11 +56,14 @@ int IdentifyCommand(const ParsedArgs& args) {
   role_options.holdout_every = static_cast<int>(args.GetInt("holdout-every"));
   const long long max_plots = args.GetInt("max-plots");
 
-  // 1. Read everything first: a bad file stops here, before anything is written.
+  // 1. Old results go first (a failed run must not leave a report that looks complete), then
+  //    every input is read: a bad file stops here, before anything is written.
+  report::RemoveIdentificationReport(out);
   std::vector<MeasuredTrial> trials;
   for (const std::string& folder : args.positional()) trials.push_back(ReadMeasuredTrial(folder));
   std::optional<Chair> truth;
-  const std::filesystem::path truth_file = trials.front().folder / "truth-chair.yaml";
+  const std::filesystem::path truth_file =
+      TruthFileBeside(trials.front().folder.parent_path(), "truth-chair.yaml");
   if (std::filesystem::exists(truth_file)) truth = ReadChairFile(truth_file);
 
   // 2. Identify.

@@ -28,6 +28,10 @@ void PlotResiduals(const diagnose::TrialAnalysis& t, const std::string& cause,
 /// The residual against the wheel's distance from a terrain breakpoint, slow vs fast trials.
 void PlotLocated(const diagnose::LocatedResidual& loc, const std::filesystem::path& file);
 
+/// Removes an earlier run's diagnosis.json, diagnosis.md and plots: call it BEFORE reading the
+/// inputs, so that a run that fails never leaves an old report that looks like its own.
+void RemoveDiagnosisReport(const std::filesystem::path& out);
+
 /// Writes everything under `out`: stale reports removed first, then the plots (at most
 /// `max_plots` held-out trials), diagnosis.md, and diagnosis.json last.
 void WriteDiagnosisReport(const std::filesystem::path& out, const diagnose::Diagnosis& d,

@@ -132,6 +132,12 @@ void PlotTrial(const MeasuredTrial& trial, const Chair& chair, const TrialCompar
   plot::WriteSharedXFigure(file, cmp.t, panels, "t [s]", 1100, 280);
 }
 
+void RemoveIdentificationReport(const std::filesystem::path& out) {
+  for (const char* name : {"fit.json", "identify.md", "identified-chair.yaml"}) {
+    std::filesystem::remove(out / name);
+  }
+}
+
 std::vector<ParameterRow> WriteIdentificationReport(const std::filesystem::path& out,
                                                     const IdentificationReportInput& in) {
   const std::vector<MeasuredTrial>& trials = *in.trials;
@@ -141,10 +147,8 @@ std::vector<ParameterRow> WriteIdentificationReport(const std::filesystem::path&
   const Chair* truth = in.truth;
   const std::filesystem::path& truth_file = in.truth_file;
   const long long max_plots = in.max_plots;
+  RemoveIdentificationReport(out);
   std::filesystem::create_directories(out / "plots");
-  for (const char* name : {"fit.json", "identify.md", "identified-chair.yaml"}) {
-    std::filesystem::remove(out / name);
-  }
   std::vector<std::size_t> plot_order;
   for (TrialRole want : {TrialRole::kValidation, TrialRole::kLumped, TrialRole::kGeometric}) {
     for (std::size_t k = 0; k < trials.size(); ++k) {

@@ -49,6 +49,10 @@ struct IdentificationReportInput {
 
 /// Writes under `out`: stale outputs removed first, the overlay plots, identified-chair.yaml,
 /// identify.md, and fit.json last. Returns the parameter rows (for the console table).
+/// Removes an earlier run's fit.json, identify.md and identified-chair.yaml: call it BEFORE
+/// reading the inputs, so that a failed run never leaves an old report that looks like its own.
+void RemoveIdentificationReport(const std::filesystem::path& out);
+
 std::vector<ParameterRow> WriteIdentificationReport(const std::filesystem::path& out,
                                                     const IdentificationReportInput& in);
 

@@ -9,6 +9,7 @@ packages=(
   python3 python3-numpy python3-scipy python3-yaml
   can-utils iproute2 clang libclang-rt-14-dev
   gnuplot-nox libmatio-dev r-base-core libsdl2-dev stress-ng
+  libboost-dev
   slurmctld slurmd slurm-client munge
   libboost-dev
 )

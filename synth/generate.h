@@ -7,7 +7,7 @@
 //
 //   GenerateConfig config;                 // Table I chair, the full protocol
 //   TrialSet set = GenerateTrialSet(config);
-//   WriteTrialSet(set, "out/trials");      // one folder per trial + truth-chair.yaml
+//   WriteTrialSet(set, "out/trials");      // one folder per trial; out/trials.truth-chair.yaml beside
 
 #include <cstdint>
 #include <filesystem>
@@ -80,8 +80,13 @@ struct TrialSet {
 TrialSet GenerateTrialSet(const GenerateConfig& config);
 
 /// Writes one folder per trial under `out` (trial.yaml, chair.yaml, terrain.yaml, mocap
-/// file(s), and the extra truth-chair.yaml and truth.yaml); each file atomically. Nothing
-/// else is written at the top of `out`, so `out/*` lists trial folders only.
+/// file(s)), each file atomically, and the truth BESIDE the set: `<out>.truth-chair.yaml` and
+/// `<out>.truth.yaml` (truth model id, per-trial rate and untracked frames). Nothing else is
+/// written at the top of `out`, so `out/*` lists trial folders only, and no trial folder holds
+/// anything a lab would not have measured.
 void WriteTrialSet(const TrialSet& set, const std::filesystem::path& out);
+
+/// `<set_dir>.<suffix>`: where a generated set's truth lives (beside the set's folder).
+std::filesystem::path TruthFileBeside(const std::filesystem::path& set_dir, const std::string& suffix);
 
 }  // namespace pwsim

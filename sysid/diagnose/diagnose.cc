@@ -30,9 +30,12 @@ double HeldOutError(const std::vector<FitTrial>& trials, const effects::Extended
 
 std::vector<std::pair<std::string, double>> NamedParameters(const FitResult& fit) {
   std::vector<std::pair<std::string, double>> out;
-  if (fit.effect) {
-    const auto& specs = effects::EffectParameters(*fit.effect);
-    for (std::size_t j = 0; j < specs.size(); ++j) out.emplace_back(specs[j].name, fit.effect_values[j]);
+  std::size_t col = 0;
+  for (EffectId id : fit.effects) {
+    const auto& specs = effects::EffectParameters(id);
+    for (std::size_t j = 0; j < specs.size(); ++j) out.emplace_back(specs[j].name, fit.effect_values[col++]);
+    if (id == EffectId::kCushionCompliance)
+      out.emplace_back("cushion_whole_chair", fit.params.fx.cushion_whole_chair ? 1.0 : 0.0);
   }
   out.emplace_back("k_z", fit.params.lm.k_z);
   out.emplace_back("c_z", fit.params.lm.c_z);
@@ -448,6 +451,66 @@ FitPct PooledFitPct(const std::vector<FitTrial>& trials, const effects::Extended
   return {fz.Percent(), fp.Percent()};
 }
 
+std::vector<bool> ChooseSelection(const std::vector<effects::TrialRecord>& trials,
+                                  const std::vector<bool>& report) {
+  std::vector<std::size_t> rest;
+  for (std::size_t i = 0; i < trials.size(); ++i)
+    if (!report[i]) rest.push_back(i);
+  std::stable_sort(rest.begin(), rest.end(), [&](std::size_t a, std::size_t b) {
+    if (trials[a].speed != trials[b].speed) return trials[a].speed < trials[b].speed;
+    return trials[a].load_kg < trials[b].load_kg;
+  });
+  std::vector<bool> selection(trials.size(), false);
+  std::size_t chosen = 0;
+  for (std::size_t k = 0; k < rest.size(); ++k) {
+    if (k % 3 == (k / 3) % 3 && rest.size() - chosen - 1 >= 2) {
+      selection[rest[k]] = true;
+      ++chosen;
+    }
+  }
+  return selection;
+}
+
+namespace {
+
+/// Weighted mean square per residual (both channels) of `params` on `trials`.
+double MeanSquareError(const std::vector<FitTrial>& trials, const effects::ExtendedParams& params,
+                       const ChannelWeights& w) {
+  std::size_t n = 0;
+  const double sse = WeightedSse(trials, params, w, &n);
+  return n > 0 ? sse / static_cast<double>(n) : 0.0;
+}
+
+std::vector<ResidualRecord> ResidualRecords(const std::vector<FitTrial>& trials,
+                                            const std::vector<effects::TrialRecord>& records,
+                                            const std::vector<std::size_t>& index,
+                                            const effects::ExtendedParams& params) {
+  std::vector<ResidualRecord> out;
+  for (std::size_t k = 0; k < trials.size(); ++k) {
+    const TrialResidual r = ComputeResidual(trials[k], params);
+    const effects::TrialRecord& rec = records[index[k]];
+    ResidualRecord rr;
+    rr.name = rec.name;
+    rr.speed = rec.speed;
+    rr.load_kg = rec.load_kg;
+    rr.t = rec.t;
+    rr.x = rec.x;
+    if (r.finite) {
+      rr.e_z = r.e_z;
+      rr.e_pitch = r.e_pitch;
+      rr.gm_z = r.model.z_gm;
+      rr.gm_pitch = r.model.pitch_gm;
+    } else {
+      rr.e_z.assign(rec.t.size(), 1.0);
+      rr.e_pitch.assign(rec.t.size(), 1.0);
+    }
+    out.push_back(std::move(rr));
+  }
+  return out;
+}
+
+}  // namespace
+
 Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records,
                    const DiagnoseOptions& options) {
   PWSIM_DEMAND(records.size() >= 2);
@@ -455,20 +518,62 @@ Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records,
   dx.chair = records.front().chair;
   PWSIM_DEMAND(dx.chair.gm.has_value());
   const std::vector<bool> held = ChooseHeldOut(records, &dx.split);
-  std::vector<FitTrial> training, heldout, all;
+  dx.selection = ChooseSelection(records, held);
+  std::vector<FitTrial> training, heldout, selection, all, checked;
+  std::vector<std::size_t> checked_index;
   for (std::size_t i = 0; i < records.size(); ++i) {
     FitTrial f = MakeFitTrial(records[i], records[i].chair, options.rest_window);
     all.push_back(f);
-    (held[i] ? heldout : training).push_back(std::move(f));
-    (held[i] ? dx.heldout_trials : dx.training_trials).push_back(records[i].name);
+    if (held[i] || dx.selection[i]) {
+      checked.push_back(f);
+      checked_index.push_back(i);
+    }
+    if (held[i]) {
+      heldout.push_back(std::move(f));
+      dx.heldout_trials.push_back(records[i].name);
+    } else if (dx.selection[i]) {
+      selection.push_back(std::move(f));
+      dx.selection_trials.push_back(records[i].name);
+    } else {
+      training.push_back(std::move(f));
+      dx.training_trials.push_back(records[i].name);
+    }
+  }
+  if (selection.empty()) selection = training;  // too few trials: choose on the training ones
+  if (checked.empty()) {
+    checked = heldout;
+    for (std::size_t i = 0; i < records.size(); ++i)
+      if (held[i]) checked_index.push_back(i);
   }
   const ChannelWeights w = MakeChannelWeights(training);
   const LumpedParams start = dx.chair.lm.value_or(LumpedParams{});
   dx.base = FitModel(training, std::nullopt, start, w, options.fit);
   const std::vector<FitTrial> heldout_base = WithFitStep(heldout, std::nullopt);
+  const std::vector<FitTrial> selection_base = WithFitStep(selection, std::nullopt);
+  const std::vector<FitTrial> checked_base = WithFitStep(checked, std::nullopt);
   all = WithFitStep(all, std::nullopt);
   const double base_error = HeldOutError(heldout_base, dx.base.params, w);
   dx.base_heldout = PooledFitPct(heldout_base, dx.base.params);
+
+  // Noise level and floor from the data alone.
+  {
+    std::vector<std::vector<double>> z_all, p_all, z_held, p_held;
+    for (std::size_t i = 0; i < records.size(); ++i) {
+      z_all.push_back(records[i].z);
+      p_all.push_back(records[i].pitch);
+      if (held[i]) {
+        z_held.push_back(records[i].z);
+        p_held.push_back(records[i].pitch);
+      }
+    }
+    dx.sigma_z = PooledNoiseSigma(z_all);
+    dx.sigma_pitch = PooledNoiseSigma(p_all);
+    dx.noise_floor = {NoiseFloorFitPct(z_held, dx.sigma_z), NoiseFloorFitPct(p_held, dx.sigma_pitch)};
+  }
+  const double noise_ms = 0.5 * (w.z * w.z * dx.sigma_z * dx.sigma_z +
+                                 w.pitch * w.pitch * dx.sigma_pitch * dx.sigma_pitch);
+  dx.base_check = CheckResidual(ResidualRecords(checked_base, records, checked_index, dx.base.params),
+                                dx.sigma_z, dx.sigma_pitch, options.verdict);
 
   // Residual analysis of the base model on every trial.
   for (std::size_t i = 0; i < all.size(); ++i) {
@@ -493,35 +598,107 @@ Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records,
   }
   dx.residuals = Analyse(dx.trials, dx.chair, records);
 
+  // Round 1: every extension alone (the ranking).
+  const double base_sel = HeldOutError(selection_base, dx.base.params, w);
   for (EffectId id : options.candidates) {
     RankEntry e;
     e.effect = id;
     e.fit = FitModel(training, id, dx.base.params.lm, w, options.fit);
     e.delta_bic = e.fit.bic - dx.base.bic;
-    const std::vector<FitTrial> heldout_ext = WithFitStep(heldout, id);
-    const double err = HeldOutError(heldout_ext, e.fit.params, w);
+    const double err = HeldOutError(WithFitStep(heldout, id), e.fit.params, w);
     e.heldout_gain = base_error > 0.0 ? 1.0 - err / base_error : 0.0;
-    e.heldout = PooledFitPct(heldout_ext, e.fit.params);
-    e.earns = e.delta_bic < options.bic_threshold && e.heldout_gain >= options.min_heldout_gain;
+    const double sel = HeldOutError(WithFitStep(selection, id), e.fit.params, w);
+    e.selection_gain = base_sel > 0.0 ? 1.0 - sel / base_sel : 0.0;
+    e.heldout = PooledFitPct(WithFitStep(heldout, id), e.fit.params);
+    e.earns = e.delta_bic < options.bic_threshold && e.selection_gain >= options.min_heldout_gain;
     e.parameters = NamedParameters(e.fit);
     e.evidence = dx.residuals.evidence[static_cast<int>(id)] +
-                 Format("; extension removes %.0f %% of the held-out error", 100.0 * e.heldout_gain);
+                 Format("; extension removes %.0f %% of the selection error, %.0f %% of the "
+                        "held-out error",
+                        100.0 * e.selection_gain, 100.0 * e.heldout_gain);
     dx.ranking.push_back(std::move(e));
   }
   std::stable_sort(dx.ranking.begin(), dx.ranking.end(), [](const RankEntry& a, const RankEntry& b) {
     if (a.earns != b.earns) return a.earns;
-    return a.heldout_gain > b.heldout_gain;
+    return a.selection_gain > b.selection_gain;
   });
+
+  // Forward selection (skipped when the base model is adequate).
+  dx.extended = dx.base;
+  dx.extended_check = dx.base_check;
+  const double base_excess = std::max(0.0, MeanSquareError(heldout_base, dx.base.params, w) - noise_ms);
+  double previous_excess = base_excess;
+  if (!dx.base_check.NoiseLike()) {
+    FitResult current = dx.base;
+    double current_sel = base_sel;
+    std::vector<EffectId> found;
+    while (static_cast<int>(found.size()) < options.max_causes) {
+      std::optional<FitResult> best;
+      double best_gain = -1e9, best_sel = 0.0;
+      if (found.empty()) {
+        for (const RankEntry& e : dx.ranking) {
+          if (e.earns && e.selection_gain > best_gain) {
+            best = e.fit;
+            best_gain = e.selection_gain;
+            best_sel = base_sel * (1.0 - e.selection_gain);
+          }
+        }
+      } else {
+        for (const RankEntry& solo : dx.ranking) {
+          const EffectId id = solo.effect;
+          if (std::find(found.begin(), found.end(), id) != found.end()) continue;
+          // Only extensions that improve the training fit on their own (ΔBIC below the
+          // threshold) are tried jointly: the joint fits are the expensive part.
+          if (!(solo.delta_bic < options.bic_threshold)) continue;
+          std::vector<EffectId> list = found;
+          list.push_back(id);
+          FitResult f = FitModelJoint(training, list, current.params, w, options.fit);
+          const double sel = HeldOutError(WithFitStep(selection, id), f.params, w);
+          const double gain = current_sel > 0.0 ? 1.0 - sel / current_sel : 0.0;
+          const bool earns = f.bic - current.bic < options.bic_threshold && gain >= options.min_heldout_gain;
+          if (earns && gain > best_gain) {
+            best = std::move(f);
+            best_gain = gain;
+            best_sel = sel;
+          }
+        }
+      }
+      if (!best) break;
+      Cause c;
+      c.effect = best->effects.back();
+      c.selection_gain = best_gain;
+      c.delta_bic = best->bic - current.bic;
+      const std::vector<FitTrial> held_ext = WithFitStep(heldout, c.effect);
+      const double excess = std::max(0.0, MeanSquareError(held_ext, best->params, w) - noise_ms);
+      c.heldout_gain_pct = base_excess > 0.0 ? 100.0 * (previous_excess - excess) / base_excess : 0.0;
+      previous_excess = excess;
+      found.push_back(c.effect);
+      dx.causes.push_back(c);
+      current = std::move(*best);
+      current_sel = best_sel;
+      dx.extended_check =
+          CheckResidual(ResidualRecords(WithFitStep(checked, c.effect), records, checked_index, current.params),
+                        dx.sigma_z, dx.sigma_pitch, options.verdict);
+      if (dx.extended_check.NoiseLike()) break;
+    }
+    dx.extended = current;
+  }
+  dx.verdict = Decide(dx.base_check, dx.causes.size(), dx.extended_check);
   dx.extended_heldout = dx.base_heldout;
-  if (!dx.ranking.empty() && dx.ranking.front().earns) {
-    const RankEntry& top = dx.ranking.front();
-    dx.cause = effects::EffectName(top.effect);
-    dx.extended_heldout = top.heldout;
-    for (std::size_t i = 0; i < all.size(); ++i) {
-      const TrialResidual r = ComputeResidual(all[i], top.fit.params);
+  if (dx.verdict == Verdict::kAdequate) dx.causes.clear();
+  if (!dx.causes.empty()) {
+    dx.cause = effects::EffectName(dx.causes.front().effect);
+    const EffectId last = dx.causes.back().effect;
+    dx.extended_heldout = PooledFitPct(WithFitStep(heldout, last), dx.extended.params);
+    const std::vector<FitTrial> all_ext = WithFitStep(all, last);
+    for (std::size_t i = 0; i < all_ext.size(); ++i) {
+      const TrialResidual r = ComputeResidual(all_ext[i], dx.extended.params);
+      if (!r.finite) continue;
       dx.trials[i].z_ext = r.z_model;
       dx.trials[i].pitch_ext = r.pitch_model;
     }
+  } else {
+    dx.extended = dx.base;
   }
   return dx;
 }

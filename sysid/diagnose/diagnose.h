@@ -3,17 +3,27 @@
 // seed 000) gets wrong on measured trials, which effect of the spec's table explains it, the
 // extended model re-identified, and the gain measured on trials held out of every fit.
 //
-//  1. Split: the trials of one speed level (the middle one, as the paper validates at
-//     1.2 m/s) are held out; with one speed level, one load level; else every third trial.
-//  2. Base: GM from the chair (or identified on the training trials when the chair has none,
-//     sysid/identify/), LM re-identified by output error on the training trials.
-//  3. Residual analysis of the base model (residual_analysis.h): per channel, whiteness,
-//     residual-input correlation, spectra, residuals located in space around the terrain's
-//     breakpoints and by drive phase, scale/lag regression; one evidence line per effect.
-//  4. Every effect's extension fitted as a grey box (greybox_fit.h) on the training trials.
-//     An extension earns its parameters when ΔBIC < bic_threshold on the training trials AND
-//     it removes at least min_heldout_gain of the held-out error; the cause is the earning
-//     extension with the largest held-out gain, `none` when none earns.
+//  1. Split, three ways: `report` trials (one speed level, the middle one, as the paper
+//     validates at 1.2 m/s; with one speed level, one load level; else every third trial)
+//     are held out of every fit AND of every choice: the gains and fitness reported come from
+//     them. Of the rest, a `selection` share (every third by speed and load, rotating the
+//     load) decides which extensions earn; the remaining `training` trials are fitted.
+//  2. Base: GM from the chair (or identified on training + selection trials when the chair has
+//     none, sysid/identify/), LM re-identified by output error on the training trials.
+//  3. Noise level σ̂ and noise floor from the data alone (verdict.h). The base model's residual
+//     on the selection + report trials is tested against σ̂ (verdict.h (a)-(e): magnitude,
+//     position, whiteness, input correlation, speed and load). Noise-like → `adequate`.
+//  4. Residual analysis of the base model (residual_analysis.h): evidence lines per effect.
+//  5. Every extension fitted alone on the training trials (the ranking); then forward
+//     selection: the extension with the largest gain on the SELECTION trials earns when
+//     ΔBIC < bic_threshold (training) AND it removes ≥ min_heldout_gain of the selection
+//     error; it is added, every further candidate (those with ΔBIC < bic_threshold alone) is
+//     fitted JOINTLY with the ones found, and
+//     so on while one earns and the residual is not yet noise-like (at most max_causes).
+//  6. Report trials: fitness of base and extended model, each cause's gain as the share of
+//     the base model's error above the noise that adding it removed; the extended model's
+//     residual tested as in 3: noise-like → `explained`, else `partly_explained`; no cause →
+//     `unexplained` (with the failing tests as evidence).
 // Nothing tells the diagnosis which effect (if any) is hidden.
 
 #include <optional>
@@ -22,6 +32,7 @@
 
 #include "sysid/diagnose/greybox_fit.h"
 #include "sysid/diagnose/residual_analysis.h"
+#include "sysid/diagnose/verdict.h"
 #include "sysid/effects/effect_catalog.h"
 #include "sysid/effects/effect_model.h"
 #include "sysid/measured/measured_trial.h"
@@ -35,6 +46,8 @@ struct DiagnoseOptions {
   std::vector<effects::EffectId> candidates{effects::AllEffects().begin(),
                                             effects::AllEffects().end()};
   double rest_window{0.25};  ///< [s] initial window that centres each channel
+  int max_causes{3};         ///< forward selection stops after this many
+  VerdictOptions verdict;
 };
 
 struct FitPct {
@@ -47,7 +60,8 @@ struct RankEntry {
   std::string evidence;   ///< one line from the residual analysis
   double delta_bic{0.0};  ///< BIC(extended) - BIC(base) on training trials (< 0 favours it)
   FitPct heldout;         ///< held-out fitness of the extended model
-  double heldout_gain{0.0};  ///< 1 - E_ext / E_base, E = RMS weighted held-out residual
+  double heldout_gain{0.0};  ///< 1 - E_ext / E_base, E = RMS weighted residual, report trials
+  double selection_gain{0.0};  ///< the same on the selection trials (decides `earns`)
   bool earns{false};
   FitResult fit;
   std::vector<std::pair<std::string, double>> parameters;  ///< effect and LM, named
@@ -98,8 +112,23 @@ struct ResidualReport {
   std::vector<std::string> evidence;  ///< per effect, catalogue order
 };
 
+/// One cause found by forward selection.
+struct Cause {
+  effects::EffectId effect{};
+  double heldout_gain_pct{0.0};   ///< [%] share of the report trials' error above noise removed
+  double selection_gain{0.0};     ///< [-] share of the selection error removed when added
+  double delta_bic{0.0};          ///< vs the model before it
+};
+
 struct Diagnosis {
   std::string cause{"none"};
+  Verdict verdict{Verdict::kUnexplained};
+  std::vector<Cause> causes;       ///< in the order found
+  FitPct noise_floor;              ///< [%] on the report trials
+  double sigma_z{0.0}, sigma_pitch{0.0};  ///< σ̂ [m], [rad]
+  NoiseCheck base_check, extended_check;  ///< selection + report trials
+  FitResult extended;              ///< the joint fit of every cause (base when none)
+  std::vector<std::string> selection_trials;
   std::vector<RankEntry> ranking;  ///< best first
   FitPct base_heldout, extended_heldout;
   std::vector<std::string> heldout_trials, training_trials;
@@ -108,6 +137,7 @@ struct Diagnosis {
   Chair chair;        ///< the chair whose GM was used
   ResidualReport residuals;
   std::vector<TrialAnalysis> trials;
+  std::vector<bool> selection;      ///< per trial: used to choose the causes
 };
 
 /// Runs the whole diagnosis. @pre ≥ 2 trials, all with the same chair wheels; chair.gm set
@@ -118,6 +148,11 @@ Diagnosis Diagnose(const std::vector<effects::TrialRecord>& trials,
 /// The held-out indices for `trials` and a description of the split.
 std::vector<bool> ChooseHeldOut(const std::vector<effects::TrialRecord>& trials,
                                 std::string* description = nullptr);
+
+/// Of the trials not in `report`, the selection share (every third in (speed, load) order,
+/// rotating the load), never leaving fewer than 2 training trials.
+std::vector<bool> ChooseSelection(const std::vector<effects::TrialRecord>& trials,
+                                  const std::vector<bool>& report);
 
 /// Measured trials as diagnosis records. When the chair has no identified gm (or lm), the base
 /// model is identified (sysid/identify/, the paper's §IV) on the trials ChooseHeldOut keeps

@@ -13,24 +13,31 @@ namespace {
 
 constexpr double kLogBound = 2.5;  ///< LM multipliers within e^±2.5 of the start
 
-/// u (optimiser vector) <-> ExtendedParams.
+/// u (optimiser vector) <-> ExtendedParams: 4 LM log multipliers, then each effect's values/scale.
 struct Mapper {
-  std::optional<effects::EffectId> effect;
+  std::vector<effects::EffectId> effects;
   LumpedParams start;
-  const std::vector<effects::ParamSpec>* specs{nullptr};
+  effects::EffectParams base_fx;  ///< settings not optimised (e.g. the cushion's load basis)
 
-  int Size() const { return 4 + (specs ? static_cast<int>(specs->size()) : 0); }
+  int Size() const {
+    int n = 4;
+    for (effects::EffectId id : effects) n += static_cast<int>(effects::EffectParameters(id).size());
+    return n;
+  }
 
   effects::ExtendedParams Params(const double* u) const {
     effects::ExtendedParams p;
+    p.fx = base_fx;
     p.lm.k_z = start.k_z * std::exp(u[0]);
     p.lm.c_z = start.c_z * std::exp(u[1]);
     p.lm.k_theta = start.k_theta * std::exp(u[2]);
     p.lm.c_theta = start.c_theta * std::exp(u[3]);
-    if (effect) {
-      std::vector<double> v(specs->size());
-      for (std::size_t j = 0; j < v.size(); ++j) v[j] = u[4 + j] * (*specs)[j].scale;
-      effects::SetEffectValues(*effect, v, p.fx);
+    int col = 4;
+    for (effects::EffectId id : effects) {
+      const auto& specs = effects::EffectParameters(id);
+      std::vector<double> v(specs.size());
+      for (std::size_t j = 0; j < v.size(); ++j) v[j] = u[col++] * specs[j].scale;
+      effects::SetEffectValues(id, v, p.fx);
     }
     return p;
   }
@@ -157,34 +164,67 @@ std::vector<FitTrial> WithFitStep(const std::vector<FitTrial>& trials,
   return out;
 }
 
-FitResult FitModel(const std::vector<FitTrial>& training_in, std::optional<effects::EffectId> effect,
+FitResult FitModel(const std::vector<FitTrial>& training, std::optional<effects::EffectId> effect,
                    const LumpedParams& start, const ChannelWeights& weights,
                    const FitOptions& options) {
-  PWSIM_DEMAND(!training_in.empty());
-  const std::vector<FitTrial> training = WithFitStep(training_in, effect);
+  effects::ExtendedParams p;
+  p.lm = start;
+  std::vector<effects::EffectId> list;
+  if (effect) list.push_back(*effect);
+  return FitModelJoint(training, list, p, weights, options);
+}
 
-  Mapper map{effect, start, effect ? &effects::EffectParameters(*effect) : nullptr};
+FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
+                        const std::vector<effects::EffectId>& effect_list,
+                        const effects::ExtendedParams& start, const ChannelWeights& weights,
+                        const FitOptions& options) {
+  PWSIM_DEMAND(!training_in.empty());
+  const std::optional<effects::EffectId> last =
+      effect_list.empty() ? std::nullopt : std::optional<effects::EffectId>(effect_list.back());
+  const std::vector<FitTrial> training = WithFitStep(training_in, last);
+
+  Mapper map{effect_list, start.lm, start.fx};
   const int size = map.Size();
   std::vector<double> u(static_cast<std::size_t>(size), 0.0);
+  int last_col = 4;
+  {
+    int col = 4;
+    for (std::size_t e = 0; e < effect_list.size(); ++e) {
+      const auto& specs = effects::EffectParameters(effect_list[e]);
+      const std::vector<double> values = effects::GetEffectValues(effect_list[e], start.fx);
+      if (e + 1 == effect_list.size()) last_col = col;
+      for (std::size_t j = 0; j < specs.size(); ++j, ++col)
+        u[static_cast<std::size_t>(col)] = std::clamp(values[j], specs[j].lower, specs[j].upper) / specs[j].scale;
+    }
+  }
 
-  // Multi-start over the catalogue's starting points (Cartesian product), LM at the start.
-  if (effect) {
-    const auto& specs = *map.specs;
-    std::vector<std::size_t> index(specs.size(), 0);
+  // Multi-start of the last effect over the catalogue's starting points (Cartesian product)
+  // and, for the cushion, over its two load bases.
+  if (last) {
+    const auto& specs = effects::EffectParameters(*last);
+    const bool cushion = *last == effects::EffectId::kCushionCompliance;
     double best = std::numeric_limits<double>::infinity();
     std::vector<double> best_u = u;
-    while (true) {
-      for (std::size_t j = 0; j < specs.size(); ++j) u[4 + j] = specs[j].starts[index[j]] / specs[j].scale;
-      const double sse = WeightedSse(training, map.Params(u.data()), weights);
-      if (sse < best) {
-        best = sse;
-        best_u = u;
+    bool best_basis = map.base_fx.cushion_whole_chair;
+    for (int basis = 0; basis < (cushion ? 2 : 1); ++basis) {
+      if (cushion) map.base_fx.cushion_whole_chair = basis == 1;
+      std::vector<std::size_t> index(specs.size(), 0);
+      while (true) {
+        for (std::size_t j = 0; j < specs.size(); ++j)
+          u[static_cast<std::size_t>(last_col) + j] = specs[j].starts[index[j]] / specs[j].scale;
+        const double sse = WeightedSse(training, map.Params(u.data()), weights);
+        if (sse < best) {
+          best = sse;
+          best_u = u;
+          best_basis = map.base_fx.cushion_whole_chair;
+        }
+        std::size_t j = 0;
+        while (j < specs.size() && ++index[j] == specs[j].starts.size()) index[j++] = 0;
+        if (j == specs.size()) break;
       }
-      std::size_t j = 0;
-      while (j < specs.size() && ++index[j] == specs[j].starts.size()) index[j++] = 0;
-      if (j == specs.size()) break;
     }
     u = best_u;
+    if (cushion) map.base_fx.cushion_whole_chair = best_basis;
   }
 
   ceres::Problem problem;
@@ -199,12 +239,14 @@ FitResult FitModel(const std::vector<FitTrial>& training_in, std::optional<effec
     problem.SetParameterLowerBound(u.data(), j, -kLogBound);
     problem.SetParameterUpperBound(u.data(), j, kLogBound);
   }
-  if (effect) {
-    const auto& specs = *map.specs;
-    for (std::size_t j = 0; j < specs.size(); ++j) {
-      const int col = 4 + static_cast<int>(j);
-      problem.SetParameterLowerBound(u.data(), col, specs[j].lower / specs[j].scale);
-      problem.SetParameterUpperBound(u.data(), col, specs[j].upper / specs[j].scale);
+  {
+    int col = 4;
+    for (effects::EffectId id : effect_list) {
+      for (const effects::ParamSpec& spec : effects::EffectParameters(id)) {
+        problem.SetParameterLowerBound(u.data(), col, spec.lower / spec.scale);
+        problem.SetParameterUpperBound(u.data(), col, spec.upper / spec.scale);
+        ++col;
+      }
     }
   }
   ceres::Solver::Options solver;
@@ -218,9 +260,12 @@ FitResult FitModel(const std::vector<FitTrial>& training_in, std::optional<effec
   ceres::Solve(solver, &problem, &summary);
 
   FitResult result;
-  result.effect = effect;
+  result.effects = effect_list;
   result.params = map.Params(u.data());
-  if (effect) result.effect_values = effects::GetEffectValues(*effect, result.params.fx);
+  for (effects::EffectId id : effect_list) {
+    const std::vector<double> v = effects::GetEffectValues(id, result.params.fx);
+    result.effect_values.insert(result.effect_values.end(), v.begin(), v.end());
+  }
   result.parameter_count = size;
   result.iterations = static_cast<int>(summary.iterations.size());
   result.sse = WeightedSse(training, result.params, weights, &result.residual_count);

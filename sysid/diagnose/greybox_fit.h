@@ -53,9 +53,9 @@ struct FitOptions {
 };
 
 struct FitResult {
-  std::optional<effects::EffectId> effect;  ///< empty: base model
+  std::vector<effects::EffectId> effects;  ///< empty: base model; fitted jointly, in this order
   effects::ExtendedParams params;
-  std::vector<double> effect_values;  ///< EffectParameters(effect) order
+  std::vector<double> effect_values;  ///< EffectParameters of each effect, concatenated
   int parameter_count{4};             ///< LM 4 + effect parameters
   double sse{0.0};                    ///< weighted sum of squared training residuals
   std::size_t residual_count{0};
@@ -68,6 +68,14 @@ struct FitResult {
 FitResult FitModel(const std::vector<FitTrial>& training, std::optional<effects::EffectId> effect,
                    const LumpedParams& start, const ChannelWeights& weights,
                    const FitOptions& options = {});
+
+/// Fits LM and every effect of `effects` jointly. The effects but the last start from their
+/// values in `start.fx` (a previous fit); the last is multi-started over its catalogue starting
+/// points (cushion_compliance: over both load bases, per wheel and whole chair, as well).
+FitResult FitModelJoint(const std::vector<FitTrial>& training,
+                        const std::vector<effects::EffectId>& effects,
+                        const effects::ExtendedParams& start, const ChannelWeights& weights,
+                        const FitOptions& options = {});
 
 /// Weighted sum of squares of `params` on `trials` (same weights as the fit).
 double WeightedSse(const std::vector<FitTrial>& trials, const effects::ExtendedParams& params,

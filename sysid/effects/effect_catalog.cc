@@ -43,12 +43,12 @@ const char* EffectDescription(EffectId id) {
   static constexpr std::array<const char*, kEffectCount> text{
       "finite wheel radius: wheel centres ride the rolling-disc envelope of the ground",
       "vertical tyre compliance: series spring-damper (with unsprung mass) per wheel",
-      "the obstacle yields under wheel load: effective height h (g - c W) falls with load",
+      "the obstacle yields under load: effective height h (g - c (W/1 kN)^p), W per wheel or whole chair",
       "off-diagonal stiffness and damping between heave and pitch",
-      "progressive (hardening) suspension stiffness",
+      "progressive (hardening) suspension stiffness: symmetric cubic and per-wheel one-sided bump stops",
       "dry (Coulomb) friction in the suspension",
-      "pitch torque from longitudinal acceleration (the Γθ term)",
-      "tracked origin not at O_V: a lever arm mixes pitch into the measured altitude"};
+      "pitch torque from longitudinal acceleration (the Γθ term), chair and occupant levers",
+      "tracked origin not at O_V: a lever arm (forward, up) mixes pitch into the measured x and altitude"};
   return text[Index(id)];
 }
 
@@ -76,14 +76,17 @@ const std::vector<ParamSpec>& EffectParameters(EffectId id) {
        {"drive_tyre_period_s", 0.1, 0.045, 1.0, {0.05, 0.15}},
        {"tyre_damping_ratio", 0.3, 0.05, 1.0, {0.3}}},
       {{"cushion_loss_per_kn", 0.2, 0.0, 1.2, {0.1, 0.4}},
-       {"cushion_height_gain", 0.2, 0.5, 1.5, {1.0}}},
+       {"cushion_height_gain", 0.2, 0.5, 1.5, {1.0}},
+       {"cushion_exponent", 0.5, 0.3, 2.5, {1.0}}},
       {{"stiffness_coupling", 0.2, -0.8, 0.8, {-0.2, 0.2}},
        {"damping_coupling", 0.2, -0.8, 0.8, {0.0}}},
-      {{"heave_hardening", 0.5, 0.0, 10.0, {0.3}}, {"pitch_hardening", 0.5, 0.0, 10.0, {0.3}}},
+      {{"heave_hardening", 0.5, 0.0, 10.0, {0.3}}, {"pitch_hardening", 0.5, 0.0, 10.0, {0.3}},
+       {"bump_gain", 0.5, 0.0, 20.0, {0.0, 1.0}}, {"bump_gap_m", 0.005, 0.0, 0.03, {0.004}}},
       {{"heave_friction_n", 30.0, 0.0, 250.0, {15.0}},
        {"pitch_friction_nm", 5.0, 0.0, 150.0, {3.0}}},
-      {{"cm_lever_m", 0.2, -1.5, 1.5, {0.0}}},
-      {{"marker_lever_x_m", 0.1, -1.0, 1.0, {0.0}}},
+      {{"cm_lever_m", 0.2, -1.5, 1.5, {0.0}}, {"load_cm_lever_m", 0.2, -1.5, 1.5, {0.0}}},
+      {{"marker_lever_x_m", 0.1, -1.0, 1.0, {0.0, 0.15}},
+       {"marker_lever_z_m", 0.2, -1.5, 1.5, {0.0, 0.5}}},
   }};
   return specs[Index(id)];
 }
@@ -103,6 +106,7 @@ void SetEffectValues(EffectId id, std::span<const double> v, EffectParams& fx) {
     case EffectId::kCushionCompliance:
       fx.cushion_loss_per_kn = v[0];
       fx.cushion_height_gain = v[1];
+      fx.cushion_exponent = v[2];
       break;
     case EffectId::kHeavePitchCoupling:
       fx.stiffness_coupling = v[0];
@@ -111,6 +115,8 @@ void SetEffectValues(EffectId id, std::span<const double> v, EffectParams& fx) {
     case EffectId::kNonlinearStiffness:
       fx.heave_hardening = v[0];
       fx.pitch_hardening = v[1];
+      fx.bump_gain = v[2];
+      fx.bump_gap = v[3];
       break;
     case EffectId::kSuspensionFriction:
       fx.heave_friction = v[0];
@@ -118,9 +124,11 @@ void SetEffectValues(EffectId id, std::span<const double> v, EffectParams& fx) {
       break;
     case EffectId::kInertialPitch:
       fx.cm_lever = v[0];
+      fx.load_cm_lever = v[1];
       break;
     case EffectId::kMarkerOffset:
       fx.marker_lever_x = v[0];
+      fx.marker_lever_z = v[1];
       break;
   }
 }
@@ -132,17 +140,17 @@ std::vector<double> GetEffectValues(EffectId id, const EffectParams& fx) {
     case EffectId::kTyreCompliance:
       return {fx.caster_tyre_period, fx.drive_tyre_period, fx.tyre_damping};
     case EffectId::kCushionCompliance:
-      return {fx.cushion_loss_per_kn, fx.cushion_height_gain};
+      return {fx.cushion_loss_per_kn, fx.cushion_height_gain, fx.cushion_exponent};
     case EffectId::kHeavePitchCoupling:
       return {fx.stiffness_coupling, fx.damping_coupling};
     case EffectId::kNonlinearStiffness:
-      return {fx.heave_hardening, fx.pitch_hardening};
+      return {fx.heave_hardening, fx.pitch_hardening, fx.bump_gain, fx.bump_gap};
     case EffectId::kSuspensionFriction:
       return {fx.heave_friction, fx.pitch_friction};
     case EffectId::kInertialPitch:
-      return {fx.cm_lever};
+      return {fx.cm_lever, fx.load_cm_lever};
     case EffectId::kMarkerOffset:
-      return {fx.marker_lever_x};
+      return {fx.marker_lever_x, fx.marker_lever_z};
   }
   return {};
 }
@@ -179,6 +187,7 @@ EffectParams TruthEffect(EffectId id, double strength, const Chair& chair) {
       break;
     case EffectId::kInertialPitch:
       fx.cm_lever = chair.cm_height * s;
+      fx.load_cm_lever = chair.cm_height * s;
       break;
     case EffectId::kMarkerOffset:
       fx.marker_lever_x = 0.15 * s;

@@ -47,6 +47,7 @@ struct Rhs {
   double mass{1.0}, inertia{1.0};
   double k_z{0}, c_z{0}, k_t{0}, c_t{0}, k_zt{0}, c_zt{0};
   double hard_z{0}, hard_t{0}, fric_z{0}, fric_t{0}, lever{0};
+  double bump_gain{0}, bump_gap{0};  ///< per-wheel bump stops (nonlinear_stiffness)
 
   struct Gm {
     double z, z_rate, pitch, pitch_rate;
@@ -99,20 +100,42 @@ struct Rhs {
   }
 
   /// ds/dt at one instant; fills gm_out with the GM output seen by the LM.
+  double marker_x{0.0}, marker_z{0.0};
+
   void Eval(double x, double v, double a, const State& s, State& ds, Gm* gm_out,
             long point) const {
+    if (marker_x != 0.0 || marker_z != 0.0) {
+      x -= marker_x * std::cos(s[2]) - marker_z * std::sin(s[2]);
+      point = -1;
+    }
     Gm gm;
+    std::array<double, kMaxWheels> zc{};
     if (use_gm_cache && point >= 0) {
       const double* c = trial->gm_cache.data() + point * 4;
       gm = {c[0], c[1] * v, c[2], c[3] * v};
     } else {
-      gm = ContactGm(x, v, s, ds, point);
+      gm = ContactGm(x, v, s, ds, point, zc.data());
     }
     Lumped(a, s, ds, gm);
+    if (bump_gain > 0.0) {
+      // Bump stops: F_i = b K_Z α_i max(0, c_i - g)² / δ_ref on each wheel's compression
+      // c_i = Z_Oi - (Z + x_i sin θ), pushing the chassis up at x_i.
+      double fz = 0.0, fp = 0.0;
+      const double sin_t = std::sin(s[2]);
+      for (int i = 0; i < wheels; ++i) {
+        const double over = zc[i] - (s[0] + wheel_x[i] * sin_t) - bump_gap;
+        if (over <= 0.0) continue;
+        const double f = bump_gain * k_z * alpha[i] * over * over / kHeaveRef;
+        fz += f;
+        fp += f * wheel_x[i];
+      }
+      ds[1] += fz / mass;
+      ds[3] += fp / inertia;
+    }
     if (gm_out) *gm_out = gm;
   }
 
-  Gm ContactGm(double x, double v, const State& s, State& ds, long point) const {
+  Gm ContactGm(double x, double v, const State& s, State& ds, long point, double* zc_out = nullptr) const {
     std::array<double, kMaxWheels> h{}, h_rate{}, zc{}, zc_rate{};
     Contacts(x, v, h.data(), h_rate.data(), point);
     for (int i = 0; i < wheels; ++i) {
@@ -128,6 +151,7 @@ struct Rhs {
         ds[slot + 1] = omega[i] * omega[i] * (h[i] - zt) + 2.0 * zeta * omega[i] * (h_rate[i] - zt_rate);
       }
     }
+    if (zc_out) std::copy(zc.begin(), zc.begin() + wheels, zc_out);
     return Geometric(zc.data(), zc_rate.data());
   }
 
@@ -271,8 +295,12 @@ Rhs MakeRhs(const PreparedTrial& trial, const ExtendedParams& params, int* state
     rhs.omega[i] = period > 1e-6 ? 2.0 * std::numbers::pi / period : 0.0;
     rhs.tyre_slot[i] = rhs.omega[i] > 0.0 ? slot : -1;
     if (rhs.omega[i] > 0.0) slot += 2;
-    rhs.height_factor[i] =
-        std::max(0.0, fx.cushion_height_gain - fx.cushion_loss_per_kn * loads[i] * 1e-3);
+    const double load_kn =
+        1e-3 * (fx.cushion_whole_chair ? MovingMass(chair, trial.load_kg) * kGravity : loads[i]);
+    const double loss = fx.cushion_loss_per_kn == 0.0
+                            ? 0.0
+                            : fx.cushion_loss_per_kn * std::pow(std::max(0.0, load_kn), fx.cushion_exponent);
+    rhs.height_factor[i] = std::max(0.0, fx.cushion_height_gain - loss);
   }
   for (const PairWeight& p : chair.gm->beta) {
     if (p.weight == 0.0) continue;
@@ -291,7 +319,12 @@ Rhs MakeRhs(const PreparedTrial& trial, const ExtendedParams& params, int* state
   rhs.hard_t = fx.pitch_hardening;
   rhs.fric_z = fx.heave_friction;
   rhs.fric_t = fx.pitch_friction;
-  rhs.lever = fx.cm_lever;
+  // Γ_θ = M lever a_x with the mass-weighted lever of chair and occupant.
+  rhs.lever = (chair.mass * fx.cm_lever + trial.load_kg * fx.load_cm_lever) / MovingMass(chair, trial.load_kg);
+  rhs.bump_gain = fx.bump_gain;
+  rhs.bump_gap = fx.bump_gap;
+  rhs.marker_x = fx.marker_lever_x;
+  rhs.marker_z = fx.marker_lever_z;
   if (state_size) *state_size = slot;
   return rhs;
 }
@@ -349,6 +382,7 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
   for (int i = 0; i < rhs.wheels; ++i) {
     if (rhs.radius[i] > 0.0) rigid_points = false;
     if (rhs.radius[i] > 0.0 || rhs.omega[i] > 0.0 || rhs.height_factor[i] != 1.0) plain = false;
+    if (rhs.bump_gain > 0.0) plain = false;  // needs each wheel's contact height
   }
   rhs.use_wheel_cache = cached && rigid_points;
   rhs.use_gm_cache = cached && plain;
@@ -364,7 +398,8 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
   State s{};
   {
     std::array<double, kMaxWheels> h{}, h_rate{};
-    rhs.Contacts(trial.x[0], 0.0, h.data(), h_rate.data(), cached ? 0 : -1);
+    const bool marker = rhs.marker_x != 0.0 || rhs.marker_z != 0.0;
+    rhs.Contacts(trial.x[0] - rhs.marker_x, 0.0, h.data(), h_rate.data(), cached && !marker ? 0 : -1);
     for (int i = 0; i < rhs.wheels; ++i) {
       if (rhs.tyre_slot[i] >= 0) s[rhs.tyre_slot[i]] = h[i];
     }

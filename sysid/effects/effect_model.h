@@ -31,24 +31,35 @@ struct EffectParams {
   double caster_tyre_period{0.0};  ///< [s] 1/f of the caster tyre mode (0 = rigid)
   double drive_tyre_period{0.0};   ///< [s] 1/f of the drive tyre mode (0 = rigid)
   double tyre_damping{0.5};        ///< [-] damping ratio of the tyre modes
-  // cushion_compliance: the obstacle height falls with the static wheel load W_i = α_i M g:
-  // h_eff = h (g - c W_i), g the unloaded height relative to the terrain file.
-  double cushion_loss_per_kn{0.0};  ///< c [1/kN] fraction of obstacle height lost per kN
+  // cushion_compliance: the obstacle height falls with the load on it, W = the static wheel
+  // load α_i M g (per wheel) or the whole chair's weight M g, by a power law the data choose:
+  // h_eff = h max(0, g - c (W / 1 kN)^p), g the unloaded height relative to the terrain file.
+  double cushion_loss_per_kn{0.0};  ///< c [-] fraction of obstacle height lost at W = 1 kN
   double cushion_height_gain{1.0};  ///< g [-]
+  double cushion_exponent{1.0};     ///< p [-] (1: linear yield)
+  bool cushion_whole_chair{false};  ///< W = M g instead of the wheel's α_i M g
   // heave_pitch_coupling: off-diagonal K, C as a fraction of sqrt(K_Z K_θ), sqrt(C_Z C_θ).
   double stiffness_coupling{0.0};  ///< [-] in (-1, 1)
   double damping_coupling{0.0};    ///< [-] in (-1, 1)
   // nonlinear_stiffness: K δ (1 + κ (δ/δ_ref)²), δ_ref = kHeaveRef, kPitchRef.
   double heave_hardening{0.0};  ///< κ_Z [-]
   double pitch_hardening{0.0};  ///< κ_θ [-]
+  // ... and per-wheel bump stops on compression only (progressive, one-sided): wheel i adds
+  // F_i = b K_Z α_i max(0, c_i - g)² / δ_ref, c_i = Z_Oi - (Z + x_i sin θ), at x_i.
+  double bump_gain{0.0};  ///< b [-]
+  double bump_gap{0.0};   ///< g [m] compression before the stop engages
   // suspension_friction: Coulomb force F_c tanh(δ̇/ε) on each axis.
   double heave_friction{0.0};  ///< [N]
   double pitch_friction{0.0};  ///< [N m]
-  // inertial_pitch: Γ_θ = M h a_x (nose-up when accelerating for h > 0).
-  double cm_lever{0.0};  ///< h [m]
-  // marker_offset: Z_measured = Z + r_x sin θ + r_z (cos θ - 1).
-  double marker_lever_x{0.0};  ///< [m]
-  double marker_lever_z{0.0};  ///< [m]
+  // inertial_pitch: Γ_θ = (M_0 h + M_u h_u) a_x (nose-up when accelerating for h > 0): the
+  // chair's and the occupant's centres of mass at their own heights above the contact line.
+  double cm_lever{0.0};       ///< h [m], empty chair
+  double load_cm_lever{0.0};  ///< h_u [m], occupant or dummy
+  // marker_offset: the tracked origin sits at lever (r_x, r_z) in the chair frame, so
+  // x_measured = x + r_x cos θ - r_z sin θ and Z_measured = Z + r_x sin θ + r_z (cos θ - 1): the
+  // model places its wheels at x = x_measured - r_x cos θ + r_z sin θ (θ its own pitch state).
+  double marker_lever_x{0.0};  ///< r_x [m], forward
+  double marker_lever_z{0.0};  ///< r_z [m], up
 };
 
 inline constexpr double kHeaveRef = 0.01;          ///< [m] δ_ref of the heave hardening

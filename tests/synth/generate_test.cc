@@ -112,7 +112,9 @@ TEST(WriteTrialSetTest, FoldersReadBackInBothFormats) {
   for (const SyntheticTrial& trial : set.trials) {
     const auto folder = dir / trial.measured.name;
     ASSERT_TRUE(std::filesystem::exists(folder / "mocap.csv"));
-    ASSERT_TRUE(std::filesystem::exists(folder / "truth-chair.yaml"));
+    // Trial folders hold only what a lab measures; the truth lies beside the set.
+    for (const auto& entry : std::filesystem::directory_iterator(folder))
+      EXPECT_EQ(entry.path().filename().string().find("truth"), std::string::npos) << entry.path();
     const MeasuredTrial read = ReadMeasuredTrial(folder);
     EXPECT_EQ(read.mocap_format, "qtm-6d-tsv");
     EXPECT_EQ(read.name, trial.measured.name);
@@ -125,9 +127,11 @@ TEST(WriteTrialSetTest, FoldersReadBackInBothFormats) {
       EXPECT_NEAR(csv.z[k], trial.measured.track.z[k], 6e-6);
       EXPECT_NEAR(read.track.pitch[k], csv.pitch[k], 1e-6);
     }
-    const Chair truth = ReadChairFile(folder / "truth-chair.yaml");
-    EXPECT_DOUBLE_EQ(truth.lm->k_z, set.truth.lm->k_z);
   }
+  const Chair truth = ReadChairFile(TruthFileBeside(dir, "truth-chair.yaml"));
+  EXPECT_DOUBLE_EQ(truth.lm->k_z, set.truth.lm->k_z);
+  for (const auto& entry : std::filesystem::directory_iterator(dir))
+    EXPECT_TRUE(entry.is_directory()) << entry.path();
 }
 
 TEST(DemoTrialsTest, ShippedSetIsIdentifiedAndReproducesHeldOutTrials) {
@@ -140,7 +144,7 @@ TEST(DemoTrialsTest, ShippedSetIsIdentifiedAndReproducesHeldOutTrials) {
             [](const MeasuredTrial& a, const MeasuredTrial& b) { return a.name < b.name; });
   ASSERT_GE(trials.size(), 6u);
   const IdentifyResult result = IdentifyChair(trials, AssignRoles(trials));
-  const Chair truth = ReadChairFile(trials.front().folder / "truth-chair.yaml");
+  const Chair truth = ReadChairFile(TruthFileBeside(root, "truth-chair.yaml"));
   EXPECT_NEAR(result.chair.lm->k_z / truth.lm->k_z, 1.0, 0.02);
   EXPECT_NEAR(result.chair.lm->k_theta / truth.lm->k_theta, 1.0, 0.02);
   EXPECT_NEAR(result.chair.lm->c_z / truth.lm->c_z, 1.0, 0.05);

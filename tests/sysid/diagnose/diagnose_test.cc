@@ -82,12 +82,16 @@ TEST_P(HiddenEffectTest, NamesTheCauseAndGainsOnHeldOutTrials) {
   ASSERT_EQ(d.ranking.size(), 8u);
   EXPECT_FALSE(d.heldout_trials.empty());
   if (!c.effect) {
+    EXPECT_EQ(d.verdict, Verdict::kAdequate) << d.base_check.Evidence();
     EXPECT_EQ(d.cause, "none") << "top: " << EffectName(d.ranking.front().effect) << " gain "
                                << d.ranking.front().heldout_gain;
     EXPECT_EQ(d.extended_heldout.z, d.base_heldout.z);
     return;
   }
   EXPECT_EQ(d.cause, EffectName(*c.effect));
+  EXPECT_NE(d.verdict, Verdict::kAdequate);
+  ASSERT_FALSE(d.causes.empty());
+  EXPECT_EQ(d.causes.front().effect, *c.effect);
   const RankEntry& top = d.ranking.front();
   EXPECT_EQ(top.effect, *c.effect);
   EXPECT_TRUE(top.earns);

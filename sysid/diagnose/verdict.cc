@@ -1,0 +1,213 @@
+#include "sysid/diagnose/verdict.h"
+
+#include <algorithm>
+#include <boost/math/distributions/chi_squared.hpp>
+#include <cmath>
+#include <cstdio>
+
+#include "sysid/diagnose/residual_analysis.h"
+
+namespace pwsim::diagnose {
+namespace {
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  const std::size_t mid = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + static_cast<long>(mid), v.end());
+  double m = v[mid];
+  if (v.size() % 2 == 0) m = 0.5 * (m + *std::max_element(v.begin(), v.begin() + static_cast<long>(mid)));
+  return m;
+}
+
+double MeanSquare(std::span<const double> e) {
+  double s = 0.0;
+  for (double v : e) s += v * v;
+  return e.empty() ? 0.0 : s / static_cast<double>(e.size());
+}
+
+/// Structured RMS in units of σ: sqrt(max(0, ms - σ² q)) / σ.
+double Rho(double ms, double sigma, double q = 1.0) {
+  if (sigma <= 0.0) return ms > 0.0 ? 1e9 : 0.0;
+  return std::sqrt(std::max(0.0, ms - sigma * sigma * q)) / sigma;
+}
+
+double SlopeOf(const std::vector<double>& x, const std::vector<double>& y) {
+  if (x.size() < 3) return 0.0;
+  double mx = 0, my = 0;
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    mx += x[k];
+    my += y[k];
+  }
+  mx /= static_cast<double>(x.size());
+  my /= static_cast<double>(x.size());
+  double sxy = 0, sxx = 0;
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    sxy += (x[k] - mx) * (y[k] - my);
+    sxx += (x[k] - mx) * (x[k] - mx);
+  }
+  return sxx > 0.0 ? sxy / sxx : 0.0;
+}
+
+ChannelCheck CheckChannel(const std::vector<ResidualRecord>& records, bool pitch, double sigma,
+                          const VerdictOptions& o) {
+  ChannelCheck c;
+  c.sigma = sigma;
+  auto e_of = [&](const ResidualRecord& r) -> const std::vector<double>& { return pitch ? r.e_pitch : r.e_z; };
+  auto u_of = [&](const ResidualRecord& r) -> const std::vector<double>& { return pitch ? r.gm_pitch : r.gm_z; };
+  // (a) magnitude over every record.
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (const auto& r : records) {
+    for (double v : e_of(r)) sum += v * v;
+    n += e_of(r).size();
+  }
+  c.rho = Rho(n > 0 ? sum / static_cast<double>(n) : 0.0, sigma);
+  c.magnitude_fails = c.rho > o.rho_max;
+  // (b) windows.
+  struct Window {
+    std::size_t record, begin, end;
+  };
+  std::vector<Window> windows;
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    const auto& t = records[i].t;
+    std::size_t b = 0;
+    while (b < t.size()) {
+      std::size_t e = b;
+      while (e < t.size() && t[e] - t[b] < o.window_s) ++e;
+      if (e - b >= 5) windows.push_back({i, b, e});
+      b = e;
+    }
+  }
+  const double m = std::max<double>(1.0, static_cast<double>(windows.size()));
+  c.rho_local = 0.0;
+  for (const Window& w : windows) {
+    const auto& e = e_of(records[w.record]);
+    const double nw = static_cast<double>(w.end - w.begin);
+    const boost::math::chi_squared_distribution<double> chi(nw);
+    const double q = boost::math::quantile(boost::math::complement(chi, o.alpha / m)) / nw;
+    const double rho = Rho(MeanSquare(std::span<const double>(e).subspan(w.begin, w.end - w.begin)), sigma, q);
+    if (rho > c.rho_local) {
+      c.rho_local = rho;
+      const std::size_t mid = (w.begin + w.end) / 2;
+      c.local_trial = records[w.record].name;
+      c.local_t = records[w.record].t[mid];
+      c.local_x = mid < records[w.record].x.size() ? records[w.record].x[mid] : 0.0;
+    }
+  }
+  c.local_fails = c.rho_local > o.rho_local;
+  // (c) whiteness: r̄ over lags 1..5, pooled over records (weighted by length).
+  double rbar = 0.0, weight = 0.0;
+  for (const auto& r : records) {
+    const auto& e = e_of(r);
+    if (e.size() < 20) continue;
+    const CorrelationTest acf = AutoCorrelationTest(e, 5);
+    double s = 0.0;
+    for (std::size_t k = 1; k < acf.r.size(); ++k) s += acf.r[k];
+    const double w = static_cast<double>(e.size());
+    rbar += w * s / static_cast<double>(std::max<std::size_t>(1, acf.r.size() - 1));
+    weight += w;
+  }
+  c.whiteness = weight > 0.0 ? rbar / weight : 0.0;
+  c.whiteness_bound = weight > 0.0 ? kZ99 / std::sqrt(5.0 * weight) : 0.0;
+  const double rmax2 = o.rho_max * o.rho_max;
+  c.whiteness_fails = c.whiteness > rmax2 / (1.0 + rmax2) && c.whiteness > c.whiteness_bound;
+  // (d) input correlation: the worst record.
+  for (const auto& r : records) {
+    if (e_of(r).size() < 60 || u_of(r).size() != e_of(r).size()) continue;
+    const CorrelationTest ccf = CrossCorrelationTest(e_of(r), u_of(r), 25);
+    if (ccf.worst > c.input_r) {
+      c.input_r = ccf.worst;
+      c.input_bound = ccf.bound;
+    }
+  }
+  c.input_fails = c.input_r > o.input_r_max && c.input_r > c.input_bound;
+  // (e) speed and load.
+  std::vector<double> speed, load, rho;
+  for (const auto& r : records) {
+    speed.push_back(r.speed);
+    load.push_back(r.load_kg / 100.0);
+    rho.push_back(Rho(MeanSquare(e_of(r)), sigma));
+  }
+  c.speed_slope = SlopeOf(speed, rho);
+  c.load_slope = SlopeOf(load, rho);
+  return c;
+}
+
+std::string ChannelLine(const char* name, const ChannelCheck& c, const VerdictOptions& o) {
+  char buf[512];
+  std::snprintf(buf, sizeof(buf),
+                "%s: structured RMS %.2f σ (limit %.2f)%s, worst 0.5 s window %.2f σ at x = %.2f m in %s%s, "
+                "whiteness r̄ %.2f%s, input |r| %.2f%s, ρ vs speed %+.2f per m/s, vs load %+.2f per 100 kg",
+                name, c.rho, o.rho_max, c.magnitude_fails ? " FAILS" : "", c.rho_local, c.local_x,
+                c.local_trial.empty() ? "-" : c.local_trial.c_str(), c.local_fails ? " FAILS" : "",
+                c.whiteness, c.whiteness_fails ? " FAILS" : "", c.input_r, c.input_fails ? " FAILS" : "",
+                c.speed_slope, c.load_slope);
+  return buf;
+}
+
+}  // namespace
+
+const char* VerdictName(Verdict verdict) {
+  switch (verdict) {
+    case Verdict::kAdequate:
+      return "adequate";
+    case Verdict::kExplained:
+      return "explained";
+    case Verdict::kPartlyExplained:
+      return "partly_explained";
+    case Verdict::kUnexplained:
+      return "unexplained";
+  }
+  return "unexplained";
+}
+
+double NoiseSigma(std::span<const double> y) {
+  if (y.size() < 5) return 0.0;
+  std::vector<double> d;
+  d.reserve(y.size() - 4);
+  for (std::size_t k = 0; k + 4 < y.size(); ++k)
+    d.push_back(std::abs(y[k] - 4.0 * y[k + 1] + 6.0 * y[k + 2] - 4.0 * y[k + 3] + y[k + 4]));
+  return 1.4826 * Median(std::move(d)) / std::sqrt(70.0);
+}
+
+double PooledNoiseSigma(const std::vector<std::vector<double>>& records) {
+  std::vector<double> s;
+  for (const auto& r : records)
+    if (r.size() >= 5) s.push_back(NoiseSigma(r));
+  return Median(std::move(s));
+}
+
+double NoiseFloorFitPct(const std::vector<std::vector<double>>& records, double sigma) {
+  double dev = 0.0, n = 0.0;
+  for (const auto& r : records) {
+    double mean = 0.0;
+    for (double v : r) mean += v;
+    mean /= std::max<double>(1.0, static_cast<double>(r.size()));
+    for (double v : r) dev += (v - mean) * (v - mean);
+    n += static_cast<double>(r.size());
+  }
+  if (dev <= 0.0) return 0.0;
+  return 100.0 * (1.0 - std::sqrt(n * sigma * sigma) / std::sqrt(dev));
+}
+
+NoiseCheck CheckResidual(const std::vector<ResidualRecord>& records, double sigma_z,
+                         double sigma_pitch, const VerdictOptions& options) {
+  NoiseCheck check;
+  check.z = CheckChannel(records, false, sigma_z, options);
+  check.pitch = CheckChannel(records, true, sigma_pitch, options);
+  return check;
+}
+
+std::string NoiseCheck::Evidence() const {
+  const VerdictOptions o;
+  return std::string(NoiseLike() ? "residual cannot be told from noise; " : "residual is structured; ") +
+         ChannelLine("Z", z, o) + "; " + ChannelLine("pitch", pitch, o);
+}
+
+Verdict Decide(const NoiseCheck& base, std::size_t causes, const NoiseCheck& extended) {
+  if (base.NoiseLike()) return Verdict::kAdequate;
+  if (causes == 0) return Verdict::kUnexplained;
+  return extended.NoiseLike() ? Verdict::kExplained : Verdict::kPartlyExplained;
+}
+
+}  // namespace pwsim::diagnose

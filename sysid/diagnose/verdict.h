@@ -1,0 +1,106 @@
+#pragma once
+// The diagnosis' verdict (measured-trials.md, additions to v1): can a model's residual on
+// held-out trials be told from measurement noise, and what does that make of the causes found?
+//
+// Noise level, from the data alone (no model). For a smooth signal s sampled at step h plus
+// white noise of std σ, the 4th difference Δ⁴y_k = y_k - 4y_{k+1} + 6y_{k+2} - 4y_{k+3} + y_{k+4}
+// has noise variance 70 σ² and a signal part ≈ h⁴ s'''' that is small wherever the chair moves
+// smoothly (most of every trial); the median makes the estimate robust to the few samples near
+// kinks and impacts:  σ̂ = 1.4826 median|Δ⁴y| / √70,  pooled as the median over trials.
+// Noise floor (the best fitness the data allow, MATLAB compare's formula with residual = noise):
+//   floor = 100 (1 - sqrt(Σ_r N_r σ̂²) / sqrt(Σ_r ||y_r - ȳ_r||²))   [%]
+//
+// A residual e is "noise-like" when, in both channels, none of these tests fails
+// (ρ = structured RMS in units of σ̂; structure S and white noise σ add in power):
+//  (a) magnitude: ρ = sqrt(max(0, mean e² - σ̂²)) / σ̂ > rho_max (0.75) fails;
+//  (b) position (on the terrain, in the trial): in windows of `window_s`, the structured RMS
+//      beyond the χ² allowance, ρ_w = sqrt(max(0, mean_w e² - σ̂² q_w)) / σ̂ with
+//      q_w = χ²_{n_w}(1 - α/m) / n_w (α = 0.01, Bonferroni over the m windows), fails when the
+//      worst window exceeds rho_local (1.5): a localised error, e.g. at the obstacle (1.0 at first; the
+//      paper's small-angle contact geometry leaves ≈ 1.05 σ at the ramps of independently
+//      simulated no-effect sets, so 1.5: a local error below it is not called structure);
+//  (c) whiteness: the mean normalised autocorrelation at lags 1..5, r̄ ≈ S²/(S² + σ²) for a
+//      slow structure S in white noise (independent of σ̂), fails when r̄ > rho_max²/(1+rho_max²)
+//      and r̄ exceeds the white-noise 99 % bound 2.58/√(5N);
+//  (d) input correlation: the largest |r| between e and the channel's GM output at lags ±25
+//      (residual_analysis.h) fails when > input_r_max (0.4) and outside its 99 % bound;
+//  (e) speed and load: ρ per trial against speed and load is evidence only (too few trials to
+//      decide).
+// Calibration (disclosed): the limits were first 0.5, 1.0 and 0.3. Even a correct model leaves
+// structure: the centring on the rest window (σ/√n_rest, ≈ 0.2 σ), parameter and GM
+// identification errors, the paper's small-angle contact geometry. On the first no-effect set
+// of the independent truth (seed 2) the base model left 0.47 σ (pitch), 1.05 σ in its worst
+// window and |r| 0.29 with the input, so the limits were raised to 0.75, 1.5 and 0.4 before the
+// confusion matrix (other seeds) was run. A structured RMS of 0.75 σ is a fit 0.25 (1 - floor/100)
+// ·100 points, i.e. ≈ 0.3 points, below the noise floor.
+// Verdict: base noise-like → adequate; otherwise, causes found and the extended model
+// noise-like → explained; causes found but not noise-like → partly_explained; no cause →
+// unexplained. `cause` is none for adequate and unexplained, never meaning both.
+
+#include <span>
+#include <string>
+#include <vector>
+
+namespace pwsim::diagnose {
+
+enum class Verdict { kAdequate, kExplained, kPartlyExplained, kUnexplained };
+/// "adequate", "explained", "partly_explained", "unexplained".
+const char* VerdictName(Verdict verdict);
+
+/// σ̂ of white noise on a sampled signal (4th differences, median absolute value). 0 for < 5 samples.
+double NoiseSigma(std::span<const double> y);
+/// Median of per-record σ̂.
+double PooledNoiseSigma(const std::vector<std::vector<double>>& records);
+/// The noise-floor fitness [%] of `records` (each centred on its own mean) for noise σ.
+double NoiseFloorFitPct(const std::vector<std::vector<double>>& records, double sigma);
+
+/// One held-out trial's residual as the tests need it.
+struct ResidualRecord {
+  std::string name;
+  double speed{0.0};    ///< [m/s]
+  double load_kg{0.0};
+  std::vector<double> t;                  ///< [s]
+  std::vector<double> x;                  ///< [m] O_V along the path
+  std::vector<double> e_z, e_pitch;       ///< measured - model
+  std::vector<double> gm_z, gm_pitch;     ///< the model's GM output (the input of the LM)
+};
+
+struct VerdictOptions {
+  double rho_max{0.75};     ///< (a), (c): structured RMS allowed, in σ̂
+  double rho_local{1.5};    ///< (b)
+  double window_s{0.5};     ///< (b) [s]
+  double alpha{0.01};       ///< (b) family-wise false-alarm rate
+  double input_r_max{0.4};  ///< (d)
+};
+
+struct ChannelCheck {
+  double sigma{0.0};           ///< σ̂ used
+  double rho{0.0};             ///< (a)
+  double rho_local{0.0};       ///< (b) worst window
+  std::string local_trial;     ///< (b) where
+  double local_t{0.0};         ///< [s] window centre
+  double local_x{0.0};         ///< [m] O_V at the window centre
+  double whiteness{0.0};       ///< (c) r̄
+  double whiteness_bound{0.0};
+  double input_r{0.0};         ///< (d)
+  double input_bound{0.0};
+  double speed_slope{0.0};     ///< (e) dρ/d(speed) per m/s over trials
+  double load_slope{0.0};      ///< (e) dρ per 100 kg
+  bool magnitude_fails{false}, local_fails{false}, whiteness_fails{false}, input_fails{false};
+  bool NoiseLike() const { return !magnitude_fails && !local_fails && !whiteness_fails && !input_fails; }
+};
+
+struct NoiseCheck {
+  ChannelCheck z, pitch;
+  bool NoiseLike() const { return z.NoiseLike() && pitch.NoiseLike(); }
+  std::string Evidence() const;  ///< one line: what fails where, or that nothing does
+};
+
+/// Runs tests (a)-(e) on `records` with noise levels σ̂_z [m], σ̂_θ [rad].
+NoiseCheck CheckResidual(const std::vector<ResidualRecord>& records, double sigma_z,
+                         double sigma_pitch, const VerdictOptions& options = {});
+
+/// The rule above. `causes`: number of extensions that earned their parameters.
+Verdict Decide(const NoiseCheck& base, std::size_t causes, const NoiseCheck& extended);
+
+}  // namespace pwsim::diagnose
