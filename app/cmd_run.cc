@@ -82,8 +82,10 @@ int RunCommand(const ParsedArgs& args) {
 
   const report::RenderStageOptions render_options = RenderOptions(args);
 
-  if (vehicle::SceneKind(scene_path) == "car") {  // seed 001's car on the rail + yaw platform
-    const vehicle::CarScene car_scene = vehicle::LoadCarScene(scene_path);
+  // Read once: the scene may come from a pipe (a sweep task reads its scene from a FIFO).
+  const YamlDocument scene_document = LoadYamlFile(scene_path);
+  if (vehicle::SceneKind(scene_document) == "car") {  // seed 001's car on the rail + yaw platform
+    const vehicle::CarScene car_scene = vehicle::ParseCarScene(scene_document);
     report::CarRunOptions car;
     car.decimate = static_cast<int>(decimate);
     car.video = !render_options.no_video;
@@ -97,7 +99,7 @@ int RunCommand(const ParsedArgs& args) {
     return 0;
   }
 
-  const Scene scene = LoadScene(scene_path);
+  const Scene scene = ParseScene(scene_document);
   const std::vector<ChairSample> samples = SimulateScene(scene);
   TrialTable table = report::ChairColumns(scene, samples);
   nlohmann::ordered_json summary = report::RunSummary(scene, scene_path.string(), table);

@@ -130,6 +130,8 @@ const SceneSection* Scene::section(const std::string& key) const {
 
 Scene LoadScene(const std::filesystem::path& file) { return ParseSceneRoot(LoadYamlFile(file)); }
 
+Scene ParseScene(const YamlDocument& document) { return ParseSceneRoot(document); }
+
 Scene ParseScene(const std::string& yaml_text, const std::filesystem::path& label) {
   return ParseSceneRoot(LoadYamlString(yaml_text, label.string()));
 }

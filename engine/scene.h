@@ -9,6 +9,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "engine/yaml_reader.h"
+
 #include <array>
 #include <filesystem>
 #include <map>
@@ -70,6 +72,8 @@ inline const std::vector<std::string>& ExtensionSectionKeys() {
 
 /// Loads and validates a scene file. @throws InputError (file, line, field, expected).
 Scene LoadScene(const std::filesystem::path& file);
+/// Same, from a YAML document already read (LoadYamlFile), so a scene is read only once.
+Scene ParseScene(const YamlDocument& document);
 /// Same, from YAML text; relative paths resolve against `label`'s folder.
 Scene ParseScene(const std::string& yaml_text, const std::filesystem::path& label);
 /// The built-in default: the paper's speed-cushion trial (also scenes/speed_cushion.yaml).

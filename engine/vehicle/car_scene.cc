@@ -13,8 +13,9 @@ const SceneSection* CarScene::section(const std::string& key) const {
   return found == sections.end() ? nullptr : &found->second;
 }
 
-std::string SceneKind(const std::filesystem::path& file) {
-  const YamlDocument document = LoadYamlFile(file);
+std::string SceneKind(const std::filesystem::path& file) { return SceneKind(LoadYamlFile(file)); }
+
+std::string SceneKind(const YamlDocument& document) {
   YamlMap root(document.root, document.file, "");
   if (!root.Has("kind")) return "wheelchair";
   return root.Choice("kind", {"wheelchair", "car"});
@@ -271,6 +272,8 @@ CarScene ParseRoot(const YamlDocument& document) {
 }  // namespace
 
 CarScene LoadCarScene(const std::filesystem::path& file) { return ParseRoot(LoadYamlFile(file)); }
+
+CarScene ParseCarScene(const YamlDocument& document) { return ParseRoot(document); }
 
 CarScene ParseCarScene(const std::string& yaml_text, const std::filesystem::path& label) {
   YamlDocument document = LoadYamlString(yaml_text, label.string());

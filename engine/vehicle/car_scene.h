@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/yaml_reader.h"
 #include "engine/clock.h"
 #include "engine/scene.h"
 #include "engine/vehicle/driver_inputs.h"
@@ -63,10 +64,13 @@ struct CarScene {
 /// "car" for a scene file with `kind: car`, "wheelchair" otherwise (also when `kind` is absent).
 /// @throws InputError if the file cannot be read or `kind` is neither.
 std::string SceneKind(const std::filesystem::path& file);
+/// The same for a document already read (a scene is read once: it may come from a pipe).
+std::string SceneKind(const YamlDocument& document);
 
 /// Loads and validates a car scene. @throws InputError (file, line, field, expected).
 CarScene LoadCarScene(const std::filesystem::path& file);
 CarScene ParseCarScene(const std::string& yaml_text, const std::filesystem::path& label);
+CarScene ParseCarScene(const YamlDocument& document);
 
 /// One tick of a car run: the state after the tick's step and the inputs that led to it.
 struct CarSample {
