@@ -13,7 +13,9 @@ flags="-std=c++20 -O1 -g -fsanitize=fuzzer-no-link,address,undefined -fno-saniti
 # Shared library code, compiled once (guarded against parallel ctest runs).
 (
   flock 9
-  for unit in can_frame candump_log canopen cia402_master safety_supervisor hmd_protocol session; do
+  rm -f "$work/obj/session.o"  # hardware/session.cc was split into session_*.cc
+  for unit in can_frame candump_log canopen cia402_master safety_supervisor hmd_protocol \
+      session_config session_core session_replay session_report session_text; do
     o="$work/obj/$unit.o"
     if [ ! -f "$o" ] || [ "$src/hardware/$unit.cc" -nt "$o" ] || [ "$src/hardware/$unit.h" -nt "$o" ]; then
       $CXX $flags -c "$src/hardware/$unit.cc" -o "$o"
