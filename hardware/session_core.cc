@@ -3,20 +3,27 @@
 #include <algorithm>
 #include <cmath>
 
-#include "engine/number_format.h"
 #include "hardware/session_text.h"
 
 namespace pwsim::hw {
-namespace {
-
-std::string F(double v) { return FormatDouble(v); }
-
-}  // namespace
-
 SessionCore::SessionCore(SessionConfig config)
     : config_(config), supervisor_(config.safety), master_(config.master),
       hmd_filter_(config.hmd_timeout_ns) {
   measured_.reserve(8192);
+  // The longest session: motion until run_ticks, then at most max_stop_ticks to park and 10
+  // drive cycles to disable (a few more for rounding). Capped so that a hostile log header
+  // cannot ask for gigabytes; a longer session grows these (allocating) but stays correct.
+  constexpr std::int64_t kMaxReservedTicks = 1LL << 22;  // ~70 min at 1 kHz
+  const std::int64_t drive = std::max(1, config_.drive_cycle_ticks);
+  const std::int64_t frame = std::max(1, config_.frame_ticks);
+  const std::int64_t last_tick = std::clamp<std::int64_t>(
+      config_.run_ticks + config_.max_stop_ticks + 16 * drive, 0, kMaxReservedTicks);
+  const auto drives = static_cast<std::size_t>(last_tick / drive + 2);
+  const auto frames = static_cast<std::size_t>(last_tick / frame + 2);
+  lateness_us_.reserve(drives + frames);
+  period_jitter_us_.reserve(drives);
+  platform_rx_ns_.reserve(drives);
+  frame_shown_ns_.reserve(frames);
 }
 
 void SessionCore::SendHmd(HmdBody body, std::int64_t now_ns, SessionOutputs* out) {
@@ -26,9 +33,8 @@ void SessionCore::SendHmd(HmdBody body, std::int64_t now_ns, SessionOutputs* out
   m.header.t_send_ns = now_ns;
   m.header.type = static_cast<HmdType>(body.index() + 1);
   m.body = std::move(body);
-  std::vector<std::uint8_t> bytes(kHmdMaxSize);
-  bytes.resize(EncodeHmd(m, bytes));
-  out->hmd.push_back(std::move(bytes));
+  HmdDatagram& d = out->hmd.emplace_back();
+  d.size = EncodeHmd(m, d.data);
 }
 
 std::array<double, 2> SessionCore::MeasuredAt(std::int64_t ns) const {
@@ -58,8 +64,7 @@ void SessionCore::HandleHmd(std::int64_t tick, const RxDatagram& d, SessionOutpu
     const std::int64_t t_local = SaturatingSub(head->t_sample_ns, offset_.offset_ns());
     const auto q = MeasuredAt(t_local);
     const Pose comp = CompensateHeadPose(head->head, q[0], q[1]);
-    out->log.push_back("P " + std::to_string(tick) + " " + std::to_string(t_local) +
-                       PoseText(head->head) + PoseText(comp));
+    out->log.Line('P').Int(tick).Int(t_local).PoseNums(head->head).PoseNums(comp);
     if (head->last_frame >= 0 &&
         static_cast<std::size_t>(head->last_frame) < frame_shown_ns_.size() &&
         frame_shown_ns_[static_cast<std::size_t>(head->last_frame)] < 0) {
@@ -68,7 +73,7 @@ void SessionCore::HandleHmd(std::int64_t tick, const RxDatagram& d, SessionOutpu
     }
   } else if (std::holds_alternative<ByeMsg>(m.body)) {
     hmd_bye_ = true;
-    out->log.push_back("E " + std::to_string(tick) + " hmd said bye");
+    out->log.Line('E').Int(tick).Word("hmd said bye");
   }
 }
 
@@ -79,7 +84,7 @@ void SessionCore::Step(std::int64_t tick, const SessionInputs& in, SessionOutput
   lateness_us_.push_back(static_cast<double>(SaturatingSub(in.now_ns, in.scheduled_ns)) / 1000.0);
   if (in.stop_request && !stop_request_) {
     stop_request_ = true;
-    out->log.push_back("E " + std::to_string(tick) + " stop requested");
+    out->log.Line('E').Int(tick).Word("stop requested");
   }
 
   for (const RxDatagram& d : in.hmd) HandleHmd(tick, d, out);
@@ -89,7 +94,7 @@ void SessionCore::Step(std::int64_t tick, const SessionInputs& in, SessionOutput
     if (f.error()) {
       if ((f.id & kCanErrBusOff) != 0 && !bus_off_) {
         bus_off_ = true;
-        out->log.push_back("E " + std::to_string(tick) + " bus-off error frame");
+        out->log.Line('E').Int(tick).Word("bus-off error frame");
       }
       continue;
     }
@@ -160,12 +165,12 @@ void SessionCore::Step(std::int64_t tick, const SessionInputs& in, SessionOutput
 
     const SupervisorState state = supervisor_.state();
     if (state != last_state_) {
-      out->log.push_back("E " + std::to_string(tick) + " supervisor " + SupervisorStateName(state) +
-                         (supervisor_.reason().empty() ? "" : " (" + supervisor_.reason() + ")"));
+      out->log.Line('E').Int(tick).Word("supervisor").Word(SupervisorStateName(state));
+      if (!supervisor_.reason().empty()) out->log.Raw(" (").Raw(supervisor_.reason()).Raw(")");
       if ((state == SupervisorState::kSoftStop || state == SupervisorState::kFault) &&
           report_.stop_tick < 0) {
         report_.stop_tick = tick;
-        report_.stop_reason = supervisor_.reason();
+        stop_reason_ = supervisor_.reason();
       }
       if (state == SupervisorState::kParked) report_.parked_tick = tick;
       last_state_ = state;
@@ -183,8 +188,8 @@ void SessionCore::Step(std::int64_t tick, const SessionInputs& in, SessionOutput
       if (disable_ticks_ == 0) {
         master_.RequestDisable();
         SendHmd(ByeMsg{}, in.now_ns, out);
-        out->log.push_back("E " + std::to_string(tick) + " finishing" +
-                           (timed_out ? " (timed out waiting for park)" : ""));
+        out->log.Line('E').Int(tick).Word("finishing");
+        if (timed_out) out->log.Word("(timed out waiting for park)");
       }
       if (++disable_ticks_ > 10) done_ = true;
     }
@@ -192,16 +197,14 @@ void SessionCore::Step(std::int64_t tick, const SessionInputs& in, SessionOutput
     master_.Cycle(cycle, cmd, &out->can);
     if (master_.phase() != last_phase_) {
       last_phase_ = master_.phase();
-      out->log.push_back("E " + std::to_string(tick) + " master " + MasterPhaseName(last_phase_));
+      out->log.Line('E').Int(tick).Word("master").Word(MasterPhaseName(last_phase_));
     }
     const auto idx = static_cast<std::size_t>(cycle);
     if (platform_rx_ns_.size() <= idx) platform_rx_ns_.resize(idx + 1, -1);
-    sync_sent_tick_.push_back(tick);
     const std::array<double, 2> sp = in.setpoint.value_or(std::array<double, 2>{NAN, NAN});
-    out->log.push_back("S " + std::to_string(tick) + " " + std::to_string(cycle) + " " + F(sp[0]) +
-                       " " + F(sp[1]) + " " + F(cmd[0]) + " " + F(cmd[1]) + " " + F(measured[0]) +
-                       " " + F(measured[1]) + " " + SupervisorStateName(state) + " " +
-                       MasterPhaseName(master_.phase()));
+    out->log.Line('S').Int(tick).Int(cycle).Num(sp[0]).Num(sp[1]).Num(cmd[0]).Num(cmd[1]);
+    out->log.Num(measured[0]).Num(measured[1]).Word(SupervisorStateName(state));
+    out->log.Word(MasterPhaseName(master_.phase()));
   }
 
   if (is_frame_tick(tick) && in.camera && !done_) {
@@ -213,12 +216,13 @@ void SessionCore::Step(std::int64_t tick, const SessionInputs& in, SessionOutput
     if (frame % config_.ping_every_frames == 0) SendHmd(PingMsg{in.now_ns}, in.now_ns, out);
   }
 
-  for (const CanFrame& f : out->can) out->log.push_back("c " + FormatFrameText(f));
-  for (const auto& b : out->hmd) out->log.push_back("h " + HexEncode(b));
+  for (const CanFrame& f : out->can) out->log.Line('c').Frame(f);
+  for (const HmdDatagram& d : out->hmd) out->log.Line('h').Hex(d.bytes());
 }
 
 SessionReport SessionCore::Report() const {
   SessionReport r = report_;
+  r.stop_reason = std::string(stop_reason_);
   r.ticks = last_tick_;
   r.steps = steps_;
   r.cycle_lateness_us = ComputePercentiles(lateness_us_);

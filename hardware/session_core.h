@@ -20,6 +20,8 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <span>
+#include <string_view>
 #include <string>
 #include <vector>
 
@@ -29,6 +31,7 @@
 #include "hardware/safety_supervisor.h"
 #include "hardware/session_config.h"
 #include "hardware/session_report.h"
+#include "hardware/session_text.h"
 
 namespace pwsim::hw {
 
@@ -51,10 +54,23 @@ struct SessionInputs {
   bool stop_request{false};
 };
 
+/// One HMD datagram the core sends, stored inline (no heap).
+struct HmdDatagram {
+  std::array<std::uint8_t, kHmdMaxSize> data{};
+  std::size_t size{0};
+  std::span<const std::uint8_t> bytes() const { return {data.data(), size}; }
+};
+
+/// What one step produced. Storage is reserved on construction and kept by Clear(), so a
+/// SessionOutputs reused from step to step lets Step run without allocating.
 struct SessionOutputs {
+  SessionOutputs() {
+    can.reserve(64);
+    hmd.reserve(16);
+  }
   std::vector<CanFrame> can;
-  std::vector<std::vector<std::uint8_t>> hmd;
-  std::vector<std::string> log;  ///< output log lines (without the inputs)
+  std::vector<HmdDatagram> hmd;
+  LogLines log;  ///< output log lines (without the inputs)
   void Clear() {
     can.clear();
     hmd.clear();
@@ -62,6 +78,10 @@ struct SessionOutputs {
   }
 };
 
+/// Step allocates nothing once constructed (tests/hardware/session_alloc_test.cc), given an
+/// `out` reused from step to step: the per-session histories are reserved up front for the
+/// longest session the configuration allows (run_ticks + max_stop_ticks, capped at about
+/// 70 min of 1 kHz ticks, beyond which they grow), and log lines are formatted into `out->log`.
 class SessionCore {
  public:
   explicit SessionCore(SessionConfig config);
@@ -99,9 +119,7 @@ class SessionCore {
   MasterPhase last_phase_{MasterPhase::kResetComm};
   std::vector<double> lateness_us_;
   std::vector<double> period_jitter_us_;
-  std::vector<std::int64_t> sync_sent_tick_;     ///< ticks of SYNCs
   std::vector<std::int64_t> platform_rx_ns_;     ///< rail TPDO answering each of them (or -1)
-  std::vector<std::int64_t> frame_tick_;         ///< tick of each visual frame
   std::vector<std::int64_t> frame_shown_ns_;     ///< its arrival at the headset (local clock)
   struct Measured {
     std::int64_t ns;
@@ -109,7 +127,8 @@ class SessionCore {
   };
   std::vector<Measured> measured_;               ///< platform pose history (for compensation)
   std::array<std::array<double, 3>, 2> last_cmd_{};  ///< p, v, a history for limit checks
-  SessionReport report_;
+  SessionReport report_;        ///< stop_reason is filled in by Report()
+  std::string_view stop_reason_;  ///< the supervisor's (static) reason text
   std::int64_t last_tick_{0};
   std::int64_t steps_{0};
 };

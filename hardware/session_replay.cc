@@ -3,27 +3,22 @@
 #include <algorithm>
 #include <cmath>
 
-#include "engine/number_format.h"
 #include "hardware/session_text.h"
 
 namespace pwsim::hw {
-namespace {
-
-std::string F(double v) { return FormatDouble(v); }
-
-}  // namespace
+void AppendInputLines(std::int64_t tick, const SessionInputs& in, LogLines* lines) {
+  lines->Line('T').Int(tick).Int(in.now_ns).Int(in.scheduled_ns);
+  if (in.setpoint) lines->Line('M').Int(tick).Num((*in.setpoint)[0]).Num((*in.setpoint)[1]);
+  if (in.camera) lines->Line('K').Int(tick).PoseNums(*in.camera);
+  if (in.stop_request) lines->Line('X').Int(tick);
+  for (const RxFrame& r : in.can) lines->Line('C').Int(r.rx_ns).Frame(r.frame);
+  for (const RxDatagram& d : in.hmd) lines->Line('H').Int(d.rx_ns).Hex(d.bytes);
+}
 
 void AppendInputLines(std::int64_t tick, const SessionInputs& in, std::vector<std::string>* lines) {
-  lines->push_back("T " + std::to_string(tick) + " " + std::to_string(in.now_ns) + " " +
-                   std::to_string(in.scheduled_ns));
-  if (in.setpoint)
-    lines->push_back("M " + std::to_string(tick) + " " + F((*in.setpoint)[0]) + " " + F((*in.setpoint)[1]));
-  if (in.camera) lines->push_back("K " + std::to_string(tick) + PoseText(*in.camera));
-  if (in.stop_request) lines->push_back("X " + std::to_string(tick));
-  for (const RxFrame& r : in.can)
-    lines->push_back("C " + std::to_string(r.rx_ns) + " " + FormatFrameText(r.frame));
-  for (const RxDatagram& d : in.hmd)
-    lines->push_back("H " + std::to_string(d.rx_ns) + " " + HexEncode(d.bytes));
+  LogLines text;
+  AppendInputLines(tick, in, &text);
+  for (std::string_view l : text) lines->emplace_back(l);
 }
 
 ReplayResult ReplaySessionLog(std::istream& log) {
@@ -50,7 +45,7 @@ ReplayResult ReplaySessionLog(std::istream& log) {
     for (std::size_t i = 0; i < n; ++i) {
       if (out.log[i] != expected[i]) {
         result.message = "line " + std::to_string(expected_line[i]) + ": replay gives '" +
-                         out.log[i] + "', log has '" + expected[i] + "'";
+                         std::string(out.log[i]) + "', log has '" + expected[i] + "'";
         return false;
       }
       ++result.lines_compared;

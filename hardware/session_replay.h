@@ -9,10 +9,12 @@
 
 #include "hardware/session_core.h"
 #include "hardware/session_report.h"
+#include "hardware/session_text.h"
 
 namespace pwsim::hw {
 
 /// The input lines for one step (T, M, K, X, C, H), in the order Replay reads them.
+void AppendInputLines(std::int64_t tick, const SessionInputs& in, LogLines* lines);
 void AppendInputLines(std::int64_t tick, const SessionInputs& in, std::vector<std::string>* lines);
 
 struct ReplayResult {

@@ -75,8 +75,10 @@ SessionReport RunSession(const SessionConfig& config, const SessionStreams& stre
   const std::int64_t ns_per_tick = 1'000'000'000LL / config.clock_rate_hz;
   const std::int64_t start = MonotonicNs() + 2'000'000;  // first tick 2 ms from now
   SessionInputs in;
+  in.can.reserve(256);
+  in.hmd.reserve(64);
   SessionOutputs out;
-  std::vector<std::string> lines;
+  LogLines lines;
   for (std::int64_t tick = 0; !core.done(); ++tick) {
     const bool drive = core.is_drive_tick(tick);
     const bool frame = core.is_frame_tick(tick);
@@ -101,15 +103,20 @@ SessionReport RunSession(const SessionConfig& config, const SessionStreams& stre
     }
     if (io.hmd != nullptr) {
       // A refused datagram is a lost frame: the headset's staleness rules cover it.
-      for (const auto& b : out.hmd) (void)io.hmd->SendTo(io.hmd_peer, b);
+      for (const HmdDatagram& d : out.hmd) (void)io.hmd->SendTo(io.hmd_peer, d.bytes());
     }
     if (io.log != nullptr) {
       lines.clear();
       AppendInputLines(tick, in, &lines);
-      for (const std::string& l : lines) *io.log << l << '\n';
-      for (const std::string& l : out.log) *io.log << l << '\n';
+      for (std::string_view l : lines) *io.log << l << '\n';
+      for (std::string_view l : out.log) *io.log << l << '\n';
     }
-    in = SessionInputs{};
+    // Reset for the next step, keeping the vectors' capacity.
+    in.can.clear();
+    in.hmd.clear();
+    in.setpoint.reset();
+    in.camera.reset();
+    in.stop_request = false;
   }
   if (io.log != nullptr) io.log->flush();
   return core.Report();

@@ -1,18 +1,11 @@
 #include "hardware/session_text.h"
 
+#include <charconv>
 #include <cmath>
 #include <sstream>
 
-#include "engine/number_format.h"
 
 namespace pwsim::hw {
-
-std::string PoseText(const Pose& p) {
-  std::string s;
-  for (double v : p.p) s += " " + FormatDouble(v);
-  for (double v : p.q) s += " " + FormatDouble(v);
-  return s;
-}
 
 bool ParseI64(std::string_view s, std::int64_t* v) {
   if (s.empty()) return false;
@@ -78,6 +71,76 @@ bool HexDecode(std::string_view hex, std::vector<std::uint8_t>* bytes) {
     bytes->push_back(static_cast<std::uint8_t>(hi * 16 + lo));
   }
   return true;
+}
+
+LogLines::LogLines(std::size_t reserve_chars, std::size_t reserve_lines) {
+  text_.reserve(reserve_chars);
+  starts_.reserve(reserve_lines);
+}
+
+std::string_view LogLines::operator[](std::size_t i) const {
+  const std::size_t end = i + 1 < starts_.size() ? starts_[i + 1] : text_.size();
+  return std::string_view(text_).substr(starts_[i], end - starts_[i]);
+}
+
+LogLines& LogLines::Line(char kind) {
+  starts_.push_back(text_.size());
+  text_.push_back(kind);
+  return *this;
+}
+
+LogLines& LogLines::Int(std::int64_t value) {
+  char buffer[24];
+  const auto r = std::to_chars(buffer, buffer + sizeof(buffer), value);
+  text_.push_back(' ');
+  text_.append(buffer, r.ptr);
+  return *this;
+}
+
+LogLines& LogLines::Num(double value) {
+  char buffer[32];
+  const auto r = std::to_chars(buffer, buffer + sizeof(buffer), value);
+  text_.push_back(' ');
+  if (r.ec == std::errc())
+    text_.append(buffer, r.ptr);
+  else
+    text_.append("nan");  // as FormatDouble
+  return *this;
+}
+
+LogLines& LogLines::Word(std::string_view word) {
+  text_.push_back(' ');
+  text_.append(word);
+  return *this;
+}
+
+LogLines& LogLines::Raw(std::string_view text) {
+  text_.append(text);
+  return *this;
+}
+
+LogLines& LogLines::Hex(std::span<const std::uint8_t> bytes) {
+  static constexpr char kHex[] = "0123456789abcdef";
+  text_.push_back(' ');
+  for (std::uint8_t b : bytes) {
+    text_.push_back(kHex[b >> 4]);
+    text_.push_back(kHex[b & 0xF]);
+  }
+  return *this;
+}
+
+LogLines& LogLines::Frame(const CanFrame& frame) {
+  std::array<char, kFrameTextMax> buffer{};
+  const std::size_t n = FormatFrameText(frame, buffer);
+  text_.push_back(' ');
+  text_.append(buffer.data(), n);
+  return *this;
+}
+
+LogLines& LogLines::PoseNums(const Pose& pose) {
+  for (double v : pose.p) Num(v);
+  for (double v : pose.q) Num(v);
+  return *this;
 }
 
 }  // namespace pwsim::hw
