@@ -43,9 +43,10 @@ const CommandSpec& SessionSpec() {
           {"duration", "S", "s", "", "motion time before the soft stop (default: the scene's)"},
           {"drive-cycle-ms", "MS", "ms", "4", "CAN SYNC period"},
           {"frame-ms", "MS", "ms", "10", "visual frame period (HMD rate)"},
-          {"hmd-timeout-ms", "MS", "ms", "250", "head poses older than this: HMD stale -> soft stop"},
+          {"hmd-timeout-ms", "MS", "ms", "250", "a frame without a head pose after it this long: HMD stale -> soft stop"},
           {"max-stop-s", "S", "s", "30", "give up waiting for the platform to park after this"},
           {"rt-priority", "N", "-", "0", "run the loop SCHED_FIFO at this priority (0 = normal)"},
+          {"drive-wait-ms", "MS", "ms", "0", "lockstep for hosts without real-time scheduling: each SYNC waits up to MS for the drives' answer to the last one (0 = strict real time)"},
           {"out", "DIR", "-", "out/session", "output folder (session.log, can.log, report.json)"},
       },
       "SCENE  a pwsim-scene/1 YAML file (default: the paper's speed-cushion trial)"};
@@ -136,6 +137,10 @@ int SessionCommand(const ParsedArgs& args) {
   const long long rt = args.GetInt("rt-priority");
   if (rt < 0 || rt > 99) throw std::invalid_argument("option --rt-priority: expected 0..99");
   io.rt_priority = static_cast<int>(rt);
+  const double drive_wait_ms = args.GetDouble("drive-wait-ms");
+  if (!(drive_wait_ms >= 0.0 && drive_wait_ms <= 10'000.0))
+    throw std::invalid_argument("option --drive-wait-ms: expected 0..10000 ms");
+  io.drive_answer_wait_ns = static_cast<std::int64_t>(drive_wait_ms * 1e6);
   if (rt > 0) {
     const std::string why = hw::EnterRealtime(io.rt_priority);
     std::cout << "  real-time: " << (why.empty() ? "SCHED_FIFO " + std::to_string(rt) : why) << "\n";
@@ -150,7 +155,8 @@ int SessionCommand(const ParsedArgs& args) {
             << report.steps << " steps\n"
             << "  cycle lateness p50 " << report.cycle_lateness_us.p50 << " us, p99 "
             << report.cycle_lateness_us.p99 << " us; period jitter p50 "
-            << report.cycle_period_jitter_us.p50 << " us, p99 " << report.cycle_period_jitter_us.p99 << " us\n"
+            << report.cycle_period_jitter_us.p50 << " us, p99 " << report.cycle_period_jitter_us.p99 << " us; "
+            << report.schedule_slips << " schedule slips (" << report.schedule_slip_ms << " ms)\n"
             << "  visual-platform skew p50 " << report.skew_ms.p50 << " ms, p99 " << report.skew_ms.p99
             << " ms, jitter (sd) " << report.skew_ms.stddev << " ms over " << report.skew_ms.n << " frames\n"
             << "  limits " << (report.limits_ok ? "respected" : "EXCEEDED") << "; "

@@ -26,7 +26,7 @@ struct SessionConfig {
   int ping_every_frames{10};
   std::int64_t run_ticks{5000}; ///< stop request (soft stop to neutral) at this tick
   std::int64_t max_stop_ticks{15000};  ///< give up waiting for park after this many more
-  std::int64_t hmd_timeout_ns{250'000'000};  ///< no head pose this long: HMD stale
+  std::int64_t hmd_timeout_ns{250'000'000};  ///< a frame unanswered by a head pose this long: HMD stale
   bool hmd_required{true};
   std::uint32_t session_id{1};
   SafetyConfig safety;

@@ -60,7 +60,7 @@ void SessionCore::HandleHmd(std::int64_t tick, const RxDatagram& d, SessionOutpu
     offset_.AddSample(pong->t0, pong->t1, pong->t2, d.rx_ns);
   } else if (const auto* head = std::get_if<HeadPoseMsg>(&m.body)) {
     hmd_seen_ = true;
-    last_head_rx_ns_ = d.rx_ns;
+    awaiting_head_since_ns_ = -1;
     const std::int64_t t_local = SaturatingSub(head->t_sample_ns, offset_.offset_ns());
     const auto q = MeasuredAt(t_local);
     const Pose comp = CompensateHeadPose(head->head, q[0], q[1]);
@@ -123,7 +123,8 @@ void SessionCore::Step(std::int64_t tick, const SessionInputs& in, SessionOutput
     }
     const bool hmd_ok = !config_.hmd_required ||
                         (hmd_seen_ && !hmd_bye_ &&
-                         SaturatingSub(in.now_ns, last_head_rx_ns_) <= config_.hmd_timeout_ns);
+                         (awaiting_head_since_ns_ < 0 ||
+                          SaturatingSub(in.now_ns, awaiting_head_since_ns_) <= config_.hmd_timeout_ns));
     SafetyInputs si;
     si.setpoint = in.setpoint;
     si.measured = measured;
@@ -167,8 +168,11 @@ void SessionCore::Step(std::int64_t tick, const SessionInputs& in, SessionOutput
     if (state != last_state_) {
       out->log.Line('E').Int(tick).Word("supervisor").Word(SupervisorStateName(state));
       if (!supervisor_.reason().empty()) out->log.Raw(" (").Raw(supervisor_.reason()).Raw(")");
-      if ((state == SupervisorState::kSoftStop || state == SupervisorState::kFault) &&
-          report_.stop_tick < 0) {
+      // A soft stop that finds the platform already at neutral parks in the same cycle: the
+      // stop is recorded on reaching PARKED then (with the supervisor's reason).
+      const bool stopping = state == SupervisorState::kSoftStop || state == SupervisorState::kFault ||
+                            (state == SupervisorState::kParked && !supervisor_.reason().empty());
+      if (stopping && report_.stop_tick < 0) {
         report_.stop_tick = tick;
         stop_reason_ = supervisor_.reason();
       }
@@ -213,6 +217,7 @@ void SessionCore::Step(std::int64_t tick, const SessionInputs& in, SessionOutput
     if (frame_shown_ns_.size() <= idx) frame_shown_ns_.resize(idx + 1, -1);
     const auto& m = supervisor_.motion();
     SendHmd(CameraPoseMsg{tick, frame, *in.camera, {m[0].p, m[1].p}}, in.now_ns, out);
+    if (awaiting_head_since_ns_ < 0) awaiting_head_since_ns_ = in.now_ns;
     if (frame % config_.ping_every_frames == 0) SendHmd(PingMsg{in.now_ns}, in.now_ns, out);
   }
 

@@ -107,7 +107,11 @@ class SessionCore {
   std::uint32_t hmd_seq_{0};
   bool hmd_seen_{false};
   bool hmd_bye_{false};
-  std::int64_t last_head_rx_ns_{0};
+  /// When the oldest camera pose still without a head pose after it was sent (-1: none). The
+  /// HMD is stale when that wait exceeds hmd_timeout_ns: counted from a frame the headset
+  /// could answer, so a session that itself paused (lockstep wait, a descheduled process)
+  /// does not blame the headset for the frames it never sent.
+  std::int64_t awaiting_head_since_ns_{-1};
   bool bus_off_{false};
   bool stop_request_{false};
   bool done_{false};

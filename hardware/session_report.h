@@ -23,6 +23,11 @@ struct SessionReport {
   std::int64_t steps{0};
   Percentiles cycle_lateness_us;   ///< wake time minus scheduled time of each step
   Percentiles cycle_period_jitter_us;  ///< |period - nominal| between drive-cycle steps
+  /// Steps that woke more than half a drive cycle late, after which the runner's schedule
+  /// slipped rather than catching up (session_runner.h), and the total slip. Filled in by
+  /// the runner; 0 in a replay.
+  std::int64_t schedule_slips{0};
+  double schedule_slip_ms{0.0};
   Percentiles skew_ms;             ///< visual frame shown minus platform moved (signed)
   Percentiles abs_skew_ms;
   std::int64_t clock_offset_ns{0};

@@ -69,8 +69,10 @@ struct SessionFault {
 
 TEST(Session, EachPeerOrBusFaultEndsInItsDocumentedReactionAndAParkedPlatform) {
   const std::vector<SessionFault> cases = {
+      // The timeout runs from the first frame left unanswered (up to one frame period, 10
+      // ticks, after the headset vanished), seen at the next drive cycle.
       {"headset vanishes", [](World& w) { w.hmd_alive = false; }, "HMD link stale", "parked",
-       250 + 8},
+       250 + 10 + 8},
       {"drives go silent", [](World& w) { w.drives.SetSilent(true); }, "drive feedback stale",
        "parked", 4 * 5},
       {"bus-off", [](World& w) { w.hub.SetBusOff(true); }, "bus-off", "fault", 8},
@@ -99,6 +101,27 @@ TEST(Session, EachPeerOrBusFaultEndsInItsDocumentedReactionAndAParkedPlatform) {
     EXPECT_TRUE(r.limits_ok);
     w.ExpectPlatformInsideLimits();
   }
+}
+
+TEST(Session, AStopThatParksAtOnceStillReportsItsReasonAndTick) {
+  // The platform rests at neutral, so the soft stop after the drives go silent finds nothing
+  // to brake: the supervisor goes from RUNNING straight to PARKED in one cycle.
+  World w(20000);
+  w.still = true;
+  w.RunUntil(1200, nullptr);
+  ASSERT_EQ(w.core->supervisor().state(), SupervisorState::kRunning);
+  const std::int64_t injected = w.tick;
+  w.drives.SetSilent(true);
+  w.Finish();
+  ASSERT_TRUE(w.core->done());
+  const std::string log = w.LogText();
+  ASSERT_NE(log.find("supervisor parked (drive feedback stale)"), std::string::npos) << log.substr(0, 2000);
+  ASSERT_EQ(log.find("supervisor soft-stop"), std::string::npos) << "this case should park at once";
+  const SessionReport r = w.core->Report();
+  EXPECT_EQ(r.stop_reason, "drive feedback stale");
+  EXPECT_GE(r.stop_tick, injected);
+  EXPECT_EQ(r.stop_tick, r.parked_tick);
+  EXPECT_EQ(r.final_state, "parked");
 }
 
 TEST(Session, DropsReorderedAndStaleHeadsetPackets) {

@@ -45,7 +45,10 @@ struct World {
     log.push_back("# pwsim-session-log/1 " + cfg.ToHeader());
   }
 
+  bool still = false;  ///< setpoints at neutral (the platform never moves)
+
   std::array<double, 2> Setpoint(std::int64_t t) const {
+    if (still) return {0.0, 0.0};
     const double s = static_cast<double>(t) / 1000.0;
     return {0.05 * std::sin(0.9 * s), 0.25 * std::sin(1.1 * s)};
   }
