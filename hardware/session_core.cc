@@ -3,13 +3,15 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/interpolate.h"
 #include "hardware/session_text.h"
 
 namespace pwsim::hw {
 SessionCore::SessionCore(SessionConfig config)
     : config_(config), supervisor_(config.safety), master_(config.master),
       hmd_filter_(config.hmd_timeout_ns) {
-  measured_.reserve(8192);
+  measured_ns_.reserve(8192);
+  measured_q_.reserve(8192);
   // The longest session: motion until run_ticks, then at most max_stop_ticks to park and 10
   // drive cycles to disable (a few more for rounding). Capped so that a hostile log header
   // cannot ask for gigabytes; a longer session grows these (allocating) but stays correct.
@@ -38,15 +40,15 @@ void SessionCore::SendHmd(HmdBody body, std::int64_t now_ns, SessionOutputs* out
 }
 
 std::array<double, 2> SessionCore::MeasuredAt(std::int64_t ns) const {
-  if (measured_.empty()) return {0.0, 0.0};
-  if (ns <= measured_.front().ns) return measured_.front().q;
-  if (ns >= measured_.back().ns) return measured_.back().q;
-  const auto it = std::lower_bound(measured_.begin(), measured_.end(), ns,
-                                   [](const Measured& m, std::int64_t t) { return m.ns < t; });
-  const Measured& b = *it;
-  const Measured& a = *(it - 1);
-  const double w = b.ns == a.ns ? 1.0 : static_cast<double>(ns - a.ns) / static_cast<double>(b.ns - a.ns);
-  return {a.q[0] + w * (b.q[0] - a.q[0]), a.q[1] + w * (b.q[1] - a.q[1])};
+  if (measured_ns_.empty()) return {0.0, 0.0};
+  // The times are whole nanoseconds below 2^53: exact as doubles, and so are their differences.
+  const auto t = static_cast<double>(ns);
+  if (t <= measured_ns_.front()) return measured_q_.front();
+  if (t >= measured_ns_.back()) return measured_q_.back();
+  const KnotSegment seg = FindKnotSegment(measured_ns_, t);
+  const auto& a = measured_q_[seg.k];
+  const auto& b = measured_q_[seg.k + 1];
+  return {Lerp(a[0], b[0], seg.s), Lerp(a[1], b[1], seg.s)};
 }
 
 void SessionCore::HandleHmd(std::int64_t tick, const RxDatagram& d, SessionOutputs* out) {
@@ -116,8 +118,12 @@ void SessionCore::Step(std::int64_t tick, const SessionInputs& in, SessionOutput
     last_drive_now_ns_ = in.now_ns;
     std::array<double, 2> measured{master_.axis(0).position, master_.axis(1).position};
     if (master_.axis(0).last_tpdo_cycle >= 0) {
-      if (measured_.size() >= 8192) measured_.erase(measured_.begin(), measured_.begin() + 4096);
-      measured_.push_back({in.now_ns, measured});
+      if (measured_ns_.size() >= 8192) {  // keep the newest half (capacity stays: no allocation)
+        measured_ns_.erase(measured_ns_.begin(), measured_ns_.begin() + 4096);
+        measured_q_.erase(measured_q_.begin(), measured_q_.begin() + 4096);
+      }
+      measured_ns_.push_back(static_cast<double>(in.now_ns));
+      measured_q_.push_back(measured);
       for (std::size_t i = 0; i < 2; ++i)
         report_.peak_abs_measured[i] = std::max(report_.peak_abs_measured[i], std::abs(measured[i]));
     }

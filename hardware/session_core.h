@@ -125,11 +125,9 @@ class SessionCore {
   std::vector<double> period_jitter_us_;
   std::vector<std::int64_t> platform_rx_ns_;     ///< rail TPDO answering each of them (or -1)
   std::vector<std::int64_t> frame_shown_ns_;     ///< its arrival at the headset (local clock)
-  struct Measured {
-    std::int64_t ns;
-    std::array<double, 2> q;
-  };
-  std::vector<Measured> measured_;               ///< platform pose history (for compensation)
+  /// Platform pose history (for compensation): step times [ns, as double] and positions.
+  std::vector<double> measured_ns_;
+  std::vector<std::array<double, 2>> measured_q_;
   std::array<std::array<double, 3>, 2> last_cmd_{};  ///< p, v, a history for limit checks
   SessionReport report_;        ///< stop_reason is filled in by Report()
   std::string_view stop_reason_;  ///< the supervisor's (static) reason text
