@@ -31,13 +31,13 @@ const CommandSpec& HmdPeerSpec() {
 }
 
 int HmdPeerCommand(const ParsedArgs& args) {
-  if (!args.positional().empty()) throw std::invalid_argument("takes no positional arguments");
+  if (!args.positional().empty()) throw UsageError("takes no positional arguments");
   const auto listen = hw::ParseUdpAddress(args.Get("listen"));
-  if (!listen) throw std::invalid_argument("option --listen: expected HOST:PORT");
-  const auto offset_ns = static_cast<std::int64_t>(args.GetDouble("clock-offset-ms") * 1e6);
-  const double head_yaw = args.GetDouble("head-yaw-deg") * M_PI / 180.0;
-  const double duration = args.GetDouble("duration");
-  const double exit_after = args.GetDouble("exit-after");
+  if (!listen) throw UsageError("option --listen: expected HOST:PORT");
+  const auto offset_ns = static_cast<std::int64_t>(args.GetDouble("clock-offset-ms", -1e6, 1e6) * 1e6);
+  const double head_yaw = args.GetDouble("head-yaw-deg", 0.0, 90.0) * M_PI / 180.0;
+  const double duration = args.GetDouble("duration", 0.0, 86400.0);
+  const double exit_after = args.GetDouble("exit-after", 0.0, 86400.0);
   hw::UdpSocket socket;
   const std::string error = socket.Bind(*listen);
   if (!error.empty()) {

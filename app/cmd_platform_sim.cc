@@ -34,16 +34,12 @@ const CommandSpec& PlatformSimSpec() {
 }
 
 int PlatformSimCommand(const ParsedArgs& args) {
-  if (!args.positional().empty()) throw std::invalid_argument("takes no positional arguments");
-  const double cycle_ms = args.GetDouble("cycle-ms");
-  if (!(cycle_ms >= 0.5 && cycle_ms <= 100.0))
-    throw std::invalid_argument("option --cycle-ms: expected 0.5..100 ms");
-  const double duration = args.GetDouble("duration");
-  const double idle_exit = args.GetDouble("idle-exit");
-  const double exit_after = args.GetDouble("exit-after");
-  const double fault_at = args.GetDouble("fault-at");
-  if (duration < 0 || idle_exit < 0 || exit_after < 0 || fault_at < 0)
-    throw std::invalid_argument("times must be >= 0 s");
+  if (!args.positional().empty()) throw UsageError("takes no positional arguments");
+  const double cycle_ms = args.GetDouble("cycle-ms", 0.5, 100.0);
+  const double duration = args.GetDouble("duration", 0.0, 86400.0);
+  const double idle_exit = args.GetDouble("idle-exit", 0.0, 86400.0);
+  const double exit_after = args.GetDouble("exit-after", 0.0, 86400.0);
+  const double fault_at = args.GetDouble("fault-at", 0.0, 86400.0);
 
   hw::BusOpenResult opened = hw::UdpCanBus::Open(args.Get("listen"), "");
   if (!opened.bus) {

@@ -25,7 +25,7 @@ int TicksFromMs(double ms, int rate_hz, const char* option) {
   const double ticks = ms * rate_hz / 1000.0;
   const long rounded = std::lround(ticks);
   if (rounded < 1 || std::abs(ticks - static_cast<double>(rounded)) > 1e-9)
-    throw std::invalid_argument(std::string("option --") + option +
+    throw UsageError(std::string("option --") + option +
                                 ": expected a whole number of engine ticks (>= 1)");
   return static_cast<int>(rounded);
 }
@@ -54,7 +54,7 @@ const CommandSpec& SessionSpec() {
 }
 
 int SessionCommand(const ParsedArgs& args) {
-  if (args.positional().size() > 1) throw std::invalid_argument("expected at most one SCENE");
+  if (args.positional().size() > 1) throw UsageError("expected at most one SCENE");
   const std::filesystem::path scene_path =
       args.positional().empty() ? DefaultScene() : std::filesystem::path(args.positional()[0]);
   const Scene scene = LoadScene(scene_path);
@@ -73,17 +73,16 @@ int SessionCommand(const ParsedArgs& args) {
   config.master.heartbeat_timeout_cycles = 3 * config.master.heartbeat_period_cycles;
   const double duration = args.Has("duration") ? args.GetDouble("duration") : scene.duration();
   if (!(duration >= 0.0 && duration <= 3600.0))
-    throw std::invalid_argument("option --duration: expected 0..3600 s");
+    throw UsageError("option --duration: expected 0..3600 s");
   config.run_ticks = scene.clock.TicksFor(duration);
-  const double timeout_ms = args.GetDouble("hmd-timeout-ms");
-  if (!(timeout_ms >= 1.0)) throw std::invalid_argument("option --hmd-timeout-ms: expected >= 1 ms");
+  const double timeout_ms = args.GetDouble("hmd-timeout-ms", 1.0, 60'000.0);
   config.hmd_timeout_ns = static_cast<std::int64_t>(timeout_ms * 1e6);
-  config.max_stop_ticks = scene.clock.TicksFor(args.GetDouble("max-stop-s"));
+  config.max_stop_ticks = scene.clock.TicksFor(args.GetDouble("max-stop-s", 0.01, 3600.0));
   config.session_id = static_cast<std::uint32_t>(hw::MonotonicNs() & 0x7FFFFFFF);
   const std::string hmd_spec = args.Get("hmd");
   config.hmd_required = hmd_spec != "none";
   const std::string bad = config.Validate();
-  if (!bad.empty()) throw std::invalid_argument("session configuration: " + bad);
+  if (!bad.empty()) throw UsageError("session configuration: " + bad);
 
   // The CAN link.
   const std::string can_spec = args.Get("can");
@@ -95,7 +94,7 @@ int SessionCommand(const ParsedArgs& args) {
   } else if (can_spec.rfind("socketcan:", 0) == 0) {
     bus = hw::OpenSocketCan(can_spec.substr(10));
   } else {
-    throw std::invalid_argument("option --can: expected udp:HOST:PORT or socketcan:IFACE");
+    throw UsageError("option --can: expected udp:HOST:PORT or socketcan:IFACE");
   }
   if (!bus.bus) {
     std::cerr << "pwsim session: CAN link '" << can_spec << "': " << bus.message << "\n";
@@ -106,7 +105,7 @@ int SessionCommand(const ParsedArgs& args) {
   hw::UdpAddress hmd_peer;
   if (config.hmd_required) {
     if (hmd_spec.rfind("udp:", 0) != 0 || !hw::ParseUdpAddress(hmd_spec.substr(4)))
-      throw std::invalid_argument("option --hmd: expected udp:HOST:PORT or none");
+      throw UsageError("option --hmd: expected udp:HOST:PORT or none");
     hmd_peer = *hw::ParseUdpAddress(hmd_spec.substr(4));
     const std::string error = hmd.Bind(*hw::ParseUdpAddress("0.0.0.0:0"));
     if (!error.empty()) {
@@ -134,12 +133,9 @@ int SessionCommand(const ParsedArgs& args) {
   io.log = &log.stream();
   io.candump = &can_log.stream();
   io.stop = &StopRequested();
-  const long long rt = args.GetInt("rt-priority");
-  if (rt < 0 || rt > 99) throw std::invalid_argument("option --rt-priority: expected 0..99");
+  const long long rt = args.GetInt("rt-priority", 0, 99);
   io.rt_priority = static_cast<int>(rt);
-  const double drive_wait_ms = args.GetDouble("drive-wait-ms");
-  if (!(drive_wait_ms >= 0.0 && drive_wait_ms <= 10'000.0))
-    throw std::invalid_argument("option --drive-wait-ms: expected 0..10000 ms");
+  const double drive_wait_ms = args.GetDouble("drive-wait-ms", 0.0, 10'000.0);
   io.drive_answer_wait_ns = static_cast<std::int64_t>(drive_wait_ms * 1e6);
   if (rt > 0) {
     const std::string why = hw::EnterRealtime(io.rt_priority);
