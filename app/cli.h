@@ -12,8 +12,8 @@
 namespace pwsim::app {
 
 /// A usage error: an unknown option, a missing or malformed value, a value out of range. The
-/// message names the option. `pwsim` exits with status 2 for it (and 1 for every other error:
-/// bad input files are InputError, failures std::runtime_error and the like).
+/// message names the option. `pwsim` exits with status 2 for it (and 1 for bad input files,
+/// InputError, and failures; see app/main.cc for the one transitional exception).
 class UsageError : public std::invalid_argument {
  public:
   using std::invalid_argument::invalid_argument;
