@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "engine/number_format.h"
+
 namespace pwsim::app {
 namespace {
 
@@ -28,7 +30,27 @@ double ParsedArgs::GetDouble(const std::string& name) const {
   double value = 0.0;
   auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (ec != std::errc() || ptr != text.data() + text.size() || !std::isfinite(value)) {
-    throw std::invalid_argument("option --" + name + ": expected a number, got \"" + text + "\"");
+    throw UsageError("option --" + name + ": expected a number, got \"" + text + "\"");
+  }
+  return value;
+}
+
+double ParsedArgs::GetDouble(const std::string& name, double lo, double hi) const {
+  const double value = GetDouble(name);
+  if (!(value >= lo && value <= hi)) {
+    const OptionSpec* option = spec_ ? Find(*spec_, name) : nullptr;
+    const std::string unit = option && option->unit != "-" ? " " + option->unit : "";
+    throw UsageError("option --" + name + ": expected " + FormatDouble(lo) + ".." + FormatDouble(hi) +
+                     unit + ", got " + Get(name));
+  }
+  return value;
+}
+
+long long ParsedArgs::GetInt(const std::string& name, long long lo, long long hi) const {
+  const long long value = GetInt(name);
+  if (value < lo || value > hi) {
+    throw UsageError("option --" + name + ": expected an integer in " + std::to_string(lo) + ".." +
+                     std::to_string(hi) + ", got " + Get(name));
   }
   return value;
 }
@@ -38,7 +60,7 @@ long long ParsedArgs::GetInt(const std::string& name) const {
   long long value = 0;
   auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (ec != std::errc() || ptr != text.data() + text.size()) {
-    throw std::invalid_argument("option --" + name + ": expected an integer, got \"" + text + "\"");
+    throw UsageError("option --" + name + ": expected an integer, got \"" + text + "\"");
   }
   return value;
 }
@@ -62,17 +84,17 @@ ParsedArgs Parse(const CommandSpec& spec, const std::vector<std::string>& args) 
     }
     const OptionSpec* option = Find(spec, name);
     if (!option) {
-      throw std::invalid_argument("pwsim " + spec.name + ": unknown option --" + name +
+      throw UsageError("pwsim " + spec.name + ": unknown option --" + name +
                                   " (see pwsim " + spec.name + " --help)");
     }
     if (option->value_name.empty()) {
-      if (inline_value) throw std::invalid_argument("option --" + name + " takes no value");
+      if (inline_value) throw UsageError("option --" + name + " takes no value");
       parsed.values_[name] = "1";
       continue;
     }
     if (!inline_value) {
       if (i + 1 >= args.size()) {
-        throw std::invalid_argument("option --" + name + ": expected a value " + option->value_name);
+        throw UsageError("option --" + name + ": expected a value " + option->value_name);
       }
       value = args[++i];
     }

@@ -5,10 +5,19 @@
 
 #include <map>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace pwsim::app {
+
+/// A usage error: an unknown option, a missing or malformed value, a value out of range. The
+/// message names the option. `pwsim` exits with status 2 for it (and 1 for bad input files,
+/// InputError, and failures; see app/main.cc for the one transitional exception).
+class UsageError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
 
 struct OptionSpec {
   std::string name;           ///< without the leading "--"
@@ -30,8 +39,11 @@ class ParsedArgs {
  public:
   bool Has(const std::string& name) const { return values_.count(name) > 0; }
   std::string Get(const std::string& name) const;  ///< value or the spec's default
-  double GetDouble(const std::string& name) const; ///< @throws std::invalid_argument
-  long long GetInt(const std::string& name) const;
+  double GetDouble(const std::string& name) const;  ///< a finite number; @throws UsageError
+  long long GetInt(const std::string& name) const;  ///< @throws UsageError
+  /// The value in [lo, hi]; @throws UsageError naming the option, the range and its unit.
+  double GetDouble(const std::string& name, double lo, double hi) const;
+  long long GetInt(const std::string& name, long long lo, long long hi) const;
   bool Flag(const std::string& name) const { return Has(name); }
   const std::vector<std::string>& positional() const { return positional_; }
 
@@ -43,7 +55,7 @@ class ParsedArgs {
 };
 
 /// Parses `args` (after the subcommand name). "--help" is handled by the caller via WantsHelp.
-/// @throws std::invalid_argument for unknown options or missing values.
+/// @throws UsageError for unknown options or missing values.
 ParsedArgs Parse(const CommandSpec& spec, const std::vector<std::string>& args);
 bool WantsHelp(const std::vector<std::string>& args);
 std::string HelpText(const CommandSpec& spec);

@@ -25,7 +25,7 @@ const CommandSpec& CarChecksSpec() {
 }
 
 int CarChecksCommand(const ParsedArgs& args) {
-  if (!args.positional().empty()) throw std::invalid_argument("expected no positional argument");
+  if (!args.positional().empty()) throw UsageError("expected no positional argument");
   std::filesystem::path file = args.Get("vehicle");
   if (!args.Has("vehicle") && !std::filesystem::exists(file)) file = std::filesystem::path(PWSIM_SOURCE_DIR) / file;
   const vehicle::Vehicle car = vehicle::ReadVehicleFile(file);

@@ -38,12 +38,12 @@ std::vector<effects::EffectId> ParseCandidates(const std::string& text) {
   while (std::getline(ss, item, ',')) {
     const auto id = effects::ParseEffect(item);
     if (!id) {
-      throw std::invalid_argument("option --effects: expected 'all' or a comma list of " +
+      throw UsageError("option --effects: expected 'all' or a comma list of " +
                                   effects::EffectNameList() + ", got '" + item + "'");
     }
     out.push_back(*id);
   }
-  if (out.empty()) throw std::invalid_argument("option --effects: expected at least one effect id");
+  if (out.empty()) throw UsageError("option --effects: expected at least one effect id");
   return out;
 }
 
@@ -68,19 +68,19 @@ const CommandSpec& DiagnoseSpec() {
 }
 
 int DiagnoseCommand(const ParsedArgs& args) {
-  if (args.positional().size() < 2) throw std::invalid_argument("expected at least 2 TRIAL_DIR");
+  if (args.positional().size() < 2) throw UsageError("expected at least 2 TRIAL_DIR");
   const std::filesystem::path out = args.Get("out");
   diagnose::DiagnoseOptions options;
   options.candidates = ParseCandidates(args.Get("effects"));
   options.min_heldout_gain = args.GetDouble("min-gain");
   if (!(options.min_heldout_gain >= 0.0 && options.min_heldout_gain < 1.0))
-    throw std::invalid_argument("option --min-gain: expected a number in [0, 1)");
+    throw UsageError("option --min-gain: expected a number in [0, 1)");
   options.bic_threshold = args.GetDouble("bic-threshold");
   const long long threads = args.GetInt("threads");
-  if (threads < 1 || threads > 64) throw std::invalid_argument("option --threads: expected 1..64");
+  if (threads < 1 || threads > 64) throw UsageError("option --threads: expected 1..64");
   options.fit.threads = static_cast<int>(threads);
   const long long max_plots = args.GetInt("max-plots");
-  if (max_plots < 0) throw std::invalid_argument("option --max-plots: expected an integer >= 0");
+  if (max_plots < 0) throw UsageError("option --max-plots: expected an integer >= 0");
 
   // 1. Old results go first (a failed run must not leave a report that looks complete), then
   //    every input is read: a bad file stops here, before anything is written.

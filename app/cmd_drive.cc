@@ -37,9 +37,9 @@ const CommandSpec& DriveSpec() {
 }
 
 int DriveCommand(const ParsedArgs& args) {
-  if (args.positional().size() != 1) throw std::invalid_argument("expected one SCENE (kind: car)");
+  if (args.positional().size() != 1) throw UsageError("expected one SCENE (kind: car)");
   const std::filesystem::path scene_path = args.positional()[0];
-  if (vehicle::SceneKind(scene_path) != "car") throw std::invalid_argument("pwsim drive needs a car scene (kind: car)");
+  if (vehicle::SceneKind(scene_path) != "car") throw UsageError("pwsim drive needs a car scene (kind: car)");
   const vehicle::CarScene scene = vehicle::LoadCarScene(scene_path);
   hw::ControlMapping mapping;
   if (const SceneSection* s = scene.section("session")) {
@@ -53,7 +53,7 @@ int DriveCommand(const ParsedArgs& args) {
   }
   if (args.Has("device")) mapping.device = args.Get("device");
   const double duration = args.Has("duration") ? args.GetDouble("duration") : scene.duration;
-  if (!(duration > 0.0 && duration <= 3600.0)) throw std::invalid_argument("option --duration: expected (0, 3600] s");
+  if (!(duration > 0.0 && duration <= 3600.0)) throw UsageError("option --duration: expected (0, 3600] s");
   const std::int64_t ticks = scene.clock.TicksFor(duration);
 
   std::unique_ptr<hw::SdlWheel> wheel;

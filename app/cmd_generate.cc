@@ -28,12 +28,12 @@ std::vector<double> ParseList(const std::string& option, const std::string& text
       used = 0;
     }
     if (used == 0 || used != item.size()) {
-      throw std::invalid_argument("option --" + option +
+      throw UsageError("option --" + option +
                                   ": expected comma-separated numbers, got \"" + text + "\"");
     }
     values.push_back(value);
   }
-  if (values.empty()) throw std::invalid_argument("option --" + option + ": expected a list");
+  if (values.empty()) throw UsageError("option --" + option + ": expected a list");
   return values;
 }
 
@@ -72,25 +72,25 @@ const CommandSpec& GenerateSpec() {
 
 int GenerateCommand(const ParsedArgs& args) {
   if (!args.positional().empty()) {
-    throw std::invalid_argument("unexpected argument \"" + args.positional()[0] + "\"");
+    throw UsageError("unexpected argument \"" + args.positional()[0] + "\"");
   }
   GenerateConfig config;
   if (args.Has("truth")) {
     config.truth = ReadChairFile(args.Get("truth"));
     if (!config.truth.gm || !config.truth.lm) {
-      throw std::invalid_argument("option --truth: the chair needs gm and lm");
+      throw UsageError("option --truth: the chair needs gm and lm");
     }
   }
   config.speeds = ParseList("speeds", args.Get("speeds"));
   config.loads = ParseList("loads", args.Get("loads"));
   const std::string cushion = args.Get("cushion");
   if (cushion != "with" && cushion != "without" && cushion != "both") {
-    throw std::invalid_argument("option --cushion: expected with, without or both");
+    throw UsageError("option --cushion: expected with, without or both");
   }
   config.with_cushion = cushion != "without";
   config.without_cushion = cushion != "with";
   const long long repeats = args.GetInt("repeats");
-  if (repeats < 1 || repeats > 100) throw std::invalid_argument("option --repeats: 1..100");
+  if (repeats < 1 || repeats > 100) throw UsageError("option --repeats: 1..100");
   config.repeats = static_cast<int>(repeats);
   config.accel = args.GetDouble("accel");
   config.rate_hz = args.GetDouble("rate-hz");
@@ -103,24 +103,24 @@ int GenerateCommand(const ParsedArgs& args) {
   config.body = args.Get("body");
   config.name_prefix = args.Get("prefix");
   const long long seed = args.GetInt("seed");
-  if (seed < 0) throw std::invalid_argument("option --seed: expected an integer >= 0");
+  if (seed < 0) throw UsageError("option --seed: expected an integer >= 0");
   config.seed = static_cast<std::uint64_t>(seed);
   if (args.Has("effect")) {  // hidden effect (diagnosis tests): the extended model as truth
     const auto effect = effects::ParseEffect(args.Get("effect"));
     if (!effect) {
-      throw std::invalid_argument("option --effect: expected one of " + effects::EffectNameList() +
+      throw UsageError("option --effect: expected one of " + effects::EffectNameList() +
                                   ", got '" + args.Get("effect") + "'");
     }
     const double strength = args.GetDouble("strength");
     if (!(strength >= 0.0 && strength <= 10.0)) {
-      throw std::invalid_argument("option --strength: expected a number in [0, 10]");
+      throw UsageError("option --strength: expected a number in [0, 10]");
     }
     std::map<std::string, double> overrides;
     std::stringstream items(args.Get("effect-params"));
     for (std::string item; std::getline(items, item, ',');) {
       const std::size_t eq = item.find('=');
       if (eq == std::string::npos) {
-        throw std::invalid_argument("option --effect-params: expected NAME=VALUE, got '" + item + "'");
+        throw UsageError("option --effect-params: expected NAME=VALUE, got '" + item + "'");
       }
       overrides[item.substr(0, eq)] = std::stod(item.substr(eq + 1));
     }

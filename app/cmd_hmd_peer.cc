@@ -19,11 +19,11 @@ const CommandSpec& HmdPeerSpec() {
       "pwsim hmd-peer [options]",
       "Play a headset on the HMD bridge (UDP): camera poses in, head poses out.",
       {
-          {"listen", "HOST:PORT", "-", "127.0.0.1:29537", "UDP address the session sends frames to"},
+          {"listen", "HOST:PORT", "-", "127.0.0.1:29537", "UDP address the session sends frames to (port 0: any free port; the line 'listening on HOST:PORT' names it)"},
           {"clock-offset-ms", "MS", "ms", "0", "run the headset clock this far ahead of ours"},
           {"head-yaw-deg", "DEG", "deg", "5", "amplitude of the scripted head yaw (0.5 Hz)"},
           {"duration", "S", "s", "0", "exit after this long (0 = until the session says bye)"},
-          {"exit-after", "S", "s", "0", "vanish abruptly after this long (fault injection; 0 = never)"},
+          {"exit-after", "S", "s", "0", "vanish abruptly this long after the first camera pose (fault injection; 0 = never)"},
           {"report", "FILE", "-", "", "write a JSON summary"},
       },
       ""};
@@ -31,13 +31,13 @@ const CommandSpec& HmdPeerSpec() {
 }
 
 int HmdPeerCommand(const ParsedArgs& args) {
-  if (!args.positional().empty()) throw std::invalid_argument("takes no positional arguments");
+  if (!args.positional().empty()) throw UsageError("takes no positional arguments");
   const auto listen = hw::ParseUdpAddress(args.Get("listen"));
-  if (!listen) throw std::invalid_argument("option --listen: expected HOST:PORT");
-  const auto offset_ns = static_cast<std::int64_t>(args.GetDouble("clock-offset-ms") * 1e6);
-  const double head_yaw = args.GetDouble("head-yaw-deg") * M_PI / 180.0;
-  const double duration = args.GetDouble("duration");
-  const double exit_after = args.GetDouble("exit-after");
+  if (!listen) throw UsageError("option --listen: expected HOST:PORT");
+  const auto offset_ns = static_cast<std::int64_t>(args.GetDouble("clock-offset-ms", -1e6, 1e6) * 1e6);
+  const double head_yaw = args.GetDouble("head-yaw-deg", 0.0, 90.0) * M_PI / 180.0;
+  const double duration = args.GetDouble("duration", 0.0, 86400.0);
+  const double exit_after = args.GetDouble("exit-after", 0.0, 86400.0);
   hw::UdpSocket socket;
   const std::string error = socket.Bind(*listen);
   if (!error.empty()) {
@@ -45,10 +45,13 @@ int HmdPeerCommand(const ParsedArgs& args) {
     return 1;
   }
   InstallStopSignalHandlers();
-  std::cout << "pwsim hmd-peer: listening on " << listen->ToString() << "\n" << std::flush;
+  hw::UdpAddress bound = *listen;
+  bound.port = socket.local_port();
+  std::cout << "pwsim hmd-peer: listening on " << bound.ToString() << "\n" << std::flush;
 
   auto peer_now = [&] { return hw::MonotonicNs() + offset_ns; };
   const std::int64_t start = hw::MonotonicNs();
+  std::int64_t first_frame_ns = -1;  // --exit-after counts from the session's first camera pose
   hw::ClockOffsetEstimator no_offset;  // the peer checks order only
   hw::HmdReceiveFilter filter(1'000'000'000);
   std::uint32_t seq = 0;
@@ -63,8 +66,11 @@ int HmdPeerCommand(const ParsedArgs& args) {
       why = "duration reached";
       break;
     }
-    if (exit_after > 0 && t >= exit_after) {
-      std::cout << "pwsim hmd-peer: vanishing at t=" << t << " s (--exit-after)\n" << std::flush;
+    const double t_frames =
+        first_frame_ns < 0 ? -1.0 : static_cast<double>(hw::MonotonicNs() - first_frame_ns) / 1e9;
+    if (exit_after > 0 && t_frames >= exit_after) {
+      std::cout << "pwsim hmd-peer: vanishing " << t_frames << " s after the first camera pose (--exit-after)\n"
+                << std::flush;
       return 0;
     }
     socket.WaitReadable(5);
@@ -85,6 +91,7 @@ int HmdPeerCommand(const ParsedArgs& args) {
       r.header.session = m.header.session;
       if (const auto* cam = std::get_if<hw::CameraPoseMsg>(&m.body)) {
         ++frames;
+        if (first_frame_ns < 0) first_frame_ns = hw::MonotonicNs();
         // Head in the rig: seated 1.2 m up, looking around gently; the tracker sees it in the
         // room, i.e. carried by the platform.
         const double ts = static_cast<double>(rx) / 1e9;

@@ -40,21 +40,21 @@ const CommandSpec& IdentifySpec() {
 }
 
 int IdentifyCommand(const ParsedArgs& args) {
-  if (args.positional().empty()) throw std::invalid_argument("expected at least one TRIAL_DIR");
+  if (args.positional().empty()) throw UsageError("expected at least one TRIAL_DIR");
   const std::filesystem::path out = args.Get("out");
   IdentifyOptions options;
   options.shared_mode = args.Flag("shared-mode");
-  if (args.Has("reference-load-kg")) options.reference_load_kg = args.GetDouble("reference-load-kg");
+  if (args.Has("reference-load-kg")) options.reference_load_kg = args.GetDouble("reference-load-kg", 0.0, 1000.0);
   const long long passes = args.GetInt("passes");
-  if (passes < 1 || passes > 10) throw std::invalid_argument("option --passes: expected 1..10");
+  if (passes < 1 || passes > 10) throw UsageError("option --passes: expected 1..10");
   options.passes = static_cast<int>(passes);
   options.all_beta_pairs = args.Flag("all-beta-pairs");
   const double dt_ms = args.GetDouble("dt-ms");
-  if (!(dt_ms > 0.0 && dt_ms <= 10.0)) throw std::invalid_argument("option --dt-ms: expected (0, 10]");
+  if (!(dt_ms > 0.0 && dt_ms <= 10.0)) throw UsageError("option --dt-ms: expected (0, 10]");
   options.simulation.dt = dt_ms * 1e-3;
   RoleOptions role_options;
-  role_options.holdout_every = static_cast<int>(args.GetInt("holdout-every"));
-  const long long max_plots = args.GetInt("max-plots");
+  role_options.holdout_every = static_cast<int>(args.GetInt("holdout-every", 0, 1000));
+  const long long max_plots = args.GetInt("max-plots", 0, 10000);
 
   // 1. Old results go first (a failed run must not leave a report that looks complete), then
   //    every input is read: a bad file stops here, before anything is written.

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -65,7 +66,7 @@ TrialResult ValidateTrial(const MeasuredTrial& trial, const Chair& model_chair,
   TrialResult r;
   r.name = trial.name;
   const MocapTrack& track = trial.track;
-  if (track.size() < 3) throw std::invalid_argument("trial " + trial.name + ": fewer than 3 frames");
+  if (track.size() < 3) throw UsageError("trial " + trial.name + ": fewer than 3 frames");
   const double t0 = track.t.front();
   const auto ticks = static_cast<std::size_t>(std::floor((track.t.back() - t0) / dt)) + 1;
   r.t.resize(ticks);
@@ -122,15 +123,15 @@ int McaValidateCommand(const ParsedArgs& args) {
   const std::filesystem::path out_dir = args.Get("out");
   const double rate_hz = args.GetDouble("rate-hz");
   if (!(rate_hz >= 50.0 && rate_hz <= 100000.0)) {
-    throw std::invalid_argument("option --rate-hz: expected a number in [50, 100000] Hz");
+    throw UsageError("option --rate-hz: expected a number in [50, 100000] Hz");
   }
   const double dt = 1.0 / rate_hz;
   const double smooth_ms = args.GetDouble("smooth-ms");
   if (!(smooth_ms >= 0.0 && smooth_ms <= 1000.0)) {
-    throw std::invalid_argument("option --smooth-ms: expected a number in [0, 1000] ms");
+    throw UsageError("option --smooth-ms: expected a number in [0, 1000] ms");
   }
   const int smooth_ticks = static_cast<int>(std::lround(smooth_ms * 1e-3 / dt));
-  const double min_xcorr = args.GetDouble("min-xcorr");
+  const double min_xcorr = args.GetDouble("min-xcorr", -1.0, 1.0);
 
   const Scene scene = LoadScene(args.Has("scene") ? std::filesystem::path(args.Get("scene"))
                                                   : DefaultScenePath(PWSIM_SOURCE_DIR));
@@ -147,15 +148,15 @@ int McaValidateCommand(const ParsedArgs& args) {
     generate.speeds = {scene.drive.speed};
     generate.loads = {scene.load_kg};
     generate.without_cushion = false;
-    generate.seed = static_cast<std::uint64_t>(args.GetInt("seed"));
+    generate.seed = static_cast<std::uint64_t>(args.GetInt("seed", 0, std::numeric_limits<long long>::max()));
     source = "generated (synth, truth = Table I chair)";
     if (args.Has("effect")) {
       const std::optional<effects::EffectId> effect = effects::ParseEffect(args.Get("effect"));
       if (!effect) {
-        throw std::invalid_argument("option --effect: expected one of " + effects::EffectNameList());
+        throw UsageError("option --effect: expected one of " + effects::EffectNameList());
       }
       generate.truth_model =
-          effects::MakeEffectTruthModel(*effect, args.GetDouble("strength"), generate.truth);
+          effects::MakeEffectTruthModel(*effect, args.GetDouble("strength", 0.0, 100.0), generate.truth);
       source += " with effect " + args.Get("effect") + " at strength " + args.Get("strength");
     }
     trials = GenerateTrialSet(generate).Measured();

@@ -35,7 +35,7 @@ const CommandSpec& OmctSpec() {
 }
 
 int OmctCommand(const ParsedArgs& args) {
-  if (!args.positional().empty()) throw std::invalid_argument("expected no positional arguments");
+  if (!args.positional().empty()) throw UsageError("expected no positional arguments");
   mca::McaConfig config;
   if (args.Has("scene")) config = mca::LoadMcaConfig(LoadScene(args.Get("scene")));
   if (args.Has("platform")) {
@@ -44,13 +44,10 @@ int OmctCommand(const ParsedArgs& args) {
   }
   mca::OmctOptions options;
   options.rate_hz = args.GetDouble("rate-hz");
-  options.force_amplitude = args.GetDouble("force-amplitude");
-  options.rate_amplitude = args.GetDouble("rate-amplitude") * mca::kDegToRad;
+  options.force_amplitude = args.GetDouble("force-amplitude", 1e-6, 100.0);
+  options.rate_amplitude = args.GetDouble("rate-amplitude", 1e-6, 1000.0) * mca::kDegToRad;
   if (!(options.rate_hz >= 50.0 && options.rate_hz <= 100000.0)) {
-    throw std::invalid_argument("option --rate-hz: expected a number in [50, 100000] Hz");
-  }
-  if (!(options.force_amplitude > 0.0) || !(options.rate_amplitude > 0.0)) {
-    throw std::invalid_argument("amplitudes must be > 0");
+    throw UsageError("option --rate-hz: expected a number in [50, 100000] Hz");
   }
   const std::filesystem::path out_dir = args.Get("out");
 

@@ -47,10 +47,10 @@ sp::IdimOptions IdimFromArgs(const ParsedArgs& args) {
   o.lowpass_cutoff_hz = args.GetDouble("cutoff-hz");
   o.decimation = static_cast<int>(args.GetInt("decimation"));
   o.end_border_samples = static_cast<int>(args.GetInt("end-border"));
-  if (o.end_border_samples < 0) throw std::invalid_argument("option --end-border: expected >= 0");
-  if (!(o.lowpass_cutoff_hz > 0.0)) throw std::invalid_argument("option --cutoff-hz: expected > 0 Hz");
+  if (o.end_border_samples < 0) throw UsageError("option --end-border: expected >= 0");
+  if (!(o.lowpass_cutoff_hz > 0.0)) throw UsageError("option --cutoff-hz: expected > 0 Hz");
   if (o.decimation < 1 || o.decimation > 100)
-    throw std::invalid_argument("option --decimation: expected 1..100");
+    throw UsageError("option --decimation: expected 1..100");
   return o;
 }
 
@@ -85,11 +85,11 @@ const CommandSpec& PlatformSpec() {
 int PlatformCommand(const ParsedArgs& args) {
   const auto& pos = args.positional();
   if (pos.empty())
-    throw std::invalid_argument("expected a sub-command: identify, diagnose or frequency-response");
+    throw UsageError("expected a sub-command: identify, diagnose or frequency-response");
   const std::string verb = pos[0];
   const std::vector<std::string> files(pos.begin() + 1, pos.end());
-  if (files.empty()) throw std::invalid_argument(verb + ": expected at least one RECORDING");
-  if (args.Get("out").empty()) throw std::invalid_argument("option --out DIR is required");
+  if (files.empty()) throw UsageError(verb + ": expected at least one RECORDING");
+  if (args.Get("out").empty()) throw UsageError("option --out DIR is required");
   const std::filesystem::path out = args.Get("out");
   const std::vector<std::string> validate = SplitList(args.Get("validate"));
 
@@ -113,7 +113,7 @@ int PlatformCommand(const ParsedArgs& args) {
     o.idim = IdimFromArgs(args);
     o.holdout_fraction = args.GetDouble("holdout");
     if (!(o.holdout_fraction > 0.05 && o.holdout_fraction < 0.95))
-      throw std::invalid_argument("option --holdout: expected a fraction in (0.05, 0.95)");
+      throw UsageError("option --holdout: expected a fraction in (0.05, 0.95)");
     const sp::AxisDiagnosis d = sp::DiagnoseAxis(ReadAll(files), ReadAll(validate), o);
     std::filesystem::create_directories(out);
     PrintWritten(verb, report::WritePlatformDiagnosisReport(d, out));
@@ -128,7 +128,7 @@ int PlatformCommand(const ParsedArgs& args) {
     o.sweeps = static_cast<int>(args.GetInt("sweeps"));
     const long long order = args.GetInt("order");
     if (order != 0 && order != 2 && order != 3)
-      throw std::invalid_argument("option --order: expected 2 or 3");
+      throw UsageError("option --order: expected 2 or 3");
     if (order != 0) o.orders = {static_cast<int>(order)};
     const auto joints = sp::EstimateFrequencyResponse(ReadAll(files), o);
     std::filesystem::create_directories(out);
@@ -138,7 +138,7 @@ int PlatformCommand(const ParsedArgs& args) {
                 << j.bandwidth_rad_s << " rad/s\n";
     return 0;
   }
-  throw std::invalid_argument("unknown sub-command '" + verb +
+  throw UsageError("unknown sub-command '" + verb +
                               "' (expected identify, diagnose or frequency-response)");
 }
 

@@ -22,12 +22,12 @@ const CommandSpec& PlatformSimSpec() {
       "pwsim platform-sim [options]",
       "Simulated CiA 402 drives of the 2-DoF rail+yaw platform (seed 001) on CAN over UDP.",
       {
-          {"listen", "HOST:PORT", "-", "127.0.0.1:29536", "UDP address to serve the CAN link on"},
+          {"listen", "HOST:PORT", "-", "127.0.0.1:29536", "UDP address to serve the CAN link on (port 0: any free port; the line 'listening on HOST:PORT' names it)"},
           {"cycle-ms", "MS", "ms", "4", "SYNC period the drives interpolate over"},
           {"duration", "S", "s", "0", "exit after this long (0 = until idle or signal)"},
           {"idle-exit", "S", "s", "2", "exit when no frame arrived for this long after a master was seen"},
-          {"exit-after", "S", "s", "0", "vanish abruptly after this long (fault injection; 0 = never)"},
-          {"fault-at", "S", "s", "0", "drive fault (EMCY 0x5530 on the rail) at this time (0 = never)"},
+          {"exit-after", "S", "s", "0", "vanish abruptly this long after the master's first frame (fault injection; 0 = never)"},
+          {"fault-at", "S", "s", "0", "drive fault (EMCY 0x5530 on the rail) this long after the master's first frame (0 = never)"},
           {"candump", "FILE", "-", "", "write the bus traffic as a candump log"},
           {"report", "FILE", "-", "", "write a JSON summary (peak positions, states)"},
           {"chirp", "FILE.yaml", "-", "",
@@ -52,7 +52,7 @@ namespace {
 int RunChirpExperiment(const ParsedArgs& args) {
   hw::ChirpParams c;
   const std::string joint = args.Get("chirp-joint");
-  if (joint != "rail" && joint != "yaw") throw std::invalid_argument("option --chirp-joint: expected rail or yaw");
+  if (joint != "rail" && joint != "yaw") throw UsageError("option --chirp-joint: expected rail or yaw");
   c.joint = joint == "yaw" ? 0 : 1;
   c.w0_rad_s = args.GetDouble("chirp-w0");
   c.w1_rad_s = args.GetDouble("chirp-w1");
@@ -93,17 +93,13 @@ int RunChirpExperiment(const ParsedArgs& args) {
 }  // namespace
 
 int PlatformSimCommand(const ParsedArgs& args) {
-  if (!args.positional().empty()) throw std::invalid_argument("takes no positional arguments");
+  if (!args.positional().empty()) throw UsageError("takes no positional arguments");
   if (!args.Get("chirp").empty()) return RunChirpExperiment(args);
-  const double cycle_ms = args.GetDouble("cycle-ms");
-  if (!(cycle_ms >= 0.5 && cycle_ms <= 100.0))
-    throw std::invalid_argument("option --cycle-ms: expected 0.5..100 ms");
-  const double duration = args.GetDouble("duration");
-  const double idle_exit = args.GetDouble("idle-exit");
-  const double exit_after = args.GetDouble("exit-after");
-  const double fault_at = args.GetDouble("fault-at");
-  if (duration < 0 || idle_exit < 0 || exit_after < 0 || fault_at < 0)
-    throw std::invalid_argument("times must be >= 0 s");
+  const double cycle_ms = args.GetDouble("cycle-ms", 0.5, 100.0);
+  const double duration = args.GetDouble("duration", 0.0, 86400.0);
+  const double idle_exit = args.GetDouble("idle-exit", 0.0, 86400.0);
+  const double exit_after = args.GetDouble("exit-after", 0.0, 86400.0);
+  const double fault_at = args.GetDouble("fault-at", 0.0, 86400.0);
 
   hw::BusOpenResult opened = hw::UdpCanBus::Open(args.Get("listen"), "");
   if (!opened.bus) {
@@ -121,10 +117,16 @@ int PlatformSimCommand(const ParsedArgs& args) {
   config.cycle_s = cycle_ms / 1000.0;
   hw::SimulatedDrives drives(config);
   InstallStopSignalHandlers();
+  hw::UdpAddress bound = *hw::ParseUdpAddress(args.Get("listen"));  // Open parsed it already
+  if (const auto* udp = dynamic_cast<const hw::UdpCanBus*>(&bus)) bound.port = udp->local_port();
   std::cout << "pwsim platform-sim: drives 1 (yaw) and 2 (rail) on " << bus.name() << "\n"
+            << "pwsim platform-sim: listening on " << bound.ToString() << "\n"
             << std::flush;
 
+  // The fault-injection times count from the master's first frame, not from this process's
+  // start, so that they fall at the same point of the session however long it took to start.
   const std::int64_t start = hw::MonotonicNs();
+  std::int64_t first_rx = -1;
   std::int64_t last_rx = start;
   bool master_seen = false;
   bool faulted = false;
@@ -138,8 +140,10 @@ int PlatformSimCommand(const ParsedArgs& args) {
       why = "duration reached";
       break;
     }
-    if (exit_after > 0 && t >= exit_after) {
-      std::cout << "pwsim platform-sim: vanishing at t=" << t << " s (--exit-after)\n" << std::flush;
+    const double t_master = first_rx < 0 ? -1.0 : static_cast<double>(now - first_rx) / 1e9;
+    if (exit_after > 0 && t_master >= exit_after) {
+      std::cout << "pwsim platform-sim: vanishing " << t_master << " s after the master's first frame (--exit-after)\n"
+                << std::flush;
       return 0;
     }
     if (master_seen && idle_exit > 0 && static_cast<double>(now - last_rx) / 1e9 >= idle_exit) {
@@ -147,7 +151,7 @@ int PlatformSimCommand(const ParsedArgs& args) {
       break;
     }
     out.clear();
-    if (fault_at > 0 && t >= fault_at && !faulted) {
+    if (fault_at > 0 && t_master >= fault_at && !faulted) {
       faulted = true;
       drives.InjectFault(1, 0x5530, &out);
     }
@@ -158,6 +162,7 @@ int PlatformSimCommand(const ParsedArgs& args) {
       if (dump) dump->Write(rx / 1000, f);
       drives.OnFrame(f, rx, &out);
       last_rx = rx;
+      if (first_rx < 0) first_rx = rx;
       master_seen = true;
     }
     drives.Poll(hw::MonotonicNs(), &out);

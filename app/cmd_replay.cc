@@ -23,9 +23,9 @@ const CommandSpec& ReplaySpec() {
 }
 
 int ReplayCommand(const ParsedArgs& args) {
-  if (args.positional().size() != 1) throw std::invalid_argument("expected one LOG");
+  if (args.positional().size() != 1) throw UsageError("expected one LOG");
   std::ifstream in(args.positional()[0]);
-  if (!in) throw std::invalid_argument("cannot open '" + args.positional()[0] + "'");
+  if (!in) throw UsageError("cannot open '" + args.positional()[0] + "'");
   const hw::ReplayResult r = hw::ReplaySessionLog(in);
   if (!r.ok) {
     std::cerr << "pwsim replay: MISMATCH: " << r.message << "\n";

@@ -31,7 +31,7 @@ report::RenderStageOptions RenderOptions(const ParsedArgs& args) {
     char x = 0, extra = 0;
     if (std::sscanf(text.c_str(), "%d%c%d%c", &width, &x, &height, &extra) != 3 || x != 'x' ||
         width < 16 || height < 16 || width > 16384 || height > 16384) {
-      throw std::invalid_argument("option --size: expected WxH in px, each 16..16384 (e.g. 1280x720), got '" +
+      throw UsageError("option --size: expected WxH in px, each 16..16384 (e.g. 1280x720), got '" +
                                   text + "'");
     }
     options.width_px = width;
@@ -39,7 +39,7 @@ report::RenderStageOptions RenderOptions(const ParsedArgs& args) {
   }
   if (args.Has("fps")) {
     const long long fps = args.GetInt("fps");
-    if (fps < 1 || fps > 1000) throw std::invalid_argument("option --fps: expected 1..1000");
+    if (fps < 1 || fps > 1000) throw UsageError("option --fps: expected 1..1000");
     options.fps = static_cast<int>(fps);
   }
   options.stereo = args.Flag("stereo");
@@ -73,12 +73,12 @@ const CommandSpec& RunSpec() {
 }
 
 int RunCommand(const ParsedArgs& args) {
-  if (args.positional().size() > 1) throw std::invalid_argument("expected at most one SCENE");
+  if (args.positional().size() > 1) throw UsageError("expected at most one SCENE");
   const std::filesystem::path scene_path =
       args.positional().empty() ? DefaultScene() : std::filesystem::path(args.positional()[0]);
   const std::filesystem::path out_dir = args.Get("out");
   const long long decimate = args.GetInt("decimate");
-  if (decimate < 1) throw std::invalid_argument("option --decimate: expected an integer >= 1");
+  if (decimate < 1) throw UsageError("option --decimate: expected an integer >= 1");
 
   const report::RenderStageOptions render_options = RenderOptions(args);
 

@@ -51,9 +51,9 @@ hw::SessionStreams ChooseStreams(const ParsedArgs& args, const Scene& scene, con
   TrialSource source = TrialSource::kMeasured;
   bool from_trial = args.Has("trial");
   if (args.Has("plan")) {
-    if (!args.Has("participant")) throw std::invalid_argument("option --plan needs --participant");
+    if (!args.Has("participant")) throw UsageError("option --plan needs --participant");
     const long long index = args.GetInt("trial-index");
-    if (index < 1) throw std::invalid_argument("option --trial-index: expected a positive integer");
+    if (index < 1) throw UsageError("option --trial-index: expected a positive integer");
     const std::string plan_file = args.Get("plan");
     const study::PlanTrial planned = study::FindPlannedTrial(study::ReadPlan(plan_file), plan_file,
                                                              args.Get("participant"), static_cast<int>(index));
@@ -62,22 +62,22 @@ hw::SessionStreams ChooseStreams(const ParsedArgs& args, const Scene& scene, con
     std::stringstream map(args.Get("sources"));
     for (std::string item; std::getline(map, item, ',');) {
       const auto eq = item.find('=');
-      if (eq == std::string::npos) throw std::invalid_argument("option --sources: expected CONDITION=measured|model,...");
+      if (eq == std::string::npos) throw UsageError("option --sources: expected CONDITION=measured|model,...");
       if (item.substr(0, eq) == planned.condition) source_name = item.substr(eq + 1);
     }
     if (source_name.empty())
-      throw std::invalid_argument("option --sources: no source for condition '" + planned.condition +
+      throw UsageError("option --sources: no source for condition '" + planned.condition +
                                   "' (planned for " + planned.participant + ", trial " + std::to_string(index) + ")");
     if (!ParseTrialSource(source_name, &source))
-      throw std::invalid_argument("option --sources: expected measured or model, got '" + source_name + "'");
+      throw UsageError("option --sources: expected measured or model, got '" + source_name + "'");
     j["plan"] = plan_file;
     j["participant"] = planned.participant;
     j["trial_index"] = planned.trial_index;
     j["condition"] = planned.condition;
     if (!from_trial && source == TrialSource::kMeasured)
-      throw std::invalid_argument("condition '" + planned.condition + "' replays a measured trial: give --trial TRIAL_DIR");
+      throw UsageError("condition '" + planned.condition + "' replays a measured trial: give --trial TRIAL_DIR");
   } else if (args.Has("source") && !ParseTrialSource(args.Get("source"), &source)) {
-    throw std::invalid_argument("option --source: expected measured or model");
+    throw UsageError("option --source: expected measured or model");
   }
   hw::SessionStreams streams;
   if (from_trial) {
@@ -85,7 +85,7 @@ hw::SessionStreams ChooseStreams(const ParsedArgs& args, const Scene& scene, con
     Chair chair = args.Has("chair") ? ReadChairFile(args.Get("chair")) : trial.chair;
     if (!chair.gm || !chair.lm) chair = MakeTableOneChair();
     const double smooth_ms = args.GetDouble("smooth-ms");
-    if (!(smooth_ms >= 0.0 && smooth_ms <= 1000.0)) throw std::invalid_argument("option --smooth-ms: expected 0..1000 ms");
+    if (!(smooth_ms >= 0.0 && smooth_ms <= 1000.0)) throw UsageError("option --smooth-ms: expected 0..1000 ms");
     const int smooth_ticks = static_cast<int>(std::lround(smooth_ms * 1e-3 * config.clock_rate_hz));
     const mca::SagittalTrack track = TrialTrack(trial, source, chair, 1.0 / config.clock_rate_hz);
     const std::string label = "trial '" + trial.name + "' as " + TrialSourceName(source) +
@@ -107,7 +107,7 @@ hw::SessionStreams ChooseStreams(const ParsedArgs& args, const Scene& scene, con
 hw::SessionStreams CarStreams(const ParsedArgs& args, const vehicle::CarScene& scene, const hw::SessionConfig& config,
                               const std::filesystem::path& out_dir, std::string* description) {
   if (args.Has("trial") || args.Has("plan")) {
-    throw std::invalid_argument("options --trial and --plan replay chair trials; " + scene.file.string() +
+    throw UsageError("options --trial and --plan replay chair trials; " + scene.file.string() +
                                 " is a car scene (kind: car)");
   }
   hw::SessionStreams streams = hw::BuildCarSessionStreams(scene, config, description);
@@ -123,7 +123,7 @@ int TicksFromMs(double ms, int rate_hz, const char* option) {
   const double ticks = ms * rate_hz / 1000.0;
   const long rounded = std::lround(ticks);
   if (rounded < 1 || std::abs(ticks - static_cast<double>(rounded)) > 1e-9)
-    throw std::invalid_argument(std::string("option --") + option +
+    throw UsageError(std::string("option --") + option +
                                 ": expected a whole number of engine ticks (>= 1)");
   return static_cast<int>(rounded);
 }
@@ -141,9 +141,10 @@ const CommandSpec& SessionSpec() {
           {"duration", "S", "s", "", "motion time before the soft stop (default: the scene's)"},
           {"drive-cycle-ms", "MS", "ms", "4", "CAN SYNC period"},
           {"frame-ms", "MS", "ms", "10", "visual frame period (HMD rate)"},
-          {"hmd-timeout-ms", "MS", "ms", "250", "head poses older than this: HMD stale -> soft stop"},
+          {"hmd-timeout-ms", "MS", "ms", "250", "a frame without a head pose after it this long: HMD stale -> soft stop"},
           {"max-stop-s", "S", "s", "30", "give up waiting for the platform to park after this"},
           {"rt-priority", "N", "-", "0", "run the loop SCHED_FIFO at this priority (0 = normal)"},
+          {"drive-wait-ms", "MS", "ms", "0", "lockstep for hosts without real-time scheduling: each SYNC waits up to MS for the drives' answer to the last one (0 = strict real time)"},
           {"out", "DIR", "-", "out/session", "output folder (session.log, can.log, report.json, trial.json)"},
           {"trial", "TRIAL_DIR", "-", "", "replay this measured trial (measured-trials.md) instead of the scene's chair"},
           {"source", "S", "-", "measured", "with --trial: measured (tracked motion, T_r) or model (T_m)"},
@@ -159,7 +160,7 @@ const CommandSpec& SessionSpec() {
 }
 
 int SessionCommand(const ParsedArgs& args) {
-  if (args.positional().size() > 1) throw std::invalid_argument("expected at most one SCENE");
+  if (args.positional().size() > 1) throw UsageError("expected at most one SCENE");
   const std::filesystem::path scene_path =
       args.positional().empty() ? DefaultScene() : std::filesystem::path(args.positional()[0]);
   // a wheelchair scene (seed 000) or a car scene (kind: car, seed 001)
@@ -195,17 +196,16 @@ int SessionCommand(const ParsedArgs& args) {
   config.master.heartbeat_timeout_cycles = 3 * config.master.heartbeat_period_cycles;
   const double duration = args.Has("duration") ? args.GetDouble("duration") : scene_duration;
   if (!(duration >= 0.0 && duration <= 3600.0))
-    throw std::invalid_argument("option --duration: expected 0..3600 s");
+    throw UsageError("option --duration: expected 0..3600 s");
   config.run_ticks = clock.TicksFor(duration);
-  const double timeout_ms = args.GetDouble("hmd-timeout-ms");
-  if (!(timeout_ms >= 1.0)) throw std::invalid_argument("option --hmd-timeout-ms: expected >= 1 ms");
+  const double timeout_ms = args.GetDouble("hmd-timeout-ms", 1.0, 60'000.0);
   config.hmd_timeout_ns = static_cast<std::int64_t>(timeout_ms * 1e6);
-  config.max_stop_ticks = clock.TicksFor(args.GetDouble("max-stop-s"));
+  config.max_stop_ticks = clock.TicksFor(args.GetDouble("max-stop-s", 0.01, 3600.0));
   config.session_id = static_cast<std::uint32_t>(hw::MonotonicNs() & 0x7FFFFFFF);
   const std::string hmd_spec = args.Get("hmd");
   config.hmd_required = hmd_spec != "none";
   const std::string bad = config.Validate();
-  if (!bad.empty()) throw std::invalid_argument("session configuration: " + bad);
+  if (!bad.empty()) throw UsageError("session configuration: " + bad);
 
   // The CAN link.
   const std::string can_spec = args.Get("can");
@@ -217,7 +217,7 @@ int SessionCommand(const ParsedArgs& args) {
   } else if (can_spec.rfind("socketcan:", 0) == 0) {
     bus = hw::OpenSocketCan(can_spec.substr(10));
   } else {
-    throw std::invalid_argument("option --can: expected udp:HOST:PORT or socketcan:IFACE");
+    throw UsageError("option --can: expected udp:HOST:PORT or socketcan:IFACE");
   }
   if (!bus.bus) {
     std::cerr << "pwsim session: CAN link '" << can_spec << "': " << bus.message << "\n";
@@ -228,7 +228,7 @@ int SessionCommand(const ParsedArgs& args) {
   hw::UdpAddress hmd_peer;
   if (config.hmd_required) {
     if (hmd_spec.rfind("udp:", 0) != 0 || !hw::ParseUdpAddress(hmd_spec.substr(4)))
-      throw std::invalid_argument("option --hmd: expected udp:HOST:PORT or none");
+      throw UsageError("option --hmd: expected udp:HOST:PORT or none");
     hmd_peer = *hw::ParseUdpAddress(hmd_spec.substr(4));
     const std::string error = hmd.Bind(*hw::ParseUdpAddress("0.0.0.0:0"));
     if (!error.empty()) {
@@ -258,9 +258,10 @@ int SessionCommand(const ParsedArgs& args) {
   io.log = &log.stream();
   io.candump = &can_log.stream();
   io.stop = &StopRequested();
-  const long long rt = args.GetInt("rt-priority");
-  if (rt < 0 || rt > 99) throw std::invalid_argument("option --rt-priority: expected 0..99");
+  const long long rt = args.GetInt("rt-priority", 0, 99);
   io.rt_priority = static_cast<int>(rt);
+  const double drive_wait_ms = args.GetDouble("drive-wait-ms", 0.0, 10'000.0);
+  io.drive_answer_wait_ns = static_cast<std::int64_t>(drive_wait_ms * 1e6);
   if (rt > 0) {
     const std::string why = hw::EnterRealtime(io.rt_priority);
     std::cout << "  real-time: " << (why.empty() ? "SCHED_FIFO " + std::to_string(rt) : why) << "\n";
@@ -275,7 +276,8 @@ int SessionCommand(const ParsedArgs& args) {
             << report.steps << " steps\n"
             << "  cycle lateness p50 " << report.cycle_lateness_us.p50 << " us, p99 "
             << report.cycle_lateness_us.p99 << " us; period jitter p50 "
-            << report.cycle_period_jitter_us.p50 << " us, p99 " << report.cycle_period_jitter_us.p99 << " us\n"
+            << report.cycle_period_jitter_us.p50 << " us, p99 " << report.cycle_period_jitter_us.p99 << " us; "
+            << report.schedule_slips << " schedule slips (" << report.schedule_slip_ms << " ms)\n"
             << "  visual-platform skew p50 " << report.skew_ms.p50 << " ms, p99 " << report.skew_ms.p99
             << " ms, jitter (sd) " << report.skew_ms.stddev << " ms over " << report.skew_ms.n << " frames\n"
             << "  limits " << (report.limits_ok ? "respected" : "EXCEEDED") << "; "

@@ -26,24 +26,24 @@ std::vector<std::string> SplitNames(const std::string& option, const std::string
   std::stringstream in(text);
   std::string item;
   while (std::getline(in, item, ',')) {
-    if (item.empty()) throw std::invalid_argument("option --" + option + ": empty name in \"" + text + "\"");
+    if (item.empty()) throw UsageError("option --" + option + ": empty name in \"" + text + "\"");
     names.push_back(item);
   }
-  if (names.size() < 2) throw std::invalid_argument("option --" + option + ": expected at least two names, e.g. T_r,T_m");
+  if (names.size() < 2) throw UsageError("option --" + option + ": expected at least two names, e.g. T_r,T_m");
   return names;
 }
 
 int PlanCommand(const ParsedArgs& args) {
-  if (args.positional().size() != 1) throw std::invalid_argument("study plan: unexpected arguments");
+  if (args.positional().size() != 1) throw UsageError("study plan: unexpected arguments");
   study::PlanOptions options;
   const long long n = args.GetInt("participants");
-  if (n < 1 || n > 100000) throw std::invalid_argument("option --participants: expected 1..100000");
+  if (n < 1 || n > 100000) throw UsageError("option --participants: expected 1..100000");
   options.participants = static_cast<int>(n);
   options.conditions = SplitNames("conditions", args.Has("conditions") ? args.Get("conditions") : "T_r,T_m");
   const long long seed = args.GetInt("seed");
-  if (seed < 0) throw std::invalid_argument("option --seed: expected a non-negative integer");
+  if (seed < 0) throw UsageError("option --seed: expected a non-negative integer");
   options.seed = static_cast<std::uint64_t>(seed);
-  if (const std::string bad = options.Validate(); !bad.empty()) throw std::invalid_argument("study plan: " + bad);
+  if (const std::string bad = options.Validate(); !bad.empty()) throw UsageError("study plan: " + bad);
   const fs::path out = args.Get("out");
   const study::StudyPlan plan = study::MakePlan(options);
   WriteFileAtomically(out / "plan.csv", study::PlanCsv(plan));
@@ -79,7 +79,7 @@ const CommandSpec& StudySpec() {
 
 int StudyCommand(const ParsedArgs& args) {
   if (!args.positional().empty() && args.positional()[0] == "plan") return PlanCommand(args);
-  if (args.positional().size() != 1) throw std::invalid_argument("expected one RATINGS.csv (or `plan`)");
+  if (args.positional().size() != 1) throw UsageError("expected one RATINGS.csv (or `plan`)");
   const fs::path ratings_file = args.positional()[0];
   const fs::path out = args.Get("out");
   // Old outputs go first, so a failed run never leaves a previous report looking current.
@@ -88,7 +88,7 @@ int StudyCommand(const ParsedArgs& args) {
   study::AnalysisOptions options;
   if (args.Has("conditions")) {
     const std::vector<std::string> names = SplitNames("conditions", args.Get("conditions"));
-    if (names.size() != 2) throw std::invalid_argument("option --conditions: expected two names A,B");
+    if (names.size() != 2) throw UsageError("option --conditions: expected two names A,B");
     options.conditions = std::make_pair(names[0], names[1]);
   }
   if (args.Has("reported")) options.reported = study::ParseReported(args.Get("reported"));

@@ -42,20 +42,20 @@ fs::path SelfExecutable() {
 void RequireOnly(const ParsedArgs& args, const std::string& sub, const std::set<std::string>& allowed) {
   for (const char* name : {"out", "force", "index", "engine", "max-parallel", "retries", "poll-s", "sbatch"}) {
     if (args.Has(name) && allowed.count(name) == 0) {
-      throw std::invalid_argument("option --" + std::string(name) + " does not apply to 'sweep " + sub + "'");
+      throw UsageError("option --" + std::string(name) + " does not apply to 'sweep " + sub + "'");
     }
   }
 }
 
 fs::path OneDir(const ParsedArgs& args, const std::string& sub) {
-  if (args.positional().size() != 2) throw std::invalid_argument("usage: pwsim sweep " + sub + " DIR");
+  if (args.positional().size() != 2) throw UsageError("usage: pwsim sweep " + sub + " DIR");
   return args.positional()[1];
 }
 
 int Plan(const ParsedArgs& args) {
   RequireOnly(args, "plan", {"out", "force"});
-  if (args.positional().size() != 2) throw std::invalid_argument("usage: pwsim sweep plan SWEEP.yaml --out DIR");
-  if (!args.Has("out")) throw std::invalid_argument("sweep plan: --out DIR is required");
+  if (args.positional().size() != 2) throw UsageError("usage: pwsim sweep plan SWEEP.yaml --out DIR");
+  if (!args.Has("out")) throw UsageError("sweep plan: --out DIR is required");
   const sweep::SweepSpec spec = sweep::ReadSweepFile(args.positional()[1], KnownCommands());
   const sweep::Manifest manifest = sweep::Plan(spec, args.Get("out"), args.Flag("force"));
   std::cout << "pwsim sweep plan: '" << manifest.name << "': " << manifest.tasks.size() << " tasks of 'pwsim";
@@ -95,22 +95,22 @@ int Submit(const ParsedArgs& args) {
   const fs::path dir = OneDir(args, "submit");
   const std::string engine = args.Get("engine");
   if (engine != "local" && engine != "slurm") {
-    throw std::invalid_argument("option --engine: expected local or slurm, got \"" + engine + "\"");
+    throw UsageError("option --engine: expected local or slurm, got \"" + engine + "\"");
   }
   const sweep::Manifest manifest = sweep::ReadManifest(dir);
   sweep::EngineOptions options;
   options.pwsim_exe = SelfExecutable();
   options.max_parallel = static_cast<int>(args.GetInt("max-parallel"));
-  if (options.max_parallel < 0) throw std::invalid_argument("option --max-parallel: expected an integer >= 0");
+  if (options.max_parallel < 0) throw UsageError("option --max-parallel: expected an integer >= 0");
   if (args.Has("retries")) {
     options.retries = static_cast<int>(args.GetInt("retries"));
     if (options.retries < 0 || options.retries > 100) {
-      throw std::invalid_argument("option --retries: expected an integer in [0, 100]");
+      throw UsageError("option --retries: expected an integer in [0, 100]");
     }
   }
   options.poll_s = args.GetDouble("poll-s");
   if (!(options.poll_s >= 0.01 && options.poll_s <= 3600.0)) {
-    throw std::invalid_argument("option --poll-s: expected a number in [0.01, 3600] s");
+    throw UsageError("option --poll-s: expected a number in [0.01, 3600] s");
   }
   if (args.Has("sbatch")) {
     std::string word;
@@ -181,13 +181,13 @@ const CommandSpec& SweepSpec() {
 }
 
 int SweepCommand(const ParsedArgs& args) {
-  if (args.positional().empty()) throw std::invalid_argument("expected plan, run, submit or collect");
+  if (args.positional().empty()) throw UsageError("expected plan, run, submit or collect");
   const std::string& sub = args.positional()[0];
   if (sub == "plan") return Plan(args);
   if (sub == "run") return Run(args);
   if (sub == "submit") return Submit(args);
   if (sub == "collect") return Collect(args);
-  throw std::invalid_argument("unknown sweep command '" + sub + "' (expected plan, run, submit or collect)");
+  throw UsageError("unknown sweep command '" + sub + "' (expected plan, run, submit or collect)");
 }
 
 }  // namespace pwsim::app

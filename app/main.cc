@@ -1,5 +1,6 @@
 // pwsim: command-line entry point. Dispatches to the subcommands of app/commands.cc.
-// Exit status: 0 success, 1 bad input or failure (message on stderr), 2 usage error.
+// Exit status: 0 success, 1 bad input or failure (message on stderr), 2 usage error
+// (app::UsageError). Any other exception from a library is a failure (status 1).
 
 #include <exception>
 #include <iostream>
@@ -42,7 +43,7 @@ int main(int argc, char** argv) {
     }
     try {
       return command.run(pwsim::app::Parse(*command.spec, args));
-    } catch (const std::invalid_argument& error) {
+    } catch (const pwsim::app::UsageError& error) {
       std::cerr << "pwsim " << name << ": " << error.what() << "\n";
       return 2;
     } catch (const pwsim::InputError& error) {

@@ -6,6 +6,7 @@
 #include "engine/atomic_file.h"
 #include "engine/check.h"
 #include "engine/input_error.h"
+#include "engine/interpolate.h"
 #include "engine/number_format.h"
 
 namespace pwsim {
@@ -17,18 +18,13 @@ double Terrain::HeightAt(double x_W) const {
     if (x_W == x.back()) return z.back();
     return 0.0;
   }
-  // First breakpoint strictly greater than x_W; the segment is [k-1, k].
-  const auto upper = std::upper_bound(x.begin(), x.end(), x_W);
-  const std::size_t k = static_cast<std::size_t>(upper - x.begin());
-  const double s = (x_W - x[k - 1]) / (x[k] - x[k - 1]);
-  return z[k - 1] + s * (z[k] - z[k - 1]);
+  return InterpolateLinear(x, z, x_W);
 }
 
 double Terrain::SlopeAt(double x_W) const {
   if (x.size() < 2 || x_W < x.front() || x_W >= x.back()) return 0.0;
-  const auto upper = std::upper_bound(x.begin(), x.end(), x_W);
-  const std::size_t k = static_cast<std::size_t>(upper - x.begin());
-  return (z[k] - z[k - 1]) / (x[k] - x[k - 1]);
+  const std::size_t k = FindKnotSegment(x, x_W).k;
+  return (z[k + 1] - z[k]) / (x[k + 1] - x[k]);
 }
 
 double Terrain::MaxHeight() const {

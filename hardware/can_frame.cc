@@ -90,11 +90,10 @@ CodecError DecodeRawFrame(std::span<const std::uint8_t> in, CanFrame* frame) {
   return CodecError::kOk;
 }
 
-std::string FormatFrameText(const CanFrame& frame) {
-  std::string text;
-  text.reserve(8 + 1 + 16);
+std::size_t FormatFrameText(const CanFrame& frame, std::span<char, kFrameTextMax> out) {
+  std::size_t n = 0;
   auto put_hex = [&](std::uint32_t value, int digits) {
-    for (int d = digits - 1; d >= 0; --d) text.push_back(kHex[(value >> (4 * d)) & 0xFU]);
+    for (int d = digits - 1; d >= 0; --d) out[n++] = kHex[(value >> (4 * d)) & 0xFU];
   };
   if (frame.error()) {
     put_hex(frame.id & (kCanErrFlag | kCanEffMask), 8);
@@ -103,14 +102,19 @@ std::string FormatFrameText(const CanFrame& frame) {
   } else {
     put_hex(frame.id & kCanSffMask, 3);
   }
-  text.push_back('#');
+  out[n++] = '#';
   if (frame.remote() && !frame.error()) {
-    text.push_back('R');
-    if (frame.len > 0 && frame.len <= 8) text.push_back(kHex[frame.len]);  // can-utils: "R<dlc>"
-    return text;
+    out[n++] = 'R';
+    if (frame.len > 0 && frame.len <= 8) out[n++] = kHex[frame.len];  // can-utils: "R<dlc>"
+    return n;
   }
   for (std::size_t i = 0; i < frame.len && i < 8; ++i) put_hex(frame.data[i], 2);
-  return text;
+  return n;
+}
+
+std::string FormatFrameText(const CanFrame& frame) {
+  std::array<char, kFrameTextMax> text{};
+  return std::string(text.data(), FormatFrameText(frame, text));
 }
 
 CodecError ParseFrameText(std::string_view text, CanFrame* frame) {

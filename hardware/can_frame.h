@@ -69,6 +69,10 @@ CodecError DecodeRawFrame(std::span<const std::uint8_t> in, CanFrame* frame);
 
 // --- can-utils text: "123#DEADBEEF", "12345678#00" (extended), "123#R", "20000040#..." ---------
 std::string FormatFrameText(const CanFrame& frame);
+/// The longest text FormatFrameText writes: 8 id digits, '#', 16 data digits.
+inline constexpr std::size_t kFrameTextMax = 8 + 1 + 16;
+/// The same text into a fixed buffer (no allocation); returns its length.
+std::size_t FormatFrameText(const CanFrame& frame, std::span<char, kFrameTextMax> out);
 CodecError ParseFrameText(std::string_view text, CanFrame* frame);
 
 // --- cannelloni v2 DATA datagram: u8 version=2, u8 op=0, u8 seq, u16 count (big endian), then

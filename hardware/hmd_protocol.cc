@@ -158,6 +158,8 @@ std::int64_t SaturatingSub(std::int64_t a, std::int64_t b) {
   return b < 0 ? std::numeric_limits<std::int64_t>::max() : std::numeric_limits<std::int64_t>::min();
 }
 
+ClockOffsetEstimator::ClockOffsetEstimator(std::size_t window) : ring_(std::max<std::size_t>(window, 1)) {}
+
 void ClockOffsetEstimator::AddSample(std::int64_t t0, std::int64_t t1, std::int64_t t2,
                                      std::int64_t t3) {
   // Reject samples whose spans do not fit comfortably (hostile or corrupt timestamps).
@@ -171,23 +173,33 @@ void ClockOffsetEstimator::AddSample(std::int64_t t0, std::int64_t t1, std::int6
   const std::int64_t rtt = local - remote;
   if (rtt < 0) return;  // inconsistent (clock jump): ignore
   const std::int64_t offset = up / 2 + down / 2 + (up % 2 + down % 2) / 2;
-  samples_.push_back({offset, rtt});
-  if (samples_.size() > window_) samples_.pop_front();
+  if (count_ < ring_.size()) {
+    ring_[(head_ + count_) % ring_.size()] = {offset, rtt};
+    ++count_;
+  } else {  // full: the newest replaces the oldest
+    ring_[head_] = {offset, rtt};
+    head_ = (head_ + 1) % ring_.size();
+  }
   ++total_;
 }
 
+const ClockOffsetEstimator::Sample* ClockOffsetEstimator::Best() const {
+  const Sample* best = nullptr;
+  for (std::size_t i = 0; i < count_; ++i) {
+    const Sample& s = ring_[(head_ + i) % ring_.size()];
+    if (best == nullptr || s.rtt < best->rtt) best = &s;
+  }
+  return best;
+}
+
 std::int64_t ClockOffsetEstimator::offset_ns() const {
-  if (samples_.empty()) return 0;
-  return std::min_element(samples_.begin(), samples_.end(),
-                          [](const Sample& a, const Sample& b) { return a.rtt < b.rtt; })
-      ->offset;
+  const Sample* best = Best();
+  return best == nullptr ? 0 : best->offset;
 }
 
 std::int64_t ClockOffsetEstimator::rtt_ns() const {
-  if (samples_.empty()) return 0;
-  return std::min_element(samples_.begin(), samples_.end(),
-                          [](const Sample& a, const Sample& b) { return a.rtt < b.rtt; })
-      ->rtt;
+  const Sample* best = Best();
+  return best == nullptr ? 0 : best->rtt;
 }
 
 bool HmdReceiveFilter::Accept(const HmdMessage& m, std::int64_t rx_ns,

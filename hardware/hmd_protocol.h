@@ -14,9 +14,9 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
-#include <deque>
 #include <span>
 #include <variant>
+#include <vector>
 
 #include "hardware/can_frame.h"  // CodecError
 
@@ -85,10 +85,11 @@ CodecError DecodeHmd(std::span<const std::uint8_t> in, HmdMessage* message);
 /// with the smallest round trip among the last `window` ones.
 class ClockOffsetEstimator {
  public:
-  explicit ClockOffsetEstimator(std::size_t window = 16) : window_(window) {}
+  /// Keeps its window in a ring allocated here: AddSample allocates nothing.
+  explicit ClockOffsetEstimator(std::size_t window = 16);
   /// t0 ping sent (local), t1 ping received (peer), t2 pong sent (peer), t3 pong received (local).
   void AddSample(std::int64_t t0, std::int64_t t1, std::int64_t t2, std::int64_t t3);
-  bool valid() const { return !samples_.empty(); }
+  bool valid() const { return count_ > 0; }
   std::int64_t offset_ns() const;  ///< peer - local
   std::int64_t rtt_ns() const;     ///< of the sample used
   std::size_t samples() const { return total_; }
@@ -98,8 +99,11 @@ class ClockOffsetEstimator {
     std::int64_t offset;
     std::int64_t rtt;
   };
-  std::size_t window_;
-  std::deque<Sample> samples_;
+  /// The sample of smallest round trip, the oldest among equals (nullptr when none).
+  const Sample* Best() const;
+  std::vector<Sample> ring_;  ///< the last window samples, oldest at head_
+  std::size_t head_{0};
+  std::size_t count_{0};
   std::size_t total_{0};
 };
 

@@ -129,14 +129,14 @@ SafetySupervisor::SafetySupervisor(SafetyConfig config) : config_(config) {}
 void SafetySupervisor::Reset() {
   if (state_ == SupervisorState::kFault || state_ == SupervisorState::kParked) {
     state_ = SupervisorState::kIdle;
-    reason_.clear();
+    reason_ = {};
     event_cycle_ = -1;
     parked_cycle_ = -1;
     missing_run_ = 0;
   }
 }
 
-void SafetySupervisor::BeginStop(std::int64_t cycle, SupervisorState next, const std::string& why) {
+void SafetySupervisor::BeginStop(std::int64_t cycle, SupervisorState next, std::string_view why) {
   if (state_ == SupervisorState::kFault) return;  // latched: first cause kept
   if (next == SupervisorState::kSoftStop &&
       (state_ == SupervisorState::kSoftStop || state_ == SupervisorState::kParked))

@@ -24,6 +24,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 
 namespace pwsim::hw {
 
@@ -103,7 +104,8 @@ class SafetySupervisor {
   void Reset();
 
   SupervisorState state() const { return state_; }
-  const std::string& reason() const { return reason_; }   ///< why SOFT_STOP/FAULT began
+  /// Why SOFT_STOP/FAULT began: a static text (valid for the program's life), "" before.
+  std::string_view reason() const { return reason_; }
   std::int64_t event_cycle() const { return event_cycle_; }
   std::int64_t parked_cycle() const { return parked_cycle_; }
   const SafetyCounters& counters() const { return counters_; }
@@ -113,14 +115,14 @@ class SafetySupervisor {
   const SafetyConfig& config() const { return config_; }
 
  private:
-  void BeginStop(std::int64_t cycle, SupervisorState next, const std::string& why);
+  void BeginStop(std::int64_t cycle, SupervisorState next, std::string_view why);  // why: a literal
 
   SafetyConfig config_;
   SupervisorState state_{SupervisorState::kIdle};
   std::array<AxisMotion, 2> motion_{};
   std::array<double, 2> last_setpoint_{};
   int missing_run_{0};
-  std::string reason_;
+  std::string_view reason_;
   std::int64_t event_cycle_{-1};
   std::int64_t parked_cycle_{-1};
   SafetyCounters counters_;

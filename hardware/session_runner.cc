@@ -10,8 +10,10 @@
 
 #include <algorithm>
 #include <array>
+#include <functional>
 
 #include "hardware/candump_log.h"
+#include "hardware/canopen.h"
 
 namespace pwsim::hw {
 namespace {
@@ -37,13 +39,14 @@ void Drain(ICanBus& bus, UdpSocket* hmd, SessionInputs* in, CandumpWriter* dump)
   }
 }
 
-/// Waits until `deadline_ns`, collecting whatever arrives meanwhile.
+/// Waits until `deadline_ns`, collecting whatever arrives meanwhile; with `until`, returns
+/// as soon as it holds.
 void WaitUntil(std::int64_t deadline_ns, ICanBus& bus, UdpSocket* hmd, SessionInputs* in,
-               CandumpWriter* dump) {
+               CandumpWriter* dump, const std::function<bool()>& until = nullptr) {
   for (;;) {
     Drain(bus, hmd, in, dump);
     const std::int64_t now = MonotonicNs();
-    if (now >= deadline_ns) return;
+    if (now >= deadline_ns || (until && until())) return;
     std::array<pollfd, 2> fds{};
     nfds_t n = 0;
     if (bus.fd() >= 0) fds[n++] = {bus.fd(), POLLIN, 0};
@@ -53,6 +56,30 @@ void WaitUntil(std::int64_t deadline_ns, ICanBus& bus, UdpSocket* hmd, SessionIn
     ::ppoll(fds.data(), n, &ts, nullptr);
   }
 }
+
+/// Which axes answered the last SYNC with a TPDO1 (scans the frames received so far).
+class AnswerTracker {
+ public:
+  explicit AnswerTracker(const MasterConfig& master) {
+    for (std::size_t k = 0; k < nodes_.size(); ++k) nodes_[k] = master.axes[k].node;
+  }
+  void Scan(const std::vector<RxFrame>& can) {
+    for (; cursor_ < can.size(); ++cursor_) {
+      std::uint8_t node = 0;
+      if (canopen::Classify(can[cursor_].frame, &node) != canopen::FrameKind::kTpdo1) continue;
+      for (std::size_t k = 0; k < nodes_.size(); ++k)
+        if (node == nodes_[k]) answered_ |= 1U << k;
+    }
+  }
+  bool all() const { return answered_ == (1U << nodes_.size()) - 1; }
+  void NewSync() { answered_ = 0; }
+  void InputsCleared() { cursor_ = 0; }
+
+ private:
+  std::array<std::uint8_t, kPlatformAxes> nodes_{};
+  unsigned answered_{0};
+  std::size_t cursor_{0};
+};
 
 }  // namespace
 
@@ -74,16 +101,44 @@ SessionReport RunSession(const SessionConfig& config, const SessionStreams& stre
   if (io.log != nullptr) *io.log << "# pwsim-session-log/1 " << config.ToHeader() << "\n";
   const std::int64_t ns_per_tick = 1'000'000'000LL / config.clock_rate_hz;
   const std::int64_t start = MonotonicNs() + 2'000'000;  // first tick 2 ms from now
+  // A step that wakes more than half a drive cycle late (the process was not scheduled) does
+  // not catch up by stepping the missed ticks back to back: each SYNC would then go out before
+  // the drives could answer the one before, and the TPDO watchdog (counted in cycles) would
+  // trip on the session's own delay. The schedule slips by the lateness instead, so the next
+  // cycle is again a full period away; motion and visuals slip together (they share the tick).
+  const std::int64_t slip_after_ns = ns_per_tick * config.drive_cycle_ticks / 2;
+  std::int64_t slip_ns = 0;
+  std::int64_t slips = 0;
+  AnswerTracker answers(config.master);
+  bool drives_answering = false;  // both axes answered a SYNC: lockstep waits from then on
+  std::int64_t last_sync_ns = start;
   SessionInputs in;
+  in.can.reserve(256);
+  in.hmd.reserve(64);
   SessionOutputs out;
-  std::vector<std::string> lines;
+  LogLines lines;
   for (std::int64_t tick = 0; !core.done(); ++tick) {
     const bool drive = core.is_drive_tick(tick);
     const bool frame = core.is_frame_tick(tick);
     if (!drive && !frame) continue;
-    in.scheduled_ns = start + tick * ns_per_tick;
+    in.scheduled_ns = start + slip_ns + tick * ns_per_tick;
     WaitUntil(in.scheduled_ns, *io.bus, io.hmd, &in, dump ? &*dump : nullptr);
+    answers.Scan(in.can);
+    if (drive && io.drive_answer_wait_ns > 0 && drives_answering && !answers.all()) {
+      // Lockstep: the next SYNC goes out once the drives answered the last one (an event),
+      // or, when they do not within the bound, as usual (then the TPDO watchdog sees it).
+      WaitUntil(last_sync_ns + io.drive_answer_wait_ns, *io.bus, io.hmd, &in, dump ? &*dump : nullptr,
+                [&] {
+                  answers.Scan(in.can);
+                  return answers.all();
+                });
+      if (!answers.all()) drives_answering = false;
+    }
     in.now_ns = MonotonicNs();
+    if (in.now_ns - in.scheduled_ns > slip_after_ns) {
+      slip_ns += in.now_ns - in.scheduled_ns;
+      ++slips;
+    }
     if (drive) {
       const auto i = static_cast<std::size_t>(tick / config.drive_cycle_ticks);
       if (!streams.setpoints.empty())
@@ -99,20 +154,34 @@ SessionReport RunSession(const SessionConfig& config, const SessionStreams& stre
     for (const CanFrame& f : out.can) {
       if (io.bus->Send(f) == BusStatus::kOk && dump) dump->Write(MonotonicNs() / 1000, f);
     }
+    if (drive) {
+      if (answers.all()) drives_answering = true;
+      answers.NewSync();
+      last_sync_ns = MonotonicNs();
+    }
     if (io.hmd != nullptr) {
       // A refused datagram is a lost frame: the headset's staleness rules cover it.
-      for (const auto& b : out.hmd) (void)io.hmd->SendTo(io.hmd_peer, b);
+      for (const HmdDatagram& d : out.hmd) (void)io.hmd->SendTo(io.hmd_peer, d.bytes());
     }
     if (io.log != nullptr) {
       lines.clear();
       AppendInputLines(tick, in, &lines);
-      for (const std::string& l : lines) *io.log << l << '\n';
-      for (const std::string& l : out.log) *io.log << l << '\n';
+      for (std::string_view l : lines) *io.log << l << '\n';
+      for (std::string_view l : out.log) *io.log << l << '\n';
     }
-    in = SessionInputs{};
+    // Reset for the next step, keeping the vectors' capacity.
+    in.can.clear();
+    answers.InputsCleared();
+    in.hmd.clear();
+    in.setpoint.reset();
+    in.camera.reset();
+    in.stop_request = false;
   }
   if (io.log != nullptr) io.log->flush();
-  return core.Report();
+  SessionReport report = core.Report();
+  report.schedule_slips = slips;
+  report.schedule_slip_ms = static_cast<double>(slip_ns) / 1e6;
+  return report;
 }
 
 }  // namespace pwsim::hw

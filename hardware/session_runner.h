@@ -2,6 +2,10 @@
 // The real-time loop around SessionCore: maps CLOCK_MONOTONIC to engine ticks, sleeps until
 // each tick that has platform or visual work, timestamps every CAN frame and HMD datagram as
 // it arrives (ppoll between ticks), steps the core, sends its outputs and writes the log.
+// A step woken more than half a drive cycle late shifts the schedule by its lateness (counted
+// in the report as schedule_slips) instead of stepping the missed ticks back to back.
+// Optionally (RunnerIo::drive_answer_wait_ns) each SYNC waits for the drives' answer to the
+// previous one: a handshake for hosts where the simulated drives share busy cores.
 
 #include <atomic>
 #include <functional>
@@ -32,6 +36,12 @@ struct RunnerIo {
   std::ostream* candump{nullptr};  ///< candump -l style log of all bus traffic; may be null
   const std::atomic<bool>* stop{nullptr};  ///< set by a signal handler: graceful soft stop
   int rt_priority{0};           ///< > 0: try SCHED_FIFO at this priority and lock memory
+  /// > 0: lockstep with the drives for hosts without real-time scheduling: once both axes
+  /// answered a SYNC, each drive step first waits (up to this long after the last SYNC) for
+  /// their TPDO1 answering it. A late answer then slips the schedule instead of tripping the
+  /// TPDO watchdog; a drive that does not answer within the bound ends the waiting (until
+  /// it answers again) and the watchdog reacts as in strict real time (0, the default).
+  std::int64_t drive_answer_wait_ns{0};
 };
 
 /// Tries SCHED_FIFO at `priority` and mlockall; returns "" or why it was refused.

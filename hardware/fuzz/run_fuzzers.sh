@@ -13,12 +13,21 @@ flags="-std=c++20 -O1 -g -fsanitize=fuzzer-no-link,address,undefined -fno-saniti
 # Shared library code, compiled once (guarded against parallel ctest runs).
 (
   flock 9
-  for unit in can_frame candump_log canopen cia402_master safety_supervisor hmd_protocol session; do
+  rm -f "$work/obj/session.o"  # hardware/session.cc was split into session_*.cc
+  for unit in can_frame candump_log canopen cia402_master safety_supervisor hmd_protocol \
+      session_config session_core session_replay session_report session_text; do
     o="$work/obj/$unit.o"
-    if [ ! -f "$o" ] || [ "$src/hardware/$unit.cc" -nt "$o" ] || [ "$src/hardware/$unit.h" -nt "$o" ]; then
+    # Any newer header recompiles (a unit includes more than its own header).
+    if [ ! -f "$o" ] || [ "$src/hardware/$unit.cc" -nt "$o" ] ||
+       [ -n "$(find "$src/hardware" "$src/engine" -name '*.h' -newer "$o" | head -1)" ]; then
       $CXX $flags -c "$src/hardware/$unit.cc" -o "$o"
     fi
   done
+  # The one engine unit the session core uses (linear interpolation).
+  o="$work/obj/engine_interpolate.o"
+  if [ ! -f "$o" ] || [ "$src/engine/interpolate.cc" -nt "$o" ] || [ "$src/engine/interpolate.h" -nt "$o" ]; then
+    $CXX $flags -c "$src/engine/interpolate.cc" -o "$o"
+  fi
   exe="$work/$name"
   if [ ! -x "$exe" ] || [ "$src/hardware/fuzz/$name.cc" -nt "$exe" ] || [ -n "$(find "$work/obj" -newer "$exe" -name '*.o')" ]; then
     if ! echo 'extern "C" int LLVMFuzzerTestOneInput(const char*, unsigned long){return 0;}' |

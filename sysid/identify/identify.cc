@@ -11,6 +11,7 @@
 #include "engine/check.h"
 #include "sysid/identify/fitness.h"
 #include "engine/input_error.h"
+#include "engine/interpolate.h"
 #include "engine/lumped_model.h"
 
 namespace pwsim {
@@ -68,13 +69,7 @@ namespace {
 std::vector<double> SampleGrid(std::span<const double> grid, double t0, double dt,
                                std::span<const double> t) {
   std::vector<double> out(t.size());
-  const std::size_t last = grid.size() - 1;
-  for (std::size_t s = 0; s < t.size(); ++s) {
-    const double pos = std::max(0.0, (t[s] - t0) / dt);
-    const std::size_t k = std::min(last, static_cast<std::size_t>(pos));
-    const double frac = k == last ? 0.0 : pos - static_cast<double>(k);
-    out[s] = grid[k] + frac * (k == last ? 0.0 : grid[k + 1] - grid[k]);
-  }
+  for (std::size_t s = 0; s < t.size(); ++s) out[s] = SampleUniformGrid(grid, t0, dt, t[s]);
   return out;
 }
 

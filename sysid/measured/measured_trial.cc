@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "engine/check.h"
+#include "engine/interpolate.h"
 #include "engine/geometric_model.h"
 #include "engine/input_error.h"
 #include "engine/lumped_model.h"
@@ -83,18 +84,7 @@ std::size_t GridSize(std::span<const double> t, double dt) {
 /// x at each grid time t0 + k dt, linear between samples, held at the ends.
 std::vector<double> InterpolateOnGrid(std::span<const double> t, std::span<const double> x,
                                       double dt) {
-  PWSIM_DEMAND(t.size() == x.size());
-  const std::size_t n = GridSize(t, dt);
-  std::vector<double> grid(n);
-  std::size_t seg = 0;
-  for (std::size_t k = 0; k < n; ++k) {
-    const double time = t.front() + static_cast<double>(k) * dt;
-    while (seg + 2 < t.size() && time > t[seg + 1]) ++seg;
-    const double span = t[seg + 1] - t[seg];
-    const double s = std::clamp((time - t[seg]) / span, 0.0, 1.0);
-    grid[k] = x[seg] + s * (x[seg + 1] - x[seg]);
-  }
-  return grid;
+  return ResampleOnUniformGrid(t, x, dt, GridSize(t, dt));
 }
 
 }  // namespace
@@ -165,7 +155,7 @@ std::vector<double> SimulateAxisOnGrid(double inertia, double damping, double st
     }
     // t[s] lies in [k-1, k]: interpolate between the last two grid values.
     const double frac = std::clamp(static_cast<double>(k) - pos, 0.0, 1.0);
-    out[s] = k == 0 ? q : q + frac * (q_prev - q);
+    out[s] = k == 0 ? q : Lerp(q, q_prev, frac);
   }
   return out;
 }

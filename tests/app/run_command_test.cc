@@ -123,4 +123,24 @@ TEST(RunCommandTest, CarSceneWritesTheCarOutputs) {
   EXPECT_TRUE(fs::exists(out / "mca.png"));
 }
 
+// Tests that every number from the command line is range-checked, with the option's name,
+// its range and unit in the message, as a usage error (status 2), before anything starts.
+TEST(RunCommandTest, OutOfRangeOrNonFiniteNumbersAreUsageErrorsNamingTheOption) {
+  struct Case {
+    const char* args;
+    const char* expected;
+  };
+  const Case cases[] = {
+      {"hmd-peer --head-yaw-deg 200", "option --head-yaw-deg: expected 0..90 deg, got 200"},
+      {"platform-sim --fault-at -1", "option --fault-at: expected 0..86400 s, got -1"},
+      {"platform-sim --cycle-ms inf", "option --cycle-ms: expected a number, got \"inf\""},
+      {"session --rt-priority 120", "option --rt-priority: expected an integer in 0..99, got 120"},
+  };
+  for (const Case& c : cases) {
+    const Result result = Pwsim(c.args);
+    EXPECT_EQ(result.status, 2) << c.args << "\n" << result.output;
+    EXPECT_NE(result.output.find(c.expected), std::string::npos) << c.args << "\n" << result.output;
+  }
+}
+
 }  // namespace
