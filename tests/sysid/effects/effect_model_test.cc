@@ -185,15 +185,23 @@ TEST(EffectModelTest, CushionYieldsMoreUnderMoreLoadAndTyresKeepUnitGain) {
 
 TEST(EffectModelTest, InertialPitchTorqueFollowsAcceleration) {
   const PreparedTrial trial = CushionTrial(1.2, 100.0);
+  // Both centres of mass at h = 0.43 m: Γ = (M_0 + M_u) h a.
   ExtendedParams params{*trial.chair.lm, {}};
   params.fx.cm_lever = 0.43;
+  params.fx.load_cm_lever = 0.43;
   const ModelOutput out = SimulateExtended(trial, params);
+  // Only the empty chair's centre of mass raised: Γ = M_0 h a (the occupant adds nothing).
+  ExtendedParams chair_only{*trial.chair.lm, {}};
+  chair_only.fx.cm_lever = 0.43;
+  const ModelOutput out_chair = SimulateExtended(trial, chair_only);
   const ModelOutput base = SimulateExtended(trial, ExtendedParams{*trial.chair.lm, {}});
-  // Mid-acceleration on the flat floor: quasi-static θ = M h a / K_θ.
+  // Mid-acceleration on the flat floor: quasi-static θ = Γ / K_θ.
   const double m = MovingMass(trial.chair, 100.0);
   const std::size_t k = 150;  // t = 1.5 s, still accelerating at 1 m/s² (start_delay 0.5 s)
   ASSERT_NEAR(trial.accel[k], 1.0, 1e-9);
   EXPECT_NEAR(out.pitch[k] - base.pitch[k], m * 0.43 * 1.0 / trial.chair.lm->k_theta, 5e-4);
+  EXPECT_NEAR(out_chair.pitch[k] - base.pitch[k],
+              trial.chair.mass * 0.43 * 1.0 / trial.chair.lm->k_theta, 5e-4);
 }
 
 TEST(EffectCatalogTest, IdsParseAndParametersRoundTrip) {
