@@ -19,6 +19,7 @@
 
 #include "engine/chair.h"
 #include "engine/terrain.h"
+#include "sysid/measured/measured_trial.h"
 
 namespace pwsim::effects {
 
@@ -105,12 +106,9 @@ PreparedTrial PrepareTrial(const Chair& chair, const Terrain& terrain, double lo
 /// Casters: wheels named "*caster*" or clearly smaller than the largest wheel.
 std::vector<bool> CasterWheels(const Chair& chair);
 
-struct ModelOutput {
-  std::vector<double> z;      ///< [m] measured-altitude channel at each sample time
-  std::vector<double> pitch;  ///< [rad]
-  std::vector<double> z_gm;      ///< [m] GM output (effective contacts) at each sample
-  std::vector<double> pitch_gm;  ///< [rad]
-};
+/// The extended model's output: pwsim::ModelOutput (sysid/measured/measured_trial.h) with the
+/// GM output filled in.
+using pwsim::ModelOutput;
 
 /// Simulates the extended model at the trial's sample times (starts in static equilibrium).
 ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& params);

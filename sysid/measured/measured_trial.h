@@ -50,9 +50,14 @@ MeasuredTrial ReadMeasuredTrial(const std::filesystem::path& folder_or_file,
                                 const MocapReadOptions& options = {});
 
 /// The model's Z and θ at the requested times.
+/// A model's output at the trial's sample times: the measured channels, and the geometric
+/// model's own output where the model computes it (the extended models of sysid/effects/ do;
+/// the base model's simulation leaves them empty).
 struct ModelOutput {
-  std::vector<double> z;      ///< Z_M [m] (0 = the GM altitude of flat ground)
-  std::vector<double> pitch;  ///< θ_M [rad]
+  std::vector<double> z;         ///< Z_M [m] (0 = the GM altitude of flat ground)
+  std::vector<double> pitch;     ///< θ_M [rad]
+  std::vector<double> z_gm;      ///< [m] GM output (effective contacts); may be empty
+  std::vector<double> pitch_gm;  ///< [rad]; may be empty
 };
 
 struct SimulationOptions {
