@@ -1,0 +1,130 @@
+// The trial splits of the diagnosis (report, selection, training) and the measured trials as
+// diagnosis records; declared in diagnose.h.
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "engine/check.h"
+#include "engine/input_error.h"
+#include "sysid/diagnose/diagnose.h"
+#include "sysid/diagnose/format_text.h"
+#include "sysid/identify/fitness.h"
+#include "sysid/identify/identify.h"
+
+namespace pwsim::diagnose {
+
+std::vector<bool> ChooseHeldOut(const std::vector<effects::TrialRecord>& trials,
+                                std::string* description) {
+  const std::size_t n = trials.size();
+  std::vector<bool> held(n, false);
+  auto levels = [&](auto get) {
+    std::vector<double> v;
+    for (const auto& t : trials) {
+      const double key = std::round(get(t) * 20.0) / 20.0;
+      if (std::find(v.begin(), v.end(), key) == v.end()) v.push_back(key);
+    }
+    std::sort(v.begin(), v.end());
+    return v;
+  };
+  auto try_level = [&](auto get, const char* what, const char* unit) {
+    const std::vector<double> v = levels(get);
+    if (v.size() < 2) return false;
+    const double pick = v[(v.size() - 1) / 2];
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      held[i] = std::round(get(trials[i]) * 20.0) / 20.0 == pick;
+      count += held[i];
+    }
+    if (count == 0 || n - count < 2) {
+      std::fill(held.begin(), held.end(), false);
+      return false;
+    }
+    if (description) *description = Format("%s %.2f %s left out", what, pick, unit);
+    return true;
+  };
+  if (try_level([](const auto& t) { return t.speed; }, "speed", "m/s")) return held;
+  if (try_level([](const auto& t) { return t.load_kg; }, "load", "kg")) return held;
+  for (std::size_t i = 2; i < n; i += 3) held[i] = true;
+  if (n == 2) held[1] = true;
+  if (description) *description = "every third trial left out";
+  return held;
+}
+
+std::vector<effects::TrialRecord> RecordsFromMeasured(const std::vector<MeasuredTrial>& trials,
+                                                      std::string* base_source) {
+  std::vector<effects::TrialRecord> records;
+  for (const MeasuredTrial& m : trials) {
+    if (m.chair.wheel_count() != trials.front().chair.wheel_count()) {
+      throw InputError(m.chair_file.string(), 0, "wheels",
+                       "the same wheels as " + trials.front().chair_file.string(),
+                       std::to_string(m.chair.wheel_count()) + " wheels");
+    }
+    effects::TrialRecord r;
+    r.name = m.name;
+    r.chair = m.chair;
+    r.terrain = m.terrain;
+    r.load_kg = m.load_kg;
+    r.speed = m.NominalSpeed();
+    r.t = m.track.t;
+    r.x = m.track.x;
+    r.z = m.track.z;
+    r.pitch = m.track.pitch;
+    records.push_back(std::move(r));
+  }
+  Chair chair = trials.front().chair;
+  if (chair.gm && chair.lm) {
+    if (base_source) *base_source = "chair.yaml (gm and lm as given)";
+    return records;
+  }
+  const std::vector<bool> held = ChooseHeldOut(records);
+  std::vector<MeasuredTrial> training;
+  for (std::size_t i = 0; i < trials.size(); ++i)
+    if (!held[i]) training.push_back(trials[i]);
+  try {
+    const IdentifyResult id = IdentifyChair(training, AssignRoles(training));
+    chair = id.chair;
+    if (base_source) *base_source = "identified on the training trials (pwsim identify's method)";
+  } catch (const InputError&) {
+    // Too few speed levels for the paper's GM/LM roles: GM on every training trial, Table I LM.
+    std::vector<const MeasuredTrial*> ptrs;
+    for (const MeasuredTrial& m : training) ptrs.push_back(&m);
+    chair.gm = IdentifyGeometric(ptrs, chair);
+    if (!chair.lm) chair.lm = LumpedParams{};
+    if (base_source) *base_source = "GM identified on every training trial, LM from Table I";
+  }
+  for (auto& r : records) r.chair = chair;
+  return records;
+}
+
+FitPct PooledFitPct(const std::vector<FitTrial>& trials, const effects::ExtendedParams& params) {
+  PooledFit fz, fp;
+  for (const FitTrial& t : trials) {
+    const TrialResidual r = ComputeResidual(t, params);
+    if (!r.finite) return {-1e9, -1e9};
+    fz.Add(t.z, r.z_model);
+    fp.Add(t.pitch, r.pitch_model);
+  }
+  return {fz.Percent(), fp.Percent()};
+}
+
+std::vector<bool> ChooseSelection(const std::vector<effects::TrialRecord>& trials,
+                                  const std::vector<bool>& report) {
+  std::vector<std::size_t> rest;
+  for (std::size_t i = 0; i < trials.size(); ++i)
+    if (!report[i]) rest.push_back(i);
+  std::stable_sort(rest.begin(), rest.end(), [&](std::size_t a, std::size_t b) {
+    if (trials[a].speed != trials[b].speed) return trials[a].speed < trials[b].speed;
+    return trials[a].load_kg < trials[b].load_kg;
+  });
+  std::vector<bool> selection(trials.size(), false);
+  std::size_t chosen = 0;
+  for (std::size_t k = 0; k < rest.size(); ++k) {
+    if (k % 3 == (k / 3) % 3 && rest.size() - chosen - 1 >= 2) {
+      selection[rest[k]] = true;
+      ++chosen;
+    }
+  }
+  return selection;
+}
+
+}  // namespace pwsim::diagnose
