@@ -31,27 +31,11 @@
 #include "mca/cueing.h"
 #include "mca/head_motion.h"
 
+#include "engine/interpolate.h"
+
 namespace pwsim::app {
 namespace {
 
-/// Linear interpolation of (t, v) at `at` (clamped at the ends); t strictly increasing.
-std::vector<double> Resample(const std::vector<double>& t, const std::vector<double>& v,
-                             const std::vector<double>& at) {
-  std::vector<double> out(at.size());
-  std::size_t j = 0;
-  for (std::size_t i = 0; i < at.size(); ++i) {
-    while (j + 2 < t.size() && t[j + 1] < at[i]) ++j;
-    if (at[i] <= t.front()) {
-      out[i] = v.front();
-    } else if (at[i] >= t.back()) {
-      out[i] = v.back();
-    } else {
-      const double w = (at[i] - t[j]) / (t[j + 1] - t[j]);
-      out[i] = v[j] + w * (v[j + 1] - v[j]);
-    }
-  }
-  return out;
-}
 
 struct TrialResult {
   std::string name;
@@ -73,8 +57,8 @@ TrialResult ValidateTrial(const MeasuredTrial& trial, const Chair& model_chair,
   for (std::size_t k = 0; k < ticks; ++k) r.t[k] = t0 + static_cast<double>(k) * dt;
 
   // Fig. 6a: the tracked state, resampled on the MCA ticks and differentiated (smoothed)
-  mca::SagittalTrack measured{dt, Resample(track.t, track.x, r.t), Resample(track.t, track.z, r.t),
-                              Resample(track.t, track.pitch, r.t)};
+  mca::SagittalTrack measured{dt, InterpolateLinear(track.t, track.x, r.t), InterpolateLinear(track.t, track.z, r.t),
+                              InterpolateLinear(track.t, track.pitch, r.t)};
   // Fig. 6b: the model driven by the same measured x(t)
   const ModelOutput model_out =
       SimulateMeasuredTrial(model_chair, trial.terrain, trial.load_kg, r.t, measured.x);

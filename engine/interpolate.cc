@@ -48,4 +48,11 @@ std::vector<double> ResampleOnUniformGrid(std::span<const double> t, std::span<c
   return grid;
 }
 
+std::vector<double> InterpolateLinear(std::span<const double> x, std::span<const double> y,
+                                      std::span<const double> xq) {
+  std::vector<double> out(xq.size());
+  for (std::size_t i = 0; i < xq.size(); ++i) out[i] = InterpolateLinear(x, y, xq[i]);
+  return out;
+}
+
 }  // namespace pwsim

@@ -31,6 +31,10 @@ KnotSegment FindKnotSegment(std::span<const double> x, double xq);
 /// the end values outside [x.front(), x.back()].
 double InterpolateLinear(std::span<const double> x, std::span<const double> y, double xq);
 
+/// The same at each query of `xq` (any order).
+std::vector<double> InterpolateLinear(std::span<const double> x, std::span<const double> y,
+                                      std::span<const double> xq);
+
 /// A signal on the uniform grid t0 + k dt (k < grid.size(), >= 1 sample) at time t: linear
 /// between grid points, held at the ends. The index is computed, not searched.
 double SampleUniformGrid(std::span<const double> grid, double t0, double dt, double t);

@@ -3,29 +3,9 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "engine/interpolate.h"
+
 namespace pwsim::report {
-namespace {
-
-/// v(t) linearly interpolated at `at` (clamped at the ends); t strictly increasing.
-std::vector<double> Interpolate(const std::vector<double>& t, const std::vector<double>& v,
-                                const std::vector<double>& at) {
-  std::vector<double> out(at.size());
-  std::size_t j = 0;
-  for (std::size_t i = 0; i < at.size(); ++i) {
-    while (j + 2 < t.size() && t[j + 1] < at[i]) ++j;
-    if (at[i] <= t.front()) {
-      out[i] = v.front();
-    } else if (at[i] >= t.back()) {
-      out[i] = v.back();
-    } else {
-      const double w = (at[i] - t[j]) / (t[j + 1] - t[j]);
-      out[i] = v[j] + w * (v[j + 1] - v[j]);
-    }
-  }
-  return out;
-}
-
-}  // namespace
 
 const char* TrialSourceName(TrialSource source) {
   return source == TrialSource::kMeasured ? "measured" : "model";
@@ -52,10 +32,10 @@ mca::SagittalTrack TrialTrack(const MeasuredTrial& trial, TrialSource source, co
   for (std::size_t k = 0; k < ticks; ++k) t[k] = t0 + static_cast<double>(k) * dt;
   mca::SagittalTrack out;
   out.dt = dt;
-  out.x = Interpolate(track.t, track.x, t);
+  out.x = InterpolateLinear(track.t, track.x, t);
   if (source == TrialSource::kMeasured) {
-    out.z = Interpolate(track.t, track.z, t);
-    out.pitch = Interpolate(track.t, track.pitch, t);
+    out.z = InterpolateLinear(track.t, track.z, t);
+    out.pitch = InterpolateLinear(track.t, track.pitch, t);
   } else {
     const ModelOutput model = SimulateMeasuredTrial(model_chair, trial.terrain, trial.load_kg, t, out.x);
     out.z = model.z;
