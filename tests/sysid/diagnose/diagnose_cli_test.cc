@@ -16,35 +16,15 @@
 #include <string>
 #include <vector>
 
+#include "tests/sysid/cli_support.h"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kPwsim = fs::path(PWSIM_BINARY_DIR) / "pwsim";
-
-int RunPwsim(const std::string& args, const fs::path& log) {
-  const std::string command = kPwsim.string() + " " + args + " > " + log.string() + " 2>&1";
-  const int status = std::system(command.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-std::string Read(const fs::path& file) {
-  std::ifstream in(file);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-std::string TrialDirs(const fs::path& set) {
-  std::vector<std::string> dirs;
-  for (const auto& entry : fs::directory_iterator(set)) {
-    if (entry.is_directory()) dirs.push_back(entry.path().string());
-  }
-  std::sort(dirs.begin(), dirs.end());
-  std::string out;
-  for (const auto& d : dirs) out += " " + d;
-  return out;
-}
+using pwsim::test::Read;
+using pwsim::test::RunPwsim;
+using pwsim::test::TrialDirs;
 
 class DiagnoseCliTest : public testing::Test {
  protected:
