@@ -1,4 +1,5 @@
 #include "report/car_run.h"
+#include "report/run_mca.h"
 
 #include <algorithm>
 #include <cmath>
@@ -91,37 +92,10 @@ void AddCarCueing(const vehicle::CarScene& scene, const std::vector<CarSample>& 
   const mca::ConsistencyReport report = mca::EvaluateConsistency(config, trace, dt);
   const mca::RailYawFalseCues false_cue = mca::RailYawFalseCue(config.vestibular, trace.commands, dt);
 
-  static const char* const kAxis[3] = {"x", "y", "z"};
-  for (std::size_t i = 0; i < 3; ++i) {
-    table.Add(std::string("head_fs_") + kAxis[i] + "_mps2", Column(n, [&](std::size_t k) { return trace.truth[k].fs[i]; }));
-  }
-  for (std::size_t i = 0; i < 3; ++i) {
-    table.Add(std::string("head_w_") + kAxis[i] + "_radps", Column(n, [&](std::size_t k) { return trace.truth[k].w[i]; }));
-  }
-  for (Dof dof : mca::kAllDofs) {
-    if (!config.platform.Has(dof)) continue;
-    const auto i = static_cast<std::size_t>(mca::Index(dof));
-    table.Add("plat_" + std::string(mca::DofName(dof)) + "_" + std::string(mca::DofUnit(dof)),
-              Column(n, [&](std::size_t k) { return trace.commands[k].pose[i]; }));
-  }
-  for (std::size_t i = 0; i < 3; ++i) {
-    table.Add(std::string("head_plat_fs_") + kAxis[i] + "_mps2", Column(n, [&](std::size_t k) { return trace.delivered[k].fs[i]; }));
-  }
-  for (std::size_t i = 0; i < 3; ++i) {
-    table.Add(std::string("head_plat_w_") + kAxis[i] + "_radps", Column(n, [&](std::size_t k) { return trace.delivered[k].w[i]; }));
-  }
+  AddCueMotionColumns(config, trace, table);
   table.Add("false_cue_surge_mps2", false_cue.surge);
   table.Add("false_cue_sway_mps2", false_cue.sway);
-  for (const char* who : {"true", "plat"}) {
-    const auto& perceived = std::string(who) == "true" ? trace.perceived_true : trace.perceived_platform;
-    for (std::size_t i = 0; i < 3; ++i) {
-      table.Add(std::string("vest_") + who + "_oto_" + kAxis[i] + "_mps2", Column(n, [&](std::size_t k) { return perceived[k].fs[i]; }));
-    }
-    for (std::size_t i = 0; i < 3; ++i) {
-      table.Add(std::string("vest_") + who + "_scc_" + kAxis[i] + "_radps", Column(n, [&](std::size_t k) { return perceived[k].w[i]; }));
-    }
-  }
-  table.Add("mca_fault", Column(n, [&](std::size_t k) { return trace.commands[k].fault ? 1.0 : 0.0; }));
+  AddVestibularColumns(trace, table);
 
   // summary
   nlohmann::ordered_json platform_json;
@@ -147,6 +121,7 @@ void AddCarCueing(const vehicle::CarScene& scene, const std::vector<CarSample>& 
   nlohmann::ordered_json mca_json;
   mca_json["platform"] = platform_json;
   nlohmann::ordered_json consistency;
+  static const char* const kAxis[3] = {"x", "y", "z"};
   for (std::size_t i = 0; i < 3; ++i) consistency["otolith"][kAxis[i]] = AxisJson(report.otolith[i], "mps2");
   for (std::size_t i = 0; i < 3; ++i) consistency["canals"][kAxis[i]] = AxisJson(report.canals[i], "radps");
   mca_json["consistency"] = consistency;

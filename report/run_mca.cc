@@ -11,6 +11,8 @@
 namespace pwsim::report {
 namespace {
 
+constexpr const char* kAxis[3] = {"x", "y", "z"};
+
 using mca::Dof;
 
 nlohmann::ordered_json AxisJson(const mca::AxisConsistency& c, const char* unit) {
@@ -37,18 +39,9 @@ std::vector<double> Column(std::size_t rows, Get get) {
 
 }  // namespace
 
-void AddMotionCueing(const Scene& scene, const std::vector<ChairSample>& samples, TrialTable& table,
-                     nlohmann::ordered_json& summary, const std::filesystem::path& out_dir) {
-  const mca::McaConfig config = mca::LoadMcaConfig(scene);
-  const double dt = scene.clock.dt();
-  const std::size_t n = samples.size();
-  std::vector<mca::HeadMotion> head(n);
-  for (std::size_t k = 0; k < n; ++k) head[k] = mca::HeadMotionFromChair(samples[k], scene.occupant.head_offset);
-  const mca::CueingTrace trace = mca::RunCueing(config, head, dt);
-  const mca::ConsistencyReport report = mca::EvaluateConsistency(config, trace, dt);
-
-  // trial.csv columns
-  static const char* const kAxis[3] = {"x", "y", "z"};
+void AddCueMotionColumns(const mca::McaConfig& config, const mca::CueingTrace& trace,
+                         TrialTable& table) {
+  const std::size_t n = trace.commands.size();
   for (std::size_t i = 0; i < 3; ++i) {
     table.Add(std::string("head_fs_") + kAxis[i] + "_mps2", Column(n, [&](std::size_t k) { return trace.truth[k].fs[i]; }));
   }
@@ -69,12 +62,10 @@ void AddMotionCueing(const Scene& scene, const std::vector<ChairSample>& samples
     table.Add(std::string("head_plat_w_") + kAxis[i] + "_radps",
               Column(n, [&](std::size_t k) { return trace.delivered[k].w[i]; }));
   }
-  // the vehicle motion to show: the chair pose X_WV (render/ puts the eyes at head_offset on it)
-  table.Add("vis_x_m", Column(n, [&](std::size_t k) { return samples[k].drive.x; }));
-  table.Add("vis_z_m", Column(n, [&](std::size_t k) { return samples[k].lm.z; }));
-  table.Add("vis_pitch_rad", Column(n, [&](std::size_t k) { return samples[k].lm.pitch; }));
-  table.Add("vis_tilt_pitch_rad", Column(n, [&](std::size_t k) { return trace.commands[k].tilt_pitch; }));
-  table.Add("vis_tilt_roll_rad", Column(n, [&](std::size_t k) { return trace.commands[k].tilt_roll; }));
+}
+
+void AddVestibularColumns(const mca::CueingTrace& trace, TrialTable& table) {
+  const std::size_t n = trace.commands.size();
   for (const char* who : {"true", "plat"}) {
     const auto& perceived = std::string(who) == "true" ? trace.perceived_true : trace.perceived_platform;
     for (std::size_t i = 0; i < 3; ++i) {
@@ -87,6 +78,27 @@ void AddMotionCueing(const Scene& scene, const std::vector<ChairSample>& samples
     }
   }
   table.Add("mca_fault", Column(n, [&](std::size_t k) { return trace.commands[k].fault ? 1.0 : 0.0; }));
+}
+
+void AddMotionCueing(const Scene& scene, const std::vector<ChairSample>& samples, TrialTable& table,
+                     nlohmann::ordered_json& summary, const std::filesystem::path& out_dir) {
+  const mca::McaConfig config = mca::LoadMcaConfig(scene);
+  const double dt = scene.clock.dt();
+  const std::size_t n = samples.size();
+  std::vector<mca::HeadMotion> head(n);
+  for (std::size_t k = 0; k < n; ++k) head[k] = mca::HeadMotionFromChair(samples[k], scene.occupant.head_offset);
+  const mca::CueingTrace trace = mca::RunCueing(config, head, dt);
+  const mca::ConsistencyReport report = mca::EvaluateConsistency(config, trace, dt);
+
+  // trial.csv columns
+  AddCueMotionColumns(config, trace, table);
+  // the vehicle motion to show: the chair pose X_WV (render/ puts the eyes at head_offset on it)
+  table.Add("vis_x_m", Column(n, [&](std::size_t k) { return samples[k].drive.x; }));
+  table.Add("vis_z_m", Column(n, [&](std::size_t k) { return samples[k].lm.z; }));
+  table.Add("vis_pitch_rad", Column(n, [&](std::size_t k) { return samples[k].lm.pitch; }));
+  table.Add("vis_tilt_pitch_rad", Column(n, [&](std::size_t k) { return trace.commands[k].tilt_pitch; }));
+  table.Add("vis_tilt_roll_rad", Column(n, [&](std::size_t k) { return trace.commands[k].tilt_roll; }));
+  AddVestibularColumns(trace, table);
 
   // summary.json
   nlohmann::ordered_json mca_json;

@@ -23,8 +23,18 @@
 #include "engine/chair_simulator.h"
 #include "engine/scene.h"
 #include "engine/trial_table.h"
+#include "mca/config.h"
+#include "mca/cueing.h"
 
 namespace pwsim::report {
+
+/// The MCA's trial.csv columns, shared by the chair and the car runs: the vehicle motion at the
+/// head (head_fs_*, head_w_*), the platform setpoint per present axis (plat_*), what the
+/// platform delivers at the head (head_plat_fs_*, head_plat_w_*).
+void AddCueMotionColumns(const mca::McaConfig& config, const mca::CueingTrace& trace,
+                         TrialTable& table);
+/// Both vestibular responses (vest_{true,plat}_{oto,scc}_*) and mca_fault.
+void AddVestibularColumns(const mca::CueingTrace& trace, TrialTable& table);
 
 /// @throws InputError for a bad mca: or platform: section.
 void AddMotionCueing(const Scene& scene, const std::vector<ChairSample>& samples, TrialTable& table,
