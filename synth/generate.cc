@@ -34,21 +34,6 @@ void Require(bool condition, const std::string& message) {
   if (!condition) throw std::invalid_argument("generate: " + message);
 }
 
-std::string Fixed2(double value) {
-  std::ostringstream out;
-  out.setf(std::ios::fixed);
-  out.precision(2);
-  out << value;
-  return out.str();
-}
-
-std::string TrialName(const GenerateConfig& config, double speed, double load, bool cushion,
-                      int repeat) {
-  return config.name_prefix + "v" + Fixed2(speed) + "_m" +
-         std::to_string(static_cast<long long>(std::lround(load))) + "_" +
-         (cushion ? "cushion" : "flat") + "_r" + std::to_string(repeat);
-}
-
 /// A per-trial seed that does not depend on the order of generation.
 std::uint64_t TrialSeed(std::uint64_t seed, std::size_t index) {
   std::uint64_t z = seed + 0x9E3779B97F4A7C15ULL * (index + 1);
@@ -64,7 +49,22 @@ Chair LabChair(const Chair& truth) {
   return chair;
 }
 
+std::string Fixed2(double value) {
+  std::ostringstream out;
+  out.setf(std::ios::fixed);
+  out.precision(2);
+  out << value;
+  return out.str();
+}
+
 }  // namespace
+
+std::string TrialName(const std::string& prefix, double speed, double load, bool cushion,
+                      int repeat) {
+  return prefix + "v" + Fixed2(speed) + "_m" +
+         std::to_string(static_cast<long long>(std::lround(load))) + "_" +
+         (cushion ? "cushion" : "flat") + "_r" + std::to_string(repeat);
+}
 
 TrialSet GenerateTrialSet(const GenerateConfig& config) {
   Require(config.truth.gm.has_value() && config.truth.lm.has_value(),
@@ -161,7 +161,7 @@ TrialSet GenerateTrialSet(const GenerateConfig& config) {
 
           const double lateral_phase = 6.283185307179586 * uniform(rng);
           MeasuredTrial& measured = trial.measured;
-          measured.name = TrialName(config, speed, load, cushion, repeat);
+          measured.name = TrialName(config.name_prefix, speed, load, cushion, repeat);
           measured.chair = lab_chair;
           measured.terrain = terrain;
           measured.load_kg = load;

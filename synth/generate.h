@@ -74,6 +74,11 @@ struct TrialSet {
   std::vector<MeasuredTrial> Measured() const;
 };
 
+/// The name of a generated trial, the same for trial folders and in-memory sets:
+/// PREFIXv<speed, 2 decimals>_m<load, kg>_<cushion|flat>_r<repeat>, e.g. "v1.20_m100_cushion_r1".
+std::string TrialName(const std::string& prefix, double speed, double load, bool cushion,
+                      int repeat);
+
 /// Generates every trial of the protocol (speeds × loads × cushion × repeats) in memory.
 /// Deterministic for a given config (seeded RNG per trial). @throws std::invalid_argument for
 /// an inconsistent config (the message names the field).

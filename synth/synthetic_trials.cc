@@ -7,6 +7,7 @@
 
 #include "engine/drive_profile.h"
 #include "engine/number_format.h"
+#include "synth/generate.h"
 
 namespace pwsim::effects {
 namespace {
@@ -84,7 +85,7 @@ SyntheticSet MakeSyntheticTrials(const SyntheticConfig& config) {
     const double end_t = drive.StopTime() + 0.5;
 
     TrialRecord rec;
-    rec.name = "s" + FormatDouble(speed) + "_l" + FormatDouble(load) + "_" + std::to_string(k);
+    rec.name = TrialName("", speed, load, /*cushion=*/true, /*repeat=*/1);  // one per (speed, load)
     rec.chair = chair;
     rec.terrain = terrain;
     rec.load_kg = load;
