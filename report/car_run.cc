@@ -30,16 +30,6 @@ std::vector<double> Column(std::size_t rows, Get get) {
   return values;
 }
 
-nlohmann::ordered_json AxisJson(const mca::AxisConsistency& c, const char* unit) {
-  return {{"correlation", c.correlation},
-          {std::string("rms_error_") + unit, c.rms_error},
-          {"gain", c.gain},
-          {"lag_s", c.lag},
-          {std::string("peak_true_") + unit, c.peak_true},
-          {std::string("peak_platform_") + unit, c.peak_platform},
-          {"wrong_sign_count", c.wrong_sign_count},
-          {"wrong_sign_duration_s", c.wrong_sign_duration}};
-}
 
 }  // namespace
 
@@ -102,38 +92,13 @@ void AddCarCueing(const vehicle::CarScene& scene, const std::vector<CarSample>& 
   platform_json["name"] = config.platform.name;
   platform_json["source"] = config.platform_source;
   platform_json["kinematics"] = rail_yaw ? "rail on the turntable (RP chain, mca/rail_yaw.h)" : "generic (mca/cue_analysis.h)";
-  nlohmann::ordered_json usage = nlohmann::ordered_json::array();
-  bool within = true;
-  for (const mca::DofUsage& u : report.usage) {
-    const bool rot = mca::IsRotational(u.dof);
-    const double k = rot ? 1.0 / mca::kDegToRad : 1.0;
-    within = within && u.pose_fraction <= 1.0 + 1e-9 && u.rate_fraction <= 1.0 + 1e-9 && u.accel_fraction <= 1.0 + 1e-9;
-    usage.push_back({{"dof", std::string(mca::DofName(u.dof))},
-                     {rot ? "peak_pose_deg" : "peak_pose_m", u.peak_pose * k},
-                     {rot ? "peak_rate_degps" : "peak_rate_mps", u.peak_rate * k},
-                     {rot ? "peak_accel_degps2" : "peak_accel_mps2", u.peak_accel * k},
-                     {"pose_fraction_of_limit", u.pose_fraction},
-                     {"rate_fraction_of_limit", u.rate_fraction},
-                     {"accel_fraction_of_limit", u.accel_fraction}});
-  }
-  platform_json["usage"] = usage;
-  platform_json["within_limits"] = within;
+  platform_json["usage"] = PlatformUsageJson(report);
+  platform_json["within_limits"] = WithinLimits(report);
   nlohmann::ordered_json mca_json;
   mca_json["platform"] = platform_json;
-  nlohmann::ordered_json consistency;
-  static const char* const kAxis[3] = {"x", "y", "z"};
-  for (std::size_t i = 0; i < 3; ++i) consistency["otolith"][kAxis[i]] = AxisJson(report.otolith[i], "mps2");
-  for (std::size_t i = 0; i < 3; ++i) consistency["canals"][kAxis[i]] = AxisJson(report.canals[i], "radps");
-  mca_json["consistency"] = consistency;
-  int wrong_count = 0;
-  double wrong_duration = 0.0;
-  for (const auto* axes : {&report.otolith, &report.canals}) {
-    for (const mca::AxisConsistency& c : *axes) {
-      wrong_count += c.wrong_sign_count;
-      wrong_duration += c.wrong_sign_duration;
-    }
-  }
-  mca_json["false_cues"] = {{"wrong_sign_count", wrong_count}, {"wrong_sign_duration_s", wrong_duration}};
+  mca_json["consistency"] = ConsistencyJson(report);
+  const WrongSignCues wrong = CountWrongSignCues(report);
+  mca_json["false_cues"] = {{"wrong_sign_count", wrong.count}, {"wrong_sign_duration_s", wrong.duration_s}};
   mca_json["rail_yaw_false_cue"] = {
       {"what", "specific force the turntable's yaw adds on the rail: surge -r^2 x, sway r' x + 2 r x'"},
       {"peak_surge_mps2", false_cue.peak_surge},

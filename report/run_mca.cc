@@ -15,16 +15,6 @@ constexpr const char* kAxis[3] = {"x", "y", "z"};
 
 using mca::Dof;
 
-nlohmann::ordered_json AxisJson(const mca::AxisConsistency& c, const char* unit) {
-  return {{"correlation", c.correlation},
-          {std::string("rms_error_") + unit, c.rms_error},
-          {"gain", c.gain},
-          {"lag_s", c.lag},
-          {std::string("peak_true_") + unit, c.peak_true},
-          {std::string("peak_platform_") + unit, c.peak_platform},
-          {"wrong_sign_count", c.wrong_sign_count},
-          {"wrong_sign_duration_s", c.wrong_sign_duration}};
-}
 
 nlohmann::ordered_json RateCuesJson(const mca::RateCues& r) {
   return {{"count", r.count}, {"duration_s", r.duration}, {"max_rate_degps", r.max_rate / mca::kDegToRad}};
@@ -38,6 +28,59 @@ std::vector<double> Column(std::size_t rows, Get get) {
 }
 
 }  // namespace
+
+nlohmann::ordered_json AxisJson(const mca::AxisConsistency& c, const char* unit) {
+  return {{"correlation", c.correlation},
+          {std::string("rms_error_") + unit, c.rms_error},
+          {"gain", c.gain},
+          {"lag_s", c.lag},
+          {std::string("peak_true_") + unit, c.peak_true},
+          {std::string("peak_platform_") + unit, c.peak_platform},
+          {"wrong_sign_count", c.wrong_sign_count},
+          {"wrong_sign_duration_s", c.wrong_sign_duration}};
+}
+
+nlohmann::ordered_json PlatformUsageJson(const mca::ConsistencyReport& report) {
+  nlohmann::ordered_json usage = nlohmann::ordered_json::array();
+  for (const mca::DofUsage& u : report.usage) {
+    const bool rot = mca::IsRotational(u.dof);
+    const double k = rot ? 1.0 / mca::kDegToRad : 1.0;
+    usage.push_back({{"dof", std::string(mca::DofName(u.dof))},
+                     {rot ? "peak_pose_deg" : "peak_pose_m", u.peak_pose * k},
+                     {rot ? "peak_rate_degps" : "peak_rate_mps", u.peak_rate * k},
+                     {rot ? "peak_accel_degps2" : "peak_accel_mps2", u.peak_accel * k},
+                     {"pose_fraction_of_limit", u.pose_fraction},
+                     {"rate_fraction_of_limit", u.rate_fraction},
+                     {"accel_fraction_of_limit", u.accel_fraction}});
+  }
+  return usage;
+}
+
+bool WithinLimits(const mca::ConsistencyReport& report) {
+  bool within = true;
+  for (const mca::DofUsage& u : report.usage)
+    within = within && u.pose_fraction <= 1.0 + 1e-9 && u.rate_fraction <= 1.0 + 1e-9 &&
+             u.accel_fraction <= 1.0 + 1e-9;
+  return within;
+}
+
+nlohmann::ordered_json ConsistencyJson(const mca::ConsistencyReport& report) {
+  nlohmann::ordered_json consistency;
+  for (std::size_t i = 0; i < 3; ++i) consistency["otolith"][kAxis[i]] = AxisJson(report.otolith[i], "mps2");
+  for (std::size_t i = 0; i < 3; ++i) consistency["canals"][kAxis[i]] = AxisJson(report.canals[i], "radps");
+  return consistency;
+}
+
+WrongSignCues CountWrongSignCues(const mca::ConsistencyReport& report) {
+  WrongSignCues out;
+  for (const auto* axes : {&report.otolith, &report.canals}) {
+    for (const mca::AxisConsistency& c : *axes) {
+      out.count += c.wrong_sign_count;
+      out.duration_s += c.wrong_sign_duration;
+    }
+  }
+  return out;
+}
 
 void AddCueMotionColumns(const mca::McaConfig& config, const mca::CueingTrace& trace,
                          TrialTable& table) {
@@ -105,19 +148,7 @@ void AddMotionCueing(const Scene& scene, const std::vector<ChairSample>& samples
   nlohmann::ordered_json platform_json;
   platform_json["name"] = config.platform.name;
   platform_json["source"] = config.platform_source;
-  nlohmann::ordered_json usage = nlohmann::ordered_json::array();
-  for (const mca::DofUsage& u : report.usage) {
-    const bool rot = mca::IsRotational(u.dof);
-    const double k = rot ? 1.0 / mca::kDegToRad : 1.0;
-    usage.push_back({{"dof", std::string(mca::DofName(u.dof))},
-                     {rot ? "peak_pose_deg" : "peak_pose_m", u.peak_pose * k},
-                     {rot ? "peak_rate_degps" : "peak_rate_mps", u.peak_rate * k},
-                     {rot ? "peak_accel_degps2" : "peak_accel_mps2", u.peak_accel * k},
-                     {"pose_fraction_of_limit", u.pose_fraction},
-                     {"rate_fraction_of_limit", u.rate_fraction},
-                     {"accel_fraction_of_limit", u.accel_fraction}});
-  }
-  platform_json["usage"] = usage;
+  platform_json["usage"] = PlatformUsageJson(report);
   mca_json["platform"] = platform_json;
   double max_tilt = 0.0;
   for (const mca::McaCommand& c : trace.commands) max_tilt = std::max(max_tilt, std::abs(c.tilt_pitch));
@@ -125,20 +156,10 @@ void AddMotionCueing(const Scene& scene, const std::vector<ChairSample>& samples
                       {"rate_limit_degps", config.washout.tilt_pitch.max_rate / mca::kDegToRad},
                       {"pitch_rate_above_threshold", RateCuesJson(report.tilt_pitch)},
                       {"roll_rate_above_threshold", RateCuesJson(report.tilt_roll)}};
-  nlohmann::ordered_json consistency;
-  for (std::size_t i = 0; i < 3; ++i) consistency["otolith"][kAxis[i]] = AxisJson(report.otolith[i], "mps2");
-  for (std::size_t i = 0; i < 3; ++i) consistency["canals"][kAxis[i]] = AxisJson(report.canals[i], "radps");
-  mca_json["consistency"] = consistency;
-  int wrong_count = 0;
-  double wrong_duration = 0.0;
-  for (const auto* axes : {&report.otolith, &report.canals}) {
-    for (const mca::AxisConsistency& c : *axes) {
-      wrong_count += c.wrong_sign_count;
-      wrong_duration += c.wrong_sign_duration;
-    }
-  }
-  mca_json["false_cues"] = {{"wrong_sign_count", wrong_count},
-                            {"wrong_sign_duration_s", wrong_duration},
+  mca_json["consistency"] = ConsistencyJson(report);
+  const WrongSignCues wrong = CountWrongSignCues(report);
+  mca_json["false_cues"] = {{"wrong_sign_count", wrong.count},
+                            {"wrong_sign_duration_s", wrong.duration_s},
                             {"tilt_rate_count", report.tilt_pitch.count + report.tilt_roll.count},
                             {"tilt_rate_duration_s", report.tilt_pitch.duration + report.tilt_roll.duration}};
   mca_json["fault_ticks"] = report.fault_ticks;

@@ -24,6 +24,7 @@
 #include "engine/scene.h"
 #include "engine/trial_table.h"
 #include "mca/config.h"
+#include "mca/cue_analysis.h"
 #include "mca/cueing.h"
 
 namespace pwsim::report {
@@ -35,6 +36,20 @@ void AddCueMotionColumns(const mca::McaConfig& config, const mca::CueingTrace& t
                          TrialTable& table);
 /// Both vestibular responses (vest_{true,plat}_{oto,scc}_*) and mca_fault.
 void AddVestibularColumns(const mca::CueingTrace& trace, TrialTable& table);
+
+/// summary.json parts shared by the chair and the car runs: per platform axis its peaks
+/// (deg or m) and their fractions of the limits; whether every fraction stays <= 1; the
+/// consistency of true and platform vestibular responses per otolith and canal axis; and the
+/// wrong-sign cues summed over all axes.
+nlohmann::ordered_json PlatformUsageJson(const mca::ConsistencyReport& report);
+bool WithinLimits(const mca::ConsistencyReport& report);
+nlohmann::ordered_json AxisJson(const mca::AxisConsistency& c, const char* unit);
+nlohmann::ordered_json ConsistencyJson(const mca::ConsistencyReport& report);
+struct WrongSignCues {
+  int count{0};
+  double duration_s{0.0};
+};
+WrongSignCues CountWrongSignCues(const mca::ConsistencyReport& report);
 
 /// @throws InputError for a bad mca: or platform: section.
 void AddMotionCueing(const Scene& scene, const std::vector<ChairSample>& samples, TrialTable& table,
