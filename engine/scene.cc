@@ -111,17 +111,24 @@ Scene ParseSceneRoot(const YamlDocument& document) {
         servo.NumberOr("drift_lateral_mps", scene.servo.drift_lateral, Range::Closed(-1.0, 1.0, "m/s"));
     servo.Finish();
   }
-  for (const std::string& key : ExtensionSectionKeys()) {
-    if (root.Has(key)) {
-      const int line = root.LineOfKey(key);
-      scene.sections[key] = SceneSection{root.Raw(key), document.file, line};
-    }
-  }
+  scene.sections = ReadExtensionSections(root, document.file);
   root.Finish();
   return scene;
 }
 
 }  // namespace
+
+std::map<std::string, SceneSection> ReadExtensionSections(YamlMap& root,
+                                                          const std::filesystem::path& file) {
+  std::map<std::string, SceneSection> sections;
+  for (const std::string& key : ExtensionSectionKeys()) {
+    if (root.Has(key)) {
+      const int line = root.LineOfKey(key);
+      sections[key] = SceneSection{root.Raw(key), file, line};
+    }
+  }
+  return sections;
+}
 
 const SceneSection* Scene::section(const std::string& key) const {
   const auto found = sections.find(key);

@@ -70,6 +70,11 @@ inline const std::vector<std::string>& ExtensionSectionKeys() {
   return keys;
 }
 
+/// The sections of a scene's root that other libraries parse (ExtensionSectionKeys), raw, with
+/// their file and line; used by the chair and the car scene readers.
+std::map<std::string, SceneSection> ReadExtensionSections(YamlMap& root,
+                                                          const std::filesystem::path& file);
+
 /// Loads and validates a scene file. @throws InputError (file, line, field, expected).
 Scene LoadScene(const std::filesystem::path& file);
 /// Same, from a YAML document already read (LoadYamlFile), so a scene is read only once.

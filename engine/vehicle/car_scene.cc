@@ -259,12 +259,7 @@ CarScene ParseRoot(const YamlDocument& document) {
     scene.head_offset = {head[0], head[1], head[2]};
     occupant.Finish();
   }
-  for (const std::string& key : ExtensionSectionKeys()) {
-    if (root.Has(key)) {
-      const int line = root.LineOfKey(key);
-      scene.sections[key] = SceneSection{root.Raw(key), document.file, line};
-    }
-  }
+  scene.sections = ReadExtensionSections(root, document.file);
   root.Finish();
   return scene;
 }
