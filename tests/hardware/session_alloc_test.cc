@@ -9,23 +9,11 @@
 #include <new>
 #include <sstream>
 
+#include "tests/counting_allocator.h"
 #include "tests/hardware/session_world.h"
 
-namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<long> g_allocations{0};
-}  // namespace
-
-void* operator new(std::size_t size) {
-  if (g_counting.load(std::memory_order_relaxed)) ++g_allocations;
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) { return operator new(size); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+using pwsim_test::g_allocations;
+using pwsim_test::g_counting;
 
 namespace pwsim::hw {
 namespace {
@@ -35,6 +23,7 @@ using session_testing::World;
 /// Counts the allocations inside SessionCore::Step over a whole session of `w`.
 long StepAllocations(World& w, const std::function<void(World&)>& inject = nullptr,
                      std::int64_t inject_at = -1) {
+  g_counting = false;  // only the allocations inside Step count
   g_allocations = 0;
   w.around_step = [](bool on) { g_counting.store(on, std::memory_order_relaxed); };
   if (inject) {
