@@ -6,9 +6,8 @@
 #include "engine/check.h"
 
 namespace pwsim {
-namespace {
 
-AxisPropagator MakePropagator(const AxisParams& axis, double dt) {
+AxisPropagator MakeAxisPropagator(const AxisParams& axis, double dt) {
   PWSIM_DEMAND(axis.inertia > 0.0 && dt > 0.0);
   // Augmented state s = [q, q̇, u, u̇, F]; u̇ and F are constant across the step.
   Eigen::Matrix<double, 5, 5> a = Eigen::Matrix<double, 5, 5>::Zero();
@@ -28,17 +27,6 @@ AxisPropagator MakePropagator(const AxisParams& axis, double dt) {
   return propagator;
 }
 
-inline void Advance(const AxisPropagator& p, double& q, double& q_rate, double u0, double u_rate,
-                    double force) {
-  const double* f = p.phi.data();
-  const double next_q = f[0] * q + f[1] * q_rate + f[2] * u0 + f[3] * u_rate + f[4] * force;
-  const double next_rate = f[5] * q + f[6] * q_rate + f[7] * u0 + f[8] * u_rate + f[9] * force;
-  q = next_q;
-  q_rate = next_rate;
-}
-
-}  // namespace
-
 LumpedModelParams MakeLumpedModelParams(const Chair& chair, double load_kg) {
   PWSIM_DEMAND(chair.lm.has_value());
   LumpedModelParams params;
@@ -51,8 +39,8 @@ DiscreteLumpedModel Discretize(const LumpedModelParams& params, double dt) {
   DiscreteLumpedModel model;
   model.params = params;
   model.dt = dt;
-  model.heave = MakePropagator(params.heave, dt);
-  model.pitch = MakePropagator(params.pitch, dt);
+  model.heave = MakeAxisPropagator(params.heave, dt);
+  model.pitch = MakeAxisPropagator(params.pitch, dt);
   return model;
 }
 
@@ -60,9 +48,9 @@ LumpedState Step(const DiscreteLumpedModel& model, const LumpedState& state,
                  const LumpedInput& input) {
   const double inv_dt = 1.0 / model.dt;
   LumpedState next = state;
-  Advance(model.heave, next.z, next.z_rate, input.z_gm_begin,
+  AdvanceAxis(model.heave, next.z, next.z_rate, input.z_gm_begin,
           (input.z_gm_end - input.z_gm_begin) * inv_dt, 0.0);
-  Advance(model.pitch, next.pitch, next.pitch_rate, input.pitch_gm_begin,
+  AdvanceAxis(model.pitch, next.pitch, next.pitch_rate, input.pitch_gm_begin,
           (input.pitch_gm_end - input.pitch_gm_begin) * inv_dt, input.pitch_torque);
   return next;
 }

@@ -52,6 +52,20 @@ struct AxisPropagator {
   std::array<double, 10> phi{};  ///< rows q and q̇ of expm(A_aug dt), row-major 2×5
 };
 
+/// The exact propagator of one axis over dt. @pre axis.inertia > 0, dt > 0.
+AxisPropagator MakeAxisPropagator(const AxisParams& axis, double dt);
+
+/// One exact step of one axis: base input u0 at the step's start with rate u̇ (first-order
+/// hold) and a force (or torque) held over the step. No allocation.
+inline void AdvanceAxis(const AxisPropagator& p, double& q, double& q_rate, double u0,
+                        double u_rate, double force) {
+  const double* f = p.phi.data();
+  const double next_q = f[0] * q + f[1] * q_rate + f[2] * u0 + f[3] * u_rate + f[4] * force;
+  const double next_rate = f[5] * q + f[6] * q_rate + f[7] * u0 + f[8] * u_rate + f[9] * force;
+  q = next_q;
+  q_rate = next_rate;
+}
+
 struct DiscreteLumpedModel {
   LumpedModelParams params;
   double dt{1e-3};  ///< [s]

@@ -38,7 +38,7 @@ std::shared_ptr<const TruthModel> MakeEffectTruthModel(
                                            std::vector<double>(in.t.begin(), in.t.end()),
                                            std::vector<double>(in.x.begin(), in.x.end()),
                                            std::vector<double>(in.a.begin(), in.a.end()));
-        trial.max_step = 1e-3;
+        trial.step = 1e-3;
         const ModelOutput out = SimulateExtended(trial, ExtendedParams{*in.chair.lm, fx});
         return TruthModelOutput{out.z, out.pitch};
       });

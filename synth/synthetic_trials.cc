@@ -100,7 +100,7 @@ SyntheticSet MakeSyntheticTrials(const SyntheticConfig& config) {
       a.push_back(l.a);
     }
     PreparedTrial truth = PrepareTrial(chair, terrain, load, t, x, a);
-    truth.max_step = 1e-3;
+    truth.step = 1e-3;
     ExtendedParams params{*chair.lm, set.truth};
     const ModelOutput out = SimulateExtended(truth, params);
     const double z_offset = Uniform(rng, 0.3, 0.6);

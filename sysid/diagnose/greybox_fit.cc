@@ -149,16 +149,16 @@ double WeightedSse(const std::vector<FitTrial>& trials, const effects::ExtendedP
 }
 
 double FitStep(std::optional<effects::EffectId>) {
-  // One step for every candidate, so no extension gains from integration accuracy alone; the
-  // catalogue's bounds keep every admissible tyre mode and friction law stable at this step.
-  return 0.004;
+  // One grid for every candidate and for identification (SimulationOptions::dt), so the base
+  // model is identification's and no extension gains from the discretisation alone.
+  return SimulationOptions{}.dt;
 }
 
 std::vector<FitTrial> WithFitStep(const std::vector<FitTrial>& trials,
                                   std::optional<effects::EffectId> effect) {
   std::vector<FitTrial> out = trials;
   for (FitTrial& t : out) {
-    t.prepared.max_step = FitStep(effect);
+    t.prepared.step = FitStep(effect);
     effects::CacheInputs(t.prepared);
   }
   return out;

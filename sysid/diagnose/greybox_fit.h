@@ -81,7 +81,7 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training,
 double WeightedSse(const std::vector<FitTrial>& trials, const effects::ExtendedParams& params,
                    const ChannelWeights& weights, std::size_t* residual_count = nullptr);
 
-/// RK4 sub-step the fit uses for an effect (small enough for its stiffest admissible values).
+/// Grid step the fit uses for an effect: identification's (the same for every effect).
 double FitStep(std::optional<effects::EffectId> effect);
 /// Copies of `trials` set to FitStep(effect) with their input caches filled.
 std::vector<FitTrial> WithFitStep(const std::vector<FitTrial>& trials,

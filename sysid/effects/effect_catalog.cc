@@ -72,9 +72,11 @@ const std::vector<ParamSpec>& EffectParameters(EffectId id) {
   static const std::array<std::vector<ParamSpec>, kEffectCount> specs{{
       {{"caster_radius_m", 0.1, 0.0, 0.35, {0.04, 0.12}},
        {"drive_radius_m", 0.1, 0.0, 0.40, {0.04, 0.18}}},
-      {{"caster_tyre_period_s", 0.1, 0.045, 1.0, {0.06, 0.15, 0.4}},
-       {"drive_tyre_period_s", 0.1, 0.045, 1.0, {0.05, 0.15}},
-       {"tyre_damping_ratio", 0.3, 0.05, 1.0, {0.3}}},
+      {{"caster_tyre_period_s", 0.1, 0.02, 1.0, {0.06, 0.15, 0.4}},
+       {"drive_tyre_period_s", 0.1, 0.02, 1.0, {0.05, 0.15}},
+       {"tyre_damping_ratio", 0.3, 0.05, 1.0, {0.3}},
+       {"caster_tyre_compliance_m_per_n", 5e-5, 0.0, 5e-4, {0.0, 5e-5}},
+       {"drive_tyre_compliance_m_per_n", 1e-5, 0.0, 2e-4, {0.0, 1e-5}}},
       {{"cushion_loss_per_kn", 0.2, 0.0, 1.2, {0.1, 0.4}},
        {"cushion_height_gain", 0.2, 0.5, 1.5, {1.0}},
        {"cushion_exponent", 0.5, 0.3, 2.5, {1.0}}},
@@ -82,8 +84,9 @@ const std::vector<ParamSpec>& EffectParameters(EffectId id) {
        {"damping_coupling", 0.2, -0.8, 0.8, {0.0}}},
       {{"heave_hardening", 0.5, 0.0, 10.0, {0.3}}, {"pitch_hardening", 0.5, 0.0, 10.0, {0.3}},
        {"bump_gain", 0.5, 0.0, 20.0, {0.0, 1.0}}, {"bump_gap_m", 0.005, 0.0, 0.03, {0.004}}},
-      {{"heave_friction_n", 30.0, 0.0, 250.0, {15.0}},
-       {"pitch_friction_nm", 5.0, 0.0, 150.0, {3.0}}},
+      {{"caster_friction_n", 20.0, 0.0, 250.0, {10.0, 40.0}},
+       {"drive_friction_n", 20.0, 0.0, 250.0, {10.0, 40.0}},
+       {"friction_presliding_m", 5e-4, 5e-5, 5e-3, {2e-4, 1e-3}}},
       {{"cm_lever_m", 0.2, -1.5, 1.5, {0.0}}, {"load_cm_lever_m", 0.2, -1.5, 1.5, {0.0}}},
       {{"marker_lever_x_m", 0.1, -1.0, 1.0, {0.0, 0.15}},
        {"marker_lever_z_m", 0.2, -1.5, 1.5, {0.0, 0.5}}},
@@ -102,6 +105,8 @@ void SetEffectValues(EffectId id, std::span<const double> v, EffectParams& fx) {
       fx.caster_tyre_period = v[0];
       fx.drive_tyre_period = v[1];
       fx.tyre_damping = v[2];
+      fx.caster_tyre_compliance = v[3];
+      fx.drive_tyre_compliance = v[4];
       break;
     case EffectId::kCushionCompliance:
       fx.cushion_loss_per_kn = v[0];
@@ -119,8 +124,9 @@ void SetEffectValues(EffectId id, std::span<const double> v, EffectParams& fx) {
       fx.bump_gap = v[3];
       break;
     case EffectId::kSuspensionFriction:
-      fx.heave_friction = v[0];
-      fx.pitch_friction = v[1];
+      fx.caster_friction = v[0];
+      fx.drive_friction = v[1];
+      fx.friction_presliding = v[2];
       break;
     case EffectId::kInertialPitch:
       fx.cm_lever = v[0];
@@ -138,7 +144,8 @@ std::vector<double> GetEffectValues(EffectId id, const EffectParams& fx) {
     case EffectId::kWheelRadius:
       return {fx.caster_radius, fx.drive_radius};
     case EffectId::kTyreCompliance:
-      return {fx.caster_tyre_period, fx.drive_tyre_period, fx.tyre_damping};
+      return {fx.caster_tyre_period, fx.drive_tyre_period, fx.tyre_damping, fx.caster_tyre_compliance,
+              fx.drive_tyre_compliance};
     case EffectId::kCushionCompliance:
       return {fx.cushion_loss_per_kn, fx.cushion_height_gain, fx.cushion_exponent};
     case EffectId::kHeavePitchCoupling:
@@ -146,7 +153,7 @@ std::vector<double> GetEffectValues(EffectId id, const EffectParams& fx) {
     case EffectId::kNonlinearStiffness:
       return {fx.heave_hardening, fx.pitch_hardening, fx.bump_gain, fx.bump_gap};
     case EffectId::kSuspensionFriction:
-      return {fx.heave_friction, fx.pitch_friction};
+      return {fx.caster_friction, fx.drive_friction, fx.friction_presliding};
     case EffectId::kInertialPitch:
       return {fx.cm_lever, fx.load_cm_lever};
     case EffectId::kMarkerOffset:
@@ -182,8 +189,9 @@ EffectParams TruthEffect(EffectId id, double strength, const Chair& chair) {
       fx.pitch_hardening = 1.0 * s;
       break;
     case EffectId::kSuspensionFriction:
-      fx.heave_friction = 150.0 * s;
-      fx.pitch_friction = 40.0 * s;
+      fx.caster_friction = 40.0 * s;
+      fx.drive_friction = 60.0 * s;
+      fx.friction_presliding = 5e-4;
       break;
     case EffectId::kInertialPitch:
       fx.cm_lever = chair.cm_height * s;

@@ -7,170 +7,10 @@
 #include <numbers>
 
 #include "engine/check.h"
+#include "engine/geometric_model.h"
+#include "engine/lumped_model.h"
 
 namespace pwsim::effects {
-namespace {
-
-constexpr int kMaxState = 4 + 2 * kMaxWheels;
-using State = std::array<double, kMaxState>;
-
-struct Ground {
-  double height{0.0};
-  double slope{0.0};
-};
-
-Ground GroundAt(const Terrain& terrain, double x) {
-  const std::size_t n = terrain.x.size();
-  if (n < 2 || x < terrain.x.front() || x >= terrain.x.back()) return {};
-  const auto upper = std::upper_bound(terrain.x.begin(), terrain.x.end(), x);
-  const std::size_t k = static_cast<std::size_t>(upper - terrain.x.begin());
-  const double m = (terrain.z[k] - terrain.z[k - 1]) / (terrain.x[k] - terrain.x[k - 1]);
-  return {terrain.z[k - 1] + m * (x - terrain.x[k - 1]), m};
-}
-
-/// Everything the right-hand side needs, precomputed from the trial and parameters.
-struct Rhs {
-  const PreparedTrial* trial{nullptr};
-  int wheels{0};
-  std::array<double, kMaxWheels> wheel_x{};
-  std::array<double, kMaxWheels> alpha{};
-  std::array<double, kMaxWheels> radius{};
-  std::array<double, kMaxWheels> omega{};  ///< tyre mode [rad/s]; 0 = rigid
-  std::array<double, kMaxWheels> height_factor{};
-  std::array<int, kMaxWheels> tyre_slot{};  ///< index of the wheel's tyre state or -1
-  struct Pair {
-    int i, j;
-    double weight, inv_dx;
-  };
-  std::vector<Pair> pairs;
-  double zeta{0.5};
-  double mass{1.0}, inertia{1.0};
-  double k_z{0}, c_z{0}, k_t{0}, c_t{0}, k_zt{0}, c_zt{0};
-  double hard_z{0}, hard_t{0}, fric_z{0}, fric_t{0}, lever{0};
-  double bump_gain{0}, bump_gap{0};  ///< per-wheel bump stops (nonlinear_stiffness)
-
-  struct Gm {
-    double z, z_rate, pitch, pitch_rate;
-  };
-
-  /// GM output given the effective contact heights and rates.
-  Gm Geometric(const double* zc, const double* zc_rate) const {
-    Gm gm{0, 0, 0, 0};
-    for (int i = 0; i < wheels; ++i) {
-      gm.z += alpha[i] * zc[i];
-      gm.z_rate += alpha[i] * zc_rate[i];
-    }
-    for (const Pair& p : pairs) {
-      const double arg = std::clamp((zc[p.i] - zc[p.j]) * p.inv_dx, -1.0, 1.0);
-      gm.pitch += p.weight * std::asin(arg);
-      const double root = std::sqrt(std::max(1e-9, 1.0 - arg * arg));
-      gm.pitch_rate += p.weight * (zc_rate[p.i] - zc_rate[p.j]) * p.inv_dx / root;
-    }
-    return gm;
-  }
-
-  bool use_wheel_cache{false};
-  bool use_gm_cache{false};
-
-  /// Contact heights (before tyres) and their time rates at position x with speed v.
-  void Contacts(double x, double v, double* h, double* h_rate, long point) const {
-    if (use_wheel_cache && point >= 0) {
-      const double* c = trial->wheel_cache.data() + point * 2 * wheels;
-      for (int i = 0; i < wheels; ++i) {
-        h[i] = c[2 * i] * height_factor[i];
-        h_rate[i] = c[2 * i + 1] * height_factor[i] * v;
-      }
-      return;
-    }
-    for (int i = 0; i < wheels; ++i) {
-      const double xi = x + wheel_x[i];
-      double height, slope;
-      if (radius[i] > 0.0) {
-        const EnvelopePoint e = RollingDiscEnvelope(trial->terrain, xi, radius[i]);
-        height = e.height;
-        slope = e.slope;
-      } else {
-        const Ground g = GroundAt(trial->terrain, xi);
-        height = g.height;
-        slope = g.slope;
-      }
-      h[i] = height * height_factor[i];
-      h_rate[i] = slope * height_factor[i] * v;
-    }
-  }
-
-  /// ds/dt at one instant; fills gm_out with the GM output seen by the LM.
-  double marker_x{0.0}, marker_z{0.0};
-
-  void Eval(double x, double v, double a, const State& s, State& ds, Gm* gm_out,
-            long point) const {
-    if (marker_x != 0.0 || marker_z != 0.0) {
-      x -= marker_x * std::cos(s[2]) - marker_z * std::sin(s[2]);
-      point = -1;
-    }
-    Gm gm;
-    std::array<double, kMaxWheels> zc{};
-    if (use_gm_cache && point >= 0) {
-      const double* c = trial->gm_cache.data() + point * 4;
-      gm = {c[0], c[1] * v, c[2], c[3] * v};
-    } else {
-      gm = ContactGm(x, v, s, ds, point, zc.data());
-    }
-    Lumped(a, s, ds, gm);
-    if (bump_gain > 0.0) {
-      // Bump stops: F_i = b K_Z α_i max(0, c_i - g)² / δ_ref on each wheel's compression
-      // c_i = Z_Oi - (Z + x_i sin θ), pushing the chassis up at x_i.
-      double fz = 0.0, fp = 0.0;
-      const double sin_t = std::sin(s[2]);
-      for (int i = 0; i < wheels; ++i) {
-        const double over = zc[i] - (s[0] + wheel_x[i] * sin_t) - bump_gap;
-        if (over <= 0.0) continue;
-        const double f = bump_gain * k_z * alpha[i] * over * over / kHeaveRef;
-        fz += f;
-        fp += f * wheel_x[i];
-      }
-      ds[1] += fz / mass;
-      ds[3] += fp / inertia;
-    }
-    if (gm_out) *gm_out = gm;
-  }
-
-  Gm ContactGm(double x, double v, const State& s, State& ds, long point, double* zc_out = nullptr) const {
-    std::array<double, kMaxWheels> h{}, h_rate{}, zc{}, zc_rate{};
-    Contacts(x, v, h.data(), h_rate.data(), point);
-    for (int i = 0; i < wheels; ++i) {
-      const int slot = tyre_slot[i];
-      if (slot < 0) {
-        zc[i] = h[i];
-        zc_rate[i] = h_rate[i];
-      } else {
-        const double zt = s[slot], zt_rate = s[slot + 1];
-        zc[i] = zt;
-        zc_rate[i] = zt_rate;
-        ds[slot] = zt_rate;
-        ds[slot + 1] = omega[i] * omega[i] * (h[i] - zt) + 2.0 * zeta * omega[i] * (h_rate[i] - zt_rate);
-      }
-    }
-    if (zc_out) std::copy(zc.begin(), zc.begin() + wheels, zc_out);
-    return Geometric(zc.data(), zc_rate.data());
-  }
-
-  void Lumped(double a, const State& s, State& ds, const Gm& gm) const {
-    const double dz = s[0] - gm.z, dz_rate = s[1] - gm.z_rate;
-    const double dp = s[2] - gm.pitch, dp_rate = s[3] - gm.pitch_rate;
-    const double qz = dz / kHeaveRef, qp = dp / kPitchRef;
-    double fz = k_z * dz * (1.0 + hard_z * qz * qz) + k_zt * dp + c_z * dz_rate + c_zt * dp_rate;
-    double fp = k_t * dp * (1.0 + hard_t * qp * qp) + k_zt * dz + c_t * dp_rate + c_zt * dz_rate;
-    if (fric_z > 0.0) fz += fric_z * std::tanh(dz_rate / kHeaveFrictionEps);
-    if (fric_t > 0.0) fp += fric_t * std::tanh(dp_rate / kPitchFrictionEps);
-    ds[0] = s[1];
-    ds[1] = -fz / mass;
-    ds[2] = s[3];
-    ds[3] = (mass * lever * a - fp) / inertia;
-  }
-};
-
-}  // namespace
 
 std::vector<bool> CasterWheels(const Chair& chair) {
   double largest = 0.0;
@@ -195,10 +35,7 @@ std::vector<double> StaticWheelLoads(const Chair& chair, double load_kg) {
 }
 
 EnvelopePoint RollingDiscEnvelope(const Terrain& terrain, double x, double radius) {
-  if (radius <= 0.0) {
-    const Ground g = GroundAt(terrain, x);
-    return {g.height, g.slope};
-  }
+  if (radius <= 0.0) return {terrain.HeightAt(x), terrain.SlopeAt(x)};
   const double r2 = radius * radius;
   double best = -std::numeric_limits<double>::infinity();
   double best_s = 0.0;
@@ -277,70 +114,127 @@ PreparedTrial PrepareTrial(const Chair& chair, const Terrain& terrain, double lo
 
 namespace {
 
-Rhs MakeRhs(const PreparedTrial& trial, const ExtendedParams& params, int* state_size) {
+/// Everything one simulation needs, fixed for the trial and the parameters.
+struct Setup {
+  int wheels{0};
+  std::array<double, kMaxWheels> wheel_x{};
+  std::array<double, kMaxWheels> alpha{};
+  std::array<double, kMaxWheels> radius{};         ///< rolling-disc radius (0 = point)
+  std::array<double, kMaxWheels> height_factor{};  ///< cushion: effective / nominal height
+  std::array<int, kMaxWheels> tyre{};              ///< 0 rigid, 1 caster tyre, 2 drive tyre
+  std::array<double, kMaxWheels> inv_unsprung{};   ///< 1/m_u = ω² c_t [1/kg] (0: no reaction)
+  std::array<double, kMaxWheels> friction{};       ///< F_c [N]
+  std::array<AxisPropagator, 3> tyre_propagator{};
+  double inv_alpha_x2{0.0};  ///< 1 / Σ α_i x_i²
+  AxisPropagator heave, pitch;
+  double mass{1.0}, lever{0.0};
+  double k_z{0}, c_z{0}, k_t{0}, c_t{0}, k_zt{0}, c_zt{0};
+  double hard_z{0}, hard_t{0}, bump_gain{0}, bump_gap{0}, presliding{5e-4};
+  double marker_x{0}, marker_z{0};
+  bool any_radius{false}, any_tyre{false}, any_friction{false}, unit_heights{true};
+  bool held_forces{false};  ///< coupling, hardening, bump stops or friction present
+};
+
+Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
   const Chair& chair = trial.chair;
   const EffectParams& fx = params.fx;
-  Rhs rhs;
-  rhs.trial = &trial;
-  rhs.wheels = chair.wheel_count();
-  PWSIM_DEMAND(rhs.wheels <= kMaxWheels && chair.gm.has_value());
+  PWSIM_DEMAND(chair.gm.has_value() && trial.step > 0.0);
+  Setup m;
+  m.wheels = chair.wheel_count();
+  PWSIM_DEMAND(m.wheels <= kMaxWheels);
   const std::vector<double> loads = StaticWheelLoads(chair, trial.load_kg);
-  int slot = 4;
-  for (int i = 0; i < rhs.wheels; ++i) {
+  const double dt = trial.step;
+  for (int t = 1; t <= 2; ++t) {
+    const double period = t == 1 ? fx.caster_tyre_period : fx.drive_tyre_period;
+    if (period <= 1e-6) continue;
+    const double omega = 2.0 * std::numbers::pi / period;
+    m.tyre_propagator[t] = MakeAxisPropagator({1.0, 2.0 * fx.tyre_damping * omega, omega * omega}, dt);
+  }
+  double alpha_x2 = 0.0;
+  for (int i = 0; i < m.wheels; ++i) {
     const bool caster = trial.is_caster[i];
-    rhs.wheel_x[i] = chair.wheels[i].x;
-    rhs.alpha[i] = chair.gm->alpha[i];
-    rhs.radius[i] = caster ? fx.caster_radius : fx.drive_radius;
+    m.wheel_x[i] = chair.wheels[i].x;
+    m.alpha[i] = chair.gm->alpha[i];
+    alpha_x2 += m.alpha[i] * m.wheel_x[i] * m.wheel_x[i];
+    m.radius[i] = caster ? fx.caster_radius : fx.drive_radius;
+    m.any_radius = m.any_radius || m.radius[i] > 0.0;
     const double period = caster ? fx.caster_tyre_period : fx.drive_tyre_period;
-    rhs.omega[i] = period > 1e-6 ? 2.0 * std::numbers::pi / period : 0.0;
-    rhs.tyre_slot[i] = rhs.omega[i] > 0.0 ? slot : -1;
-    if (rhs.omega[i] > 0.0) slot += 2;
+    m.tyre[i] = period > 1e-6 ? (caster ? 1 : 2) : 0;
+    m.any_tyre = m.any_tyre || m.tyre[i] != 0;
+    const double compliance = std::max(0.0, caster ? fx.caster_tyre_compliance : fx.drive_tyre_compliance);
+    const double omega = m.tyre[i] != 0 ? 2.0 * std::numbers::pi / period : 0.0;
+    m.inv_unsprung[i] = omega * omega * compliance;
+    m.friction[i] = caster ? fx.caster_friction : fx.drive_friction;
+    m.any_friction = m.any_friction || m.friction[i] > 0.0;
     const double load_kn =
         1e-3 * (fx.cushion_whole_chair ? MovingMass(chair, trial.load_kg) * kGravity : loads[i]);
     const double loss = fx.cushion_loss_per_kn == 0.0
                             ? 0.0
                             : fx.cushion_loss_per_kn * std::pow(std::max(0.0, load_kn), fx.cushion_exponent);
-    rhs.height_factor[i] = std::max(0.0, fx.cushion_height_gain - loss);
+    m.height_factor[i] = std::max(0.0, fx.cushion_height_gain - loss);
+    m.unit_heights = m.unit_heights && m.height_factor[i] == 1.0;
   }
-  for (const PairWeight& p : chair.gm->beta) {
-    if (p.weight == 0.0) continue;
-    rhs.pairs.push_back({p.i, p.j, p.weight, 1.0 / (chair.wheels[p.i].x - chair.wheels[p.j].x)});
-  }
-  rhs.zeta = fx.tyre_damping;
-  rhs.mass = MovingMass(chair, trial.load_kg);
-  rhs.inertia = PitchInertia(chair, trial.load_kg);
-  rhs.k_z = params.lm.k_z;
-  rhs.c_z = params.lm.c_z;
-  rhs.k_t = params.lm.k_theta;
-  rhs.c_t = params.lm.c_theta;
-  rhs.k_zt = fx.stiffness_coupling * std::sqrt(std::max(0.0, rhs.k_z * rhs.k_t));
-  rhs.c_zt = fx.damping_coupling * std::sqrt(std::max(0.0, rhs.c_z * rhs.c_t));
-  rhs.hard_z = fx.heave_hardening;
-  rhs.hard_t = fx.pitch_hardening;
-  rhs.fric_z = fx.heave_friction;
-  rhs.fric_t = fx.pitch_friction;
+  m.inv_alpha_x2 = alpha_x2 > 0.0 ? 1.0 / alpha_x2 : 0.0;
+  m.mass = MovingMass(chair, trial.load_kg);
+  m.k_z = params.lm.k_z;
+  m.c_z = params.lm.c_z;
+  m.k_t = params.lm.k_theta;
+  m.c_t = params.lm.c_theta;
+  m.heave = MakeAxisPropagator({m.mass, m.c_z, m.k_z}, dt);
+  m.pitch = MakeAxisPropagator({PitchInertia(chair, trial.load_kg), m.c_t, m.k_t}, dt);
+  m.k_zt = fx.stiffness_coupling * std::sqrt(std::max(0.0, m.k_z * m.k_t));
+  m.c_zt = fx.damping_coupling * std::sqrt(std::max(0.0, m.c_z * m.c_t));
+  m.hard_z = fx.heave_hardening;
+  m.hard_t = fx.pitch_hardening;
+  m.bump_gain = fx.bump_gain;
+  m.bump_gap = fx.bump_gap;
+  m.presliding = std::max(1e-6, fx.friction_presliding);
   // Γ_θ = M lever a_x with the mass-weighted lever of chair and occupant.
-  rhs.lever = (chair.mass * fx.cm_lever + trial.load_kg * fx.load_cm_lever) / MovingMass(chair, trial.load_kg);
-  rhs.bump_gain = fx.bump_gain;
-  rhs.bump_gap = fx.bump_gap;
-  rhs.marker_x = fx.marker_lever_x;
-  rhs.marker_z = fx.marker_lever_z;
-  if (state_size) *state_size = slot;
-  return rhs;
+  m.lever = (chair.mass * fx.cm_lever + trial.load_kg * fx.load_cm_lever) / m.mass;
+  m.marker_x = fx.marker_lever_x;
+  m.marker_z = fx.marker_lever_z;
+  m.held_forces = m.k_zt != 0.0 || m.c_zt != 0.0 || m.hard_z != 0.0 || m.hard_t != 0.0 ||
+                  m.bump_gain > 0.0 || m.any_friction;
+  return m;
 }
 
-/// The largest RK4 step for these dynamics: h·|λ| about 1 or less for the fastest mode.
-double StableStep(const Rhs& rhs, double max_step) {
-  for (int i = 0; i < rhs.wheels; ++i) {
-    if (rhs.omega[i] > 0.0) max_step = std::min(max_step, 1.2 / (rhs.omega[i] * (1.0 + rhs.zeta)));
+/// The LM state (deviations are taken from the GM output, as in eq. 3).
+struct Body {
+  double z{0}, z_rate{0}, pitch{0}, pitch_rate{0};
+};
+
+/// Force on the chassis [N] and torque [N m] from the held (non-linear or coupling) effects
+/// at `body`, with the GM output `gm` and its rate, and the wheels' contact heights `zc`.
+struct Load {
+  double heave{0.0}, pitch{0.0};
+};
+Load HeldForces(const Setup& m, const Body& b, const GeometricOutput& gm, double gm_z_rate,
+                double gm_pitch_rate, const double* zc, const double* friction_state) {
+  Load f;
+  const double dz = b.z - gm.z, dp = b.pitch - gm.pitch;
+  const double dz_rate = b.z_rate - gm_z_rate, dp_rate = b.pitch_rate - gm_pitch_rate;
+  const double qz = dz / kHeaveRef, qp = dp / kPitchRef;
+  f.heave -= m.k_z * dz * m.hard_z * qz * qz + m.k_zt * dp + m.c_zt * dp_rate;
+  f.pitch -= m.k_t * dp * m.hard_t * qp * qp + m.k_zt * dz + m.c_zt * dz_rate;
+  if (m.bump_gain > 0.0) {
+    // Bump stops: F_i = b K_Z α_i max(0, c_i - g)² / δ_ref on each wheel's compression
+    // c_i = Z_Oi - (Z + x_i sin θ), pushing the chassis up at x_i.
+    const double sin_t = std::sin(b.pitch);
+    for (int i = 0; i < m.wheels; ++i) {
+      const double over = zc[i] - (b.z + m.wheel_x[i] * sin_t) - m.bump_gap;
+      if (over <= 0.0) continue;
+      const double force = m.bump_gain * m.k_z * m.alpha[i] * over * over / kHeaveRef;
+      f.heave += force;
+      f.pitch += force * m.wheel_x[i];
+    }
   }
-  if (rhs.fric_z > 0.0) max_step = std::min(max_step, 1.2 * kHeaveFrictionEps * rhs.mass / rhs.fric_z);
-  if (rhs.fric_t > 0.0) max_step = std::min(max_step, 1.2 * kPitchFrictionEps * rhs.inertia / rhs.fric_t);
-  return std::max(max_step, 2e-4);
-}
-
-int StepsFor(double dt, double max_step) {
-  return std::max(1, static_cast<int>(std::ceil(dt / max_step - 1e-9)));
+  if (m.any_friction) {
+    for (int i = 0; i < m.wheels; ++i) {
+      f.heave -= friction_state[i];
+      f.pitch -= friction_state[i] * m.wheel_x[i];
+    }
+  }
+  return f;
 }
 
 }  // namespace
@@ -349,112 +243,157 @@ void CacheInputs(PreparedTrial& trial) {
   trial.cache_step = 0.0;
   trial.wheel_cache.clear();
   trial.gm_cache.clear();
-  const Rhs rhs = MakeRhs(trial, ExtendedParams{}, nullptr);
-  const int w = rhs.wheels;
-  std::array<double, kMaxWheels> h{}, slope{};
-  auto add = [&](double x) {
-    rhs.Contacts(x, 1.0, h.data(), slope.data(), -1);
-    for (int i = 0; i < w; ++i) {
-      trial.wheel_cache.push_back(h[i]);
-      trial.wheel_cache.push_back(slope[i]);
-    }
-    const Rhs::Gm gm = rhs.Geometric(h.data(), slope.data());
-    trial.gm_cache.insert(trial.gm_cache.end(), {gm.z, gm.z_rate, gm.pitch, gm.pitch_rate});
-  };
-  for (std::size_t k = 0; k + 1 < trial.t.size(); ++k) {
-    const double dt = trial.t[k + 1] - trial.t[k];
-    const double v = (trial.x[k + 1] - trial.x[k]) / dt;
-    const int steps = StepsFor(dt, trial.max_step);
-    const double hstep = dt / steps;
-    for (int j = 0; j <= 2 * steps; ++j) add(trial.x[k] + v * (0.5 * hstep * j));
+  trial.x_grid = InterpolateOnGrid(trial.t, trial.x, trial.step);
+  trial.accel_grid = InterpolateOnGrid(trial.t, trial.accel, trial.step);
+  const GeometricModel gm(trial.chair);
+  const int w = gm.wheel_count();
+  std::array<double, kMaxWheels> h{};
+  trial.wheel_cache.reserve(trial.x_grid.size() * static_cast<std::size_t>(w));
+  trial.gm_cache.reserve(trial.x_grid.size() * 2);
+  for (double x : trial.x_grid) {
+    gm.ContactHeights(trial.terrain, x, std::span<double>(h.data(), static_cast<std::size_t>(w)));
+    trial.wheel_cache.insert(trial.wheel_cache.end(), h.begin(), h.begin() + w);
+    const GeometricOutput out = gm.Evaluate(std::span<const double>(h.data(), static_cast<std::size_t>(w)));
+    trial.gm_cache.push_back(out.z);
+    trial.gm_cache.push_back(out.pitch);
   }
-  add(trial.x.back());
-  trial.cache_step = trial.max_step;
+  trial.cache_step = trial.step;
 }
 
 ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& params) {
-  const EffectParams& fx = params.fx;
-  int dim = 4;
-  Rhs rhs = MakeRhs(trial, params, &dim);
-  const double max_step = StableStep(rhs, trial.max_step);
-  const bool cached = trial.cache_step > 0.0 && trial.cache_step == max_step;
-  bool rigid_points = true, plain = true;
-  for (int i = 0; i < rhs.wheels; ++i) {
-    if (rhs.radius[i] > 0.0) rigid_points = false;
-    if (rhs.radius[i] > 0.0 || rhs.omega[i] > 0.0 || rhs.height_factor[i] != 1.0) plain = false;
-    if (rhs.bump_gain > 0.0) plain = false;  // needs each wheel's contact height
+  const Setup m = MakeSetup(trial, params);
+  const double dt = trial.step;
+  const double inv_dt = 1.0 / dt;
+  const bool cached = trial.cache_step > 0.0 && trial.cache_step == dt;
+  std::vector<double> x_local, a_local;
+  if (!cached) {
+    x_local = InterpolateOnGrid(trial.t, trial.x, dt);
+    a_local = InterpolateOnGrid(trial.t, trial.accel, dt);
   }
-  rhs.use_wheel_cache = cached && rigid_points;
-  rhs.use_gm_cache = cached && plain;
+  const std::vector<double>& x_grid = cached ? trial.x_grid : x_local;
+  const std::vector<double>& a_grid = cached ? trial.accel_grid : a_local;
+  const std::size_t grid = x_grid.size();
+  const GeometricModel gm(trial.chair);
+  const int w = m.wheels;
+  const bool marker = m.marker_x != 0.0 || m.marker_z != 0.0;
+  const bool wheel_cache = cached && !marker && !m.any_radius;
+  const bool gm_cache = wheel_cache && !m.any_tyre && m.unit_heights;
+  const bool need_contacts = !gm_cache || m.held_forces;
 
-  const std::size_t n = trial.t.size();
-  ModelOutput out;
-  out.z.resize(n);
-  out.pitch.resize(n);
-  out.z_gm.resize(n);
-  out.pitch_gm.resize(n);
-
-  // Static equilibrium at the first sample.
-  State s{};
-  {
-    std::array<double, kMaxWheels> h{}, h_rate{};
-    const bool marker = rhs.marker_x != 0.0 || rhs.marker_z != 0.0;
-    rhs.Contacts(trial.x[0] - rhs.marker_x, 0.0, h.data(), h_rate.data(), cached && !marker ? 0 : -1);
-    for (int i = 0; i < rhs.wheels; ++i) {
-      if (rhs.tyre_slot[i] >= 0) s[rhs.tyre_slot[i]] = h[i];
+  // Ground contact heights h_i under the wheels at grid point j, the chair pitched by θ.
+  auto contacts = [&](std::size_t j, double theta, double* h) {
+    if (wheel_cache) {
+      const double* c = trial.wheel_cache.data() + j * static_cast<std::size_t>(w);
+      for (int i = 0; i < w; ++i) h[i] = c[i] * m.height_factor[i];
+      return;
     }
-    std::array<double, kMaxWheels> zero{};
-    const Rhs::Gm gm = rhs.Geometric(h.data(), zero.data());
-    const double torque = rhs.mass * rhs.lever * trial.accel[0];
-    const double det = rhs.k_z * rhs.k_t - rhs.k_zt * rhs.k_zt;
-    s[0] = gm.z + (det > 0 ? -rhs.k_zt * torque / det : 0.0);
-    s[2] = gm.pitch + (det > 0 ? rhs.k_z * torque / det : 0.0);
-  }
-
-  auto output = [&](std::size_t k, const Rhs::Gm& gm) {
-    out.z[k] = s[0] + fx.marker_lever_x * std::sin(s[2]) + fx.marker_lever_z * (std::cos(s[2]) - 1.0);
-    out.pitch[k] = s[2];
-    out.z_gm[k] = gm.z;
-    out.pitch_gm[k] = gm.pitch;
+    double x = x_grid[j];
+    if (marker) x -= m.marker_x * std::cos(theta) - m.marker_z * std::sin(theta);
+    for (int i = 0; i < w; ++i) {
+      const double xi = x + m.wheel_x[i];
+      const double height = m.radius[i] > 0.0 ? RollingDiscEnvelope(trial.terrain, xi, m.radius[i]).height
+                                              : trial.terrain.HeightAt(xi);
+      h[i] = height * m.height_factor[i];
+    }
+  };
+  auto geometric = [&](std::size_t j, const double* zc) {
+    if (gm_cache) return GeometricOutput{trial.gm_cache[2 * j], trial.gm_cache[2 * j + 1]};
+    return gm.Evaluate(std::span<const double>(zc, static_cast<std::size_t>(w)));
   };
 
-  State k1{}, k2{}, k3{}, k4{}, tmp{};
-  long point = 0;  // index of the current interval's first half-step point in the caches
-  for (std::size_t k = 0; k + 1 < n; ++k) {
-    const double t0 = trial.t[k];
-    const double dt = trial.t[k + 1] - t0;
-    const double v = (trial.x[k + 1] - trial.x[k]) / dt;
-    const double a0 = trial.accel[k];
-    const double a_rate = (trial.accel[k + 1] - a0) / dt;
-    const int steps = StepsFor(dt, max_step);
-    const double h = dt / steps;
-    for (int step = 0; step < steps; ++step) {
-      const double tau = step * h;
-      const long p0 = cached ? point + 2 * step : -1;
-      auto at = [&](int half, const State& state, State& ds, Rhs::Gm* gm) {
-        const double u = tau + 0.5 * h * half;
-        rhs.Eval(trial.x[k] + v * u, v, a0 + a_rate * u, state, ds, gm, cached ? p0 + half : -1);
-      };
-      Rhs::Gm gm0;
-      at(0, s, k1, &gm0);
-      if (step == 0) output(k, gm0);
-      for (int d = 0; d < dim; ++d) tmp[d] = s[d] + 0.5 * h * k1[d];
-      at(1, tmp, k2, nullptr);
-      for (int d = 0; d < dim; ++d) tmp[d] = s[d] + 0.5 * h * k2[d];
-      at(1, tmp, k3, nullptr);
-      for (int d = 0; d < dim; ++d) tmp[d] = s[d] + h * k3[d];
-      at(2, tmp, k4, nullptr);
-      for (int d = 0; d < dim; ++d) s[d] += h / 6.0 * (k1[d] + 2.0 * k2[d] + 2.0 * k3[d] + k4[d]);
-    }
-    point += 2 * steps + 1;
-  }
+  std::vector<double> z_grid(grid), pitch_grid(grid), z_gm_grid(grid), pitch_gm_grid(grid);
+  auto record = [&](std::size_t j, const Body& b, const GeometricOutput& g) {
+    z_grid[j] = marker ? b.z + m.marker_x * std::sin(b.pitch) + m.marker_z * (std::cos(b.pitch) - 1.0) : b.z;
+    pitch_grid[j] = b.pitch;
+    z_gm_grid[j] = g.z;
+    pitch_gm_grid[j] = g.pitch;
+  };
+
+  // Static equilibrium at the first grid point: tyres undeflected (deviations from the static
+  // state), the body at the GM output shifted by the inertial torque through K.
+  std::array<double, kMaxWheels> h0{}, h1{}, zc0{}, zc1{}, tyre_z{}, tyre_rate{}, friction{};
+  if (need_contacts) contacts(0, 0.0, h0.data());
+  zc0 = h0;
+  tyre_z = h0;
+  GeometricOutput g0 = geometric(0, zc0.data());
+  Body body;
   {
-    Rhs::Gm gm;
-    const std::size_t last = n - 1;
-    const double v = (trial.x[last] - trial.x[last - 1]) / (trial.t[last] - trial.t[last - 1]);
-    rhs.Eval(trial.x[last], v, trial.accel[last], s, k1, &gm, cached ? point : -1);
-    output(last, gm);
+    const double torque = m.mass * m.lever * a_grid[0];
+    const double det = m.k_z * m.k_t - m.k_zt * m.k_zt;
+    body.z = g0.z + (det > 0 ? -m.k_zt * torque / det : 0.0);
+    body.pitch = g0.pitch + (det > 0 ? m.k_z * torque / det : 0.0);
   }
+  record(0, body, g0);
+  double gm_z_rate_prev = 0.0, gm_pitch_rate_prev = 0.0;
+
+  for (std::size_t j = 0; j + 1 < grid; ++j) {
+    if (need_contacts) contacts(j + 1, body.pitch + dt * body.pitch_rate, h1.data());
+    if (m.any_tyre) {
+      // The suspension's force and torque on the chassis at j (spring, damper and coupling,
+      // deviations from equilibrium); each unsprung wheel takes its share in reaction.
+      const double dz = body.z - g0.z, dp = body.pitch - g0.pitch;
+      const double dz_rate = body.z_rate - gm_z_rate_prev, dp_rate = body.pitch_rate - gm_pitch_rate_prev;
+      const double force = m.k_z * dz + m.c_z * dz_rate + m.k_zt * dp + m.c_zt * dp_rate;
+      const double torque = m.k_t * dp + m.c_t * dp_rate + m.k_zt * dz + m.c_zt * dz_rate;
+      for (int i = 0; i < w; ++i) {
+        if (m.tyre[i] == 0) {
+          zc1[i] = h1[i];
+          continue;
+        }
+        const double reaction = m.alpha[i] * (force + torque * m.wheel_x[i] * m.inv_alpha_x2);
+        AdvanceAxis(m.tyre_propagator[m.tyre[i]], tyre_z[i], tyre_rate[i], h0[i],
+                    (h1[i] - h0[i]) * inv_dt, reaction * m.inv_unsprung[i]);
+        zc1[i] = tyre_z[i];
+      }
+    } else {
+      zc1 = h1;
+    }
+    const GeometricOutput g1 = geometric(j + 1, zc1.data());
+    const double gm_z_rate = (g1.z - g0.z) * inv_dt;
+    const double gm_pitch_rate = (g1.pitch - g0.pitch) * inv_dt;
+    const double torque = m.mass * m.lever * a_grid[j];
+    Body next = body;
+    if (!m.held_forces) {
+      AdvanceAxis(m.heave, next.z, next.z_rate, g0.z, gm_z_rate, 0.0);
+      AdvanceAxis(m.pitch, next.pitch, next.pitch_rate, g0.pitch, gm_pitch_rate, torque);
+    } else {
+      // Heun on the held forces: predict with the start's, correct with the mean of both ends.
+      const Load f0 = HeldForces(m, body, g0, gm_z_rate, gm_pitch_rate, zc0.data(), friction.data());
+      AdvanceAxis(m.heave, next.z, next.z_rate, g0.z, gm_z_rate, f0.heave);
+      AdvanceAxis(m.pitch, next.pitch, next.pitch_rate, g0.pitch, gm_pitch_rate, torque + f0.pitch);
+      const Load f1 = HeldForces(m, next, g1, gm_z_rate, gm_pitch_rate, zc1.data(), friction.data());
+      next = body;
+      AdvanceAxis(m.heave, next.z, next.z_rate, g0.z, gm_z_rate, 0.5 * (f0.heave + f1.heave));
+      AdvanceAxis(m.pitch, next.pitch, next.pitch_rate, g0.pitch, gm_pitch_rate,
+                  torque + 0.5 * (f0.pitch + f1.pitch));
+    }
+    if (m.any_friction) {
+      // Dahl: for the step's deflection rate ṙ_i held, F relaxes exactly towards F_c sgn ṙ_i
+      // with rate |ṙ_i| / δ_p.
+      const double s0 = std::sin(body.pitch), s1 = std::sin(next.pitch);
+      for (int i = 0; i < w; ++i) {
+        if (m.friction[i] <= 0.0) continue;
+        const double r_rate = ((next.z + m.wheel_x[i] * s1) - (body.z + m.wheel_x[i] * s0) -
+                               (zc1[i] - zc0[i])) * inv_dt;
+        const double target = r_rate > 0.0 ? m.friction[i] : (r_rate < 0.0 ? -m.friction[i] : friction[i]);
+        friction[i] = target + (friction[i] - target) * std::exp(-std::abs(r_rate) * dt / m.presliding);
+      }
+    }
+    body = next;
+    g0 = g1;
+    h0 = h1;
+    zc0 = zc1;
+    gm_z_rate_prev = gm_z_rate;
+    gm_pitch_rate_prev = gm_pitch_rate;
+    record(j + 1, body, g0);
+  }
+
+  const double t0 = trial.t.front();
+  ModelOutput out;
+  out.z = SampleGrid(z_grid, t0, dt, trial.t);
+  out.pitch = SampleGrid(pitch_grid, t0, dt, trial.t);
+  out.z_gm = SampleGrid(z_gm_grid, t0, dt, trial.t);
+  out.pitch_gm = SampleGrid(pitch_gm_grid, t0, dt, trial.t);
   return out;
 }
 

@@ -4,9 +4,18 @@
 // parameters. Every effect is off at its default (zero) value, so the base model is the
 // extended model with EffectParams{}.
 //
-// Driven like the paper's Fig. 6b: a trial's sampled x(t) (linear between samples) -> wheel
-// contact heights -> (effects) -> GM -> LM -> Z and θ at the sample times. Integration is RK4
-// with sub-steps of at most `max_step` between samples. Deterministic: same inputs, same bits.
+// Driven like the paper's Fig. 6b: a trial's sampled x(t), linear between samples, on the
+// internal grid t0 + k·step -> wheel contact heights -> (effects) -> GM -> LM -> Z and θ,
+// interpolated linearly back to the sample times.
+//
+// Discretisation: the SAME as identification's (sysid/measured SimulateAxisOnGrid): each LM
+// axis is propagated exactly (engine/lumped_model.h, matrix exponential) with the GM output
+// on a first-order hold over the step. What an effect adds is either linear and exact too
+// (a tyre mode: its own exact propagator on the ground height) or a force/torque evaluated
+// at the start of the step and held over it (coupling, hardening, bump stops, friction, the
+// inertial torque, the tyre's reaction). Dahl friction states relax exactly for the held
+// deflection rate. With EffectParams{} the output is identification's base model bit for bit.
+// Deterministic: same inputs, same bits.
 //
 //   PreparedTrial trial = PrepareTrial(chair, terrain, load_kg, t, x);
 //   ExtendedParams params{.lm = *chair.lm};
@@ -28,10 +37,18 @@ struct EffectParams {
   // wheel_radius: each wheel centre rides the rolling-disc envelope of the ground.
   double caster_radius{0.0};  ///< [m] radius of every caster wheel (0 = point contact)
   double drive_radius{0.0};   ///< [m] radius of every non-caster wheel
-  // tyre_compliance: per-wheel series spring-damper with unsprung mass (2nd-order, unit DC gain).
-  double caster_tyre_period{0.0};  ///< [s] 1/f of the caster tyre mode (0 = rigid)
-  double drive_tyre_period{0.0};   ///< [s] 1/f of the drive tyre mode (0 = rigid)
-  double tyre_damping{0.5};        ///< [-] damping ratio of the tyre modes
+  // tyre_compliance: per wheel an unsprung mass m_u on a tyre of stiffness k_t = 1/c_t and
+  // damping ratio ζ under the suspension, ω² = k_t / m_u; its height z_u is the GM's input:
+  //   z̈_u = ω² (h - z_u) + 2ζω (ḣ - ż_u) + ω² c_t R_i        (R_i / m_u = ω² c_t R_i)
+  // R_i = α_i (F_Z + Γ x_i / Σ_j α_j x_j²) the wheel's share of the LM's suspension force F_Z
+  // and torque Γ (deviations from static equilibrium). c_t = 0 drops the reaction (a stiff
+  // tyre under a heavy wheel: a unit-DC-gain filter of the ground); c_t > 0 puts the tyre in
+  // series with the suspension (static sag c_t R_i, hop mode at √((k_t + k_s)/m_u)).
+  double caster_tyre_period{0.0};      ///< [s] 2π/ω of the caster tyre (0 = rigid)
+  double drive_tyre_period{0.0};       ///< [s] 2π/ω of the drive tyre (0 = rigid)
+  double tyre_damping{0.5};            ///< ζ [-] of the tyre modes
+  double caster_tyre_compliance{0.0};  ///< c_t [m/N] per caster (0 = reaction neglected)
+  double drive_tyre_compliance{0.0};   ///< c_t [m/N] per drive wheel
   // cushion_compliance: the obstacle height falls with the load on it, W = the static wheel
   // load α_i M g (per wheel) or the whole chair's weight M g, by a power law the data choose:
   // h_eff = h max(0, g - c (W / 1 kN)^p), g the unloaded height relative to the terrain file.
@@ -49,9 +66,13 @@ struct EffectParams {
   // F_i = b K_Z α_i max(0, c_i - g)² / δ_ref, c_i = Z_Oi - (Z + x_i sin θ), at x_i.
   double bump_gain{0.0};  ///< b [-]
   double bump_gap{0.0};   ///< g [m] compression before the stop engages
-  // suspension_friction: Coulomb force F_c tanh(δ̇/ε) on each axis.
-  double heave_friction{0.0};  ///< [N]
-  double pitch_friction{0.0};  ///< [N m]
+  // suspension_friction: dry friction in each wheel's suspension, Dahl's law on the wheel's
+  // deflection r_i = Z + x_i θ - Z_Oi (the chassis over the wheel relative to its contact):
+  //   dF_i/dt = (ṙ_i / δ_p) (F_c,i sgn ṙ_i - F_i)·sgn ṙ_i,  i.e. presliding stiffness F_c/δ_p,
+  // F_i resisting ṙ_i (Coulomb as δ_p -> 0); ΣF_i acts on heave, Σ x_i F_i on pitch.
+  double caster_friction{0.0};    ///< F_c [N] per caster
+  double drive_friction{0.0};     ///< F_c [N] per drive wheel
+  double friction_presliding{5e-4};  ///< δ_p [m]
   // inertial_pitch: Γ_θ = (M_0 h + M_u h_u) a_x (nose-up when accelerating for h > 0): the
   // chair's and the occupant's centres of mass at their own heights above the contact line.
   double cm_lever{0.0};       ///< h [m], empty chair
@@ -65,8 +86,6 @@ struct EffectParams {
 
 inline constexpr double kHeaveRef = 0.01;          ///< [m] δ_ref of the heave hardening
 inline constexpr double kPitchRef = 0.01;          ///< [rad] δ_ref of the pitch hardening
-inline constexpr double kHeaveFrictionEps = 0.02;  ///< [m/s] tanh smoothing of friction
-inline constexpr double kPitchFrictionEps = 0.04;  ///< [rad/s]
 inline constexpr double kGravity = 9.81;           ///< [m/s^2]
 
 struct ExtendedParams {
@@ -83,18 +102,20 @@ struct PreparedTrial {
   std::vector<double> x;      ///< [m] O_V along the path at t
   std::vector<double> accel;  ///< [m/s^2] smoothed longitudinal acceleration at t
   std::vector<bool> is_caster;  ///< per wheel
-  double max_step{0.004};       ///< [s] largest RK4 sub-step
+  double step{1e-3};            ///< [s] internal grid step (identification's SimulationOptions::dt)
 
-  /// Optional precomputed inputs on the RK4 half-step grid of `cache_step` (CacheInputs):
-  /// per wheel ground height and slope (point contact), and the rigid point-contact GM output
-  /// (Z, Ż, θ, θ̇). Used only while cache_step == the step SimulateExtended ends up using.
+  /// Optional precomputed inputs on the grid of `cache_step` (CacheInputs): x and a_x on the
+  /// grid, per wheel the point-contact ground height, and the point-contact GM output (Z, θ).
+  /// Used only while cache_step == step.
   double cache_step{0.0};
-  std::vector<double> wheel_cache;  ///< [point][wheel][height, slope]
-  std::vector<double> gm_cache;     ///< [point][z, z_rate, pitch, pitch_rate]
+  std::vector<double> x_grid;       ///< [m]
+  std::vector<double> accel_grid;   ///< [m/s^2]
+  std::vector<double> wheel_cache;  ///< [grid point][wheel] height
+  std::vector<double> gm_cache;     ///< [grid point][z, pitch]
 };
 
-/// Fills the input caches of `trial` for its current max_step (speeds up repeated
-/// simulations, e.g. in fits; results are bit-identical to uncached runs up to rounding).
+/// Fills the input caches of `trial` for its current step (speeds up repeated simulations,
+/// e.g. in fits; the results are bit-identical to uncached runs).
 void CacheInputs(PreparedTrial& trial);
 
 /// Builds a PreparedTrial; `accel` is estimated from x by a local quadratic fit over

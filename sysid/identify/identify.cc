@@ -65,14 +65,6 @@ std::vector<TrialRole> AssignRoles(const std::vector<MeasuredTrial>& trials,
 
 namespace {
 
-/// Linear interpolation of a grid signal (t0 + k dt) at times t.
-std::vector<double> SampleGrid(std::span<const double> grid, double t0, double dt,
-                               std::span<const double> t) {
-  std::vector<double> out(t.size());
-  for (std::size_t s = 0; s < t.size(); ++s) out[s] = SampleUniformGrid(grid, t0, dt, t[s]);
-  return out;
-}
-
 /// Number of samples in the initial centring window (at least one).
 std::size_t WindowCount(std::span<const double> t, double window) {
   std::size_t count = 1;

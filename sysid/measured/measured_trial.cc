@@ -74,20 +74,22 @@ MeasuredTrial ReadMeasuredTrial(const std::filesystem::path& folder_or_file,
   return trial;
 }
 
-namespace {
-
 std::size_t GridSize(std::span<const double> t, double dt) {
   PWSIM_DEMAND(t.size() >= 2 && dt > 0.0);
   return static_cast<std::size_t>(std::ceil((t.back() - t.front()) / dt - 1e-9)) + 1;
 }
 
-/// x at each grid time t0 + k dt, linear between samples, held at the ends.
 std::vector<double> InterpolateOnGrid(std::span<const double> t, std::span<const double> x,
                                       double dt) {
   return ResampleOnUniformGrid(t, x, dt, GridSize(t, dt));
 }
 
-}  // namespace
+std::vector<double> SampleGrid(std::span<const double> grid, double t0, double dt,
+                               std::span<const double> t) {
+  std::vector<double> out(t.size());
+  for (std::size_t s = 0; s < t.size(); ++s) out[s] = SampleUniformGrid(grid, t0, dt, t[s]);
+  return out;
+}
 
 std::vector<std::vector<double>> TraceContactHeights(const Chair& chair, const Terrain& terrain,
                                                      std::span<const double> t,
@@ -129,35 +131,17 @@ std::vector<double> SimulateAxisOnGrid(double inertia, double damping, double st
                                        std::span<const double> input, double t0, double dt,
                                        std::span<const double> t) {
   PWSIM_DEMAND(!input.empty());
-  const AxisParams axis{inertia, damping, stiffness};
-  const DiscreteLumpedModel model = Discretize(LumpedModelParams{axis, axis}, dt);
-  const double* f = model.heave.phi.data();
+  const AxisPropagator propagator = MakeAxisPropagator({inertia, damping, stiffness}, dt);
   const double inv_dt = 1.0 / dt;
-  std::vector<double> out(t.size());
-  double q = input[0];
-  double q_rate = 0.0;
-  double q_prev = q;
-  std::size_t k = 0;  // grid index of q
-  const std::size_t last = input.size() - 1;
-  for (std::size_t s = 0; s < t.size(); ++s) {
-    const double pos = (t[s] - t0) * inv_dt;
-    const std::size_t target =
-        std::min(last, static_cast<std::size_t>(std::max(0.0, std::ceil(pos - 1e-9))));
-    while (k < target) {
-      const double u0 = input[k];
-      const double u_rate = (input[k + 1] - u0) * inv_dt;
-      const double next_q = f[0] * q + f[1] * q_rate + f[2] * u0 + f[3] * u_rate;
-      const double next_rate = f[5] * q + f[6] * q_rate + f[7] * u0 + f[8] * u_rate;
-      q_prev = q;
-      q = next_q;
-      q_rate = next_rate;
-      ++k;
-    }
-    // t[s] lies in [k-1, k]: interpolate between the last two grid values.
-    const double frac = std::clamp(static_cast<double>(k) - pos, 0.0, 1.0);
-    out[s] = k == 0 ? q : Lerp(q, q_prev, frac);
+  std::vector<double> q(input.size());
+  double value = input[0];
+  double rate = 0.0;
+  q[0] = value;
+  for (std::size_t k = 0; k + 1 < input.size(); ++k) {
+    AdvanceAxis(propagator, value, rate, input[k], (input[k + 1] - input[k]) * inv_dt, 0.0);
+    q[k + 1] = value;
   }
-  return out;
+  return SampleGrid(q, t0, dt, t);
 }
 
 ModelOutput SimulateMeasuredTrial(const Chair& chair, const Terrain& terrain, double load_kg,

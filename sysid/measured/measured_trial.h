@@ -84,6 +84,17 @@ std::vector<std::vector<double>> TraceContactHeights(const Chair& chair, const T
                                                      std::span<const double> x,
                                                      const SimulationOptions& options = {});
 
+/// Points of the internal grid t0 + k dt that cover [t.front(), t.back()].
+std::size_t GridSize(std::span<const double> t, double dt);
+
+/// x at each grid time t0 + k dt, linear between the samples, held at the ends.
+std::vector<double> InterpolateOnGrid(std::span<const double> t, std::span<const double> x,
+                                      double dt);
+
+/// A grid signal (t0 + k dt) at the times t, linear between grid points, held at the ends.
+std::vector<double> SampleGrid(std::span<const double> grid, double t0, double dt,
+                               std::span<const double> t);
+
 /// One axis of the LM (inertia, damping, stiffness) run exactly on `input` (a grid signal,
 /// first-order hold), starting at rest in equilibrium, sampled at `t` by linear
 /// interpolation between grid points.

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "engine/drive_profile.h"
 #include "sysid/effects/effect_catalog.h"
@@ -15,7 +16,7 @@ namespace pwsim::effects {
 namespace {
 
 /// The paper's trial: Table I chair over the speed cushion at `speed`, sampled at 100 Hz.
-PreparedTrial CushionTrial(double speed, double load_kg = 100.0, double max_step = 1e-3) {
+PreparedTrial CushionTrial(double speed, double load_kg = 100.0, double step = 1e-3) {
   DriveProfile drive;
   drive.start_x = 0.0;
   drive.speed = speed;
@@ -30,7 +31,7 @@ PreparedTrial CushionTrial(double speed, double load_kg = 100.0, double max_step
     a.push_back(l.a);
   }
   PreparedTrial trial = PrepareTrial(MakeTableOneChair(), MakeSpeedCushion(), load_kg, t, x, a);
-  trial.max_step = max_step;
+  trial.step = step;
   return trial;
 }
 
@@ -40,18 +41,26 @@ double MaxAbsDiff(const std::vector<double>& a, const std::vector<double>& b) {
   return worst;
 }
 
-TEST(EffectModelTest, NoEffectIsThePapersModel) {
-  const PreparedTrial trial = CushionTrial(1.2);
-  const ModelOutput ours = SimulateExtended(trial, ExtendedParams{*trial.chair.lm, {}});
-  // The foundation's exact-discretised GM + LM driven by the same x(t).
-  const pwsim::ModelOutput exact =
-      SimulateMeasuredTrial(trial.chair, trial.terrain, trial.load_kg, trial.t, trial.x);
-  EXPECT_LT(MaxAbsDiff(ours.z, exact.z), 2e-4);      // m, against a 65 mm cushion
-  EXPECT_LT(MaxAbsDiff(ours.pitch, exact.pitch), 2e-3);  // rad, against ~0.2 rad
+TEST(EffectModelTest, NoEffectIsIdentificationsModelBitForBit) {
+  // Identification and diagnosis fit one base model: the extended model with every effect off
+  // is the exact-discretised GM + LM that `pwsim identify` fits, to the last bit, at the
+  // identification's step and at another one.
+  for (double step : {1e-3, 2.5e-3}) {
+    PreparedTrial trial = CushionTrial(1.2, 100.0, step);
+    const ModelOutput ours = SimulateExtended(trial, ExtendedParams{*trial.chair.lm, {}});
+    const pwsim::ModelOutput exact = SimulateMeasuredTrial(
+        trial.chair, trial.terrain, trial.load_kg, trial.t, trial.x, SimulationOptions{step});
+    EXPECT_EQ(ours.z, exact.z) << step;
+    EXPECT_EQ(ours.pitch, exact.pitch) << step;
+    CacheInputs(trial);
+    const ModelOutput cached = SimulateExtended(trial, ExtendedParams{*trial.chair.lm, {}});
+    EXPECT_EQ(cached.z, exact.z) << step;
+    EXPECT_EQ(cached.pitch, exact.pitch) << step;
+  }
 }
 
 TEST(EffectModelTest, CachedInputsGiveTheSameOutput) {
-  PreparedTrial trial = CushionTrial(1.8, 50.0, 0.004);
+  PreparedTrial trial = CushionTrial(1.8, 50.0, 0.002);
   ExtendedParams params{*trial.chair.lm, {}};
   params.fx.heave_hardening = 1.0;
   params.fx.cushion_loss_per_kn = 0.2;  // uses the wheel cache, not the GM cache
@@ -181,6 +190,53 @@ TEST(EffectModelTest, CushionYieldsMoreUnderMoreLoadAndTyresKeepUnitGain) {
   tyre.drive_tyre_period = 0.1;
   tyre.tyre_damping = 0.3;
   EXPECT_NEAR(plateau_z(50.0, tyre), 0.065, 5e-4);
+}
+
+TEST(EffectModelTest, TyreReactionVanishesAsTheTyreStiffens) {
+  // z̈_u = ω² (h - z_u) + 2ζω (ḣ - ż_u) + ω² c_t R_i: the suspension's reaction moves a
+  // compliant tyre in series with it and fades with its compliance c_t (c_t = 0: the
+  // unit-gain filter of the ground).
+  const PreparedTrial trial = CushionTrial(1.2, 50.0);
+  ExtendedParams filter{*trial.chair.lm, {}};
+  filter.fx.caster_tyre_period = 0.08;
+  filter.fx.drive_tyre_period = 0.06;
+  filter.fx.tyre_damping = 0.15;
+  const ModelOutput reference = SimulateExtended(trial, filter);
+  double previous = 1e9;
+  for (double mass : {3.0, 30.0, 300.0, 3000.0}) {
+    // Unsprung mass m_u on a tyre of the same ω: c_t = 1 / (m_u ω²).
+    ExtendedParams series = filter;
+    series.fx.caster_tyre_compliance = 1.0 / (mass * std::pow(2.0 * std::numbers::pi / 0.08, 2));
+    series.fx.drive_tyre_compliance = 1.0 / (mass * std::pow(2.0 * std::numbers::pi / 0.06, 2));
+    const ModelOutput out = SimulateExtended(trial, series);
+    const double diff = MaxAbsDiff(out.z, reference.z) + 0.3 * MaxAbsDiff(out.pitch, reference.pitch);
+    EXPECT_LT(diff, previous) << mass;
+    if (mass == 3.0) {
+      EXPECT_GT(diff, 1e-3);  // a light wheel: the series spring matters at mm level
+    }
+    if (mass == 3000.0) {
+      EXPECT_LT(diff, 5e-5);
+    }
+    previous = diff;
+  }
+}
+
+TEST(EffectModelTest, DahlFrictionLeavesAStictionOffset) {
+  const PreparedTrial trial = CushionTrial(0.8, 50.0);
+  const ModelOutput base = SimulateExtended(trial, ExtendedParams{*trial.chair.lm, {}});
+  // Moderate friction: after the crossing the chair comes to rest off its equilibrium, but
+  // within the force band ΣF_c / K_Z of it (stiction), and the base model returns to it.
+  ExtendedParams dry{*trial.chair.lm, {}};
+  dry.fx.caster_friction = 60.0;
+  dry.fx.drive_friction = 60.0;
+  dry.fx.friction_presliding = 2e-4;
+  const ModelOutput out = SimulateExtended(trial, dry);
+  const std::size_t last = out.z.size() - 1;
+  const double offset = std::abs(out.z[last] - out.z_gm[last]);
+  EXPECT_LT(std::abs(base.z[last] - base.z_gm[last]), 1e-5);
+  EXPECT_GT(offset, 2e-5);
+  EXPECT_LT(offset, 3.0 * 60.0 / trial.chair.lm->k_z + 1e-4);
+  for (std::size_t k = 0; k <= last; ++k) ASSERT_TRUE(std::isfinite(out.z[k]) && std::isfinite(out.pitch[k]));
 }
 
 TEST(EffectModelTest, InertialPitchTorqueFollowsAcceleration) {
