@@ -124,6 +124,8 @@ struct Setup {
   std::array<int, kMaxWheels> tyre{};              ///< 0 rigid, 1 caster tyre, 2 drive tyre
   std::array<double, kMaxWheels> inv_unsprung{};   ///< 1/m_u = ω² c_t [1/kg] (0: no reaction)
   std::array<double, kMaxWheels> friction{};       ///< F_c [N]
+  std::array<double, kMaxWheels> lift_off{};       ///< -(W_i/m_u + g): the tyre's pull limit [m/s²]
+  std::array<double, 3> tyre_omega2{}, tyre_2zw{};  ///< ω², 2ζω of each tyre class
   std::array<AxisPropagator, 3> tyre_propagator{};
   double inv_alpha_x2{0.0};  ///< 1 / Σ α_i x_i²
   AxisPropagator heave, pitch;
@@ -149,6 +151,8 @@ Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
     if (period <= 1e-6) continue;
     const double omega = 2.0 * std::numbers::pi / period;
     m.tyre_propagator[t] = MakeAxisPropagator({1.0, 2.0 * fx.tyre_damping * omega, omega * omega}, dt);
+    m.tyre_omega2[t] = omega * omega;
+    m.tyre_2zw[t] = 2.0 * fx.tyre_damping * omega;
   }
   double alpha_x2 = 0.0;
   for (int i = 0; i < m.wheels; ++i) {
@@ -164,6 +168,8 @@ Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
     const double compliance = std::max(0.0, caster ? fx.caster_tyre_compliance : fx.drive_tyre_compliance);
     const double omega = m.tyre[i] != 0 ? 2.0 * std::numbers::pi / period : 0.0;
     m.inv_unsprung[i] = omega * omega * compliance;
+    // A tyre pushes, never pulls: its force (static W_i + m_u g plus the deviation) stays ≥ 0.
+    m.lift_off[i] = -(loads[i] * m.inv_unsprung[i] + kGravity);
     m.friction[i] = caster ? fx.caster_friction : fx.drive_friction;
     m.any_friction = m.any_friction || m.friction[i] > 0.0;
     const double load_kn =
@@ -341,8 +347,20 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
           continue;
         }
         const double reaction = m.alpha[i] * (force + torque * m.wheel_x[i] * m.inv_alpha_x2);
-        AdvanceAxis(m.tyre_propagator[m.tyre[i]], tyre_z[i], tyre_rate[i], h0[i],
-                    (h1[i] - h0[i]) * inv_dt, reaction * m.inv_unsprung[i]);
+        const int c = m.tyre[i];
+        const double ground_rate = (h1[i] - h0[i]) * inv_dt;
+        const double tyre_accel =
+            m.tyre_omega2[c] * (h0[i] - tyre_z[i]) + m.tyre_2zw[c] * (ground_rate - tyre_rate[i]);
+        if (tyre_accel < m.lift_off[i]) {
+          // The wheel is off the ground over this step: only gravity, the static suspension
+          // load and the reaction act on it.
+          const double accel = m.lift_off[i] + reaction * m.inv_unsprung[i];
+          tyre_z[i] += tyre_rate[i] * dt + 0.5 * accel * dt * dt;
+          tyre_rate[i] += accel * dt;
+        } else {
+          AdvanceAxis(m.tyre_propagator[c], tyre_z[i], tyre_rate[i], h0[i], ground_rate,
+                      reaction * m.inv_unsprung[i]);
+        }
         zc1[i] = tyre_z[i];
       }
     } else {

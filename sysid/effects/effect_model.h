@@ -43,7 +43,10 @@ struct EffectParams {
   // R_i = α_i (F_Z + Γ x_i / Σ_j α_j x_j²) the wheel's share of the LM's suspension force F_Z
   // and torque Γ (deviations from static equilibrium). c_t = 0 drops the reaction (a stiff
   // tyre under a heavy wheel: a unit-DC-gain filter of the ground); c_t > 0 puts the tyre in
-  // series with the suspension (static sag c_t R_i, hop mode at √((k_t + k_s)/m_u)).
+  // series with the suspension (static sag c_t R_i, hop mode at √((k_t + k_s)/m_u)), and the
+  // tyre pushes but never pulls: when its total force (static W_i + m_u g plus the deviation)
+  // would fall below zero the wheel leaves the ground for that step (ballistic, R_i and g; at
+  // c_t = 0 the wheel still cannot follow the ground down faster than g).
   double caster_tyre_period{0.0};      ///< [s] 2π/ω of the caster tyre (0 = rigid)
   double drive_tyre_period{0.0};       ///< [s] 2π/ω of the drive tyre (0 = rigid)
   double tyre_damping{0.5};            ///< ζ [-] of the tyre modes
