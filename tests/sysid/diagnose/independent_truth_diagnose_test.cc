@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <numbers>
 #include <string>
 #include <unistd.h>
 
@@ -99,6 +100,34 @@ TEST(IndependentTruthDiagnoseTest, TwoEffectsAreBothFound) {
   double total = 0.0;
   for (const Cause& c : run.dx.causes) total += c.heldout_gain_pct;
   EXPECT_GT(total, 50.0);
+}
+
+TEST(IndependentTruthDiagnoseTest, SoftCasterTyresInSeriesAreNamedWithTheirStiffness) {
+  // Unsprung wheels on tyre springs in series with the suspension (the truth's form 0 at
+  // strength 0.7: casters 10 Hz on 3 kg, drive wheels 23 Hz on 8 kg). The extension must name
+  // the tyres and, from the trials alone, find the caster tyre's compliance 1/k_t and the
+  // suspension's own K_Z = Σ k_i, which the base model's series stiffness hides.
+  const TruthRun run = DiagnoseTruth({"tyre_compliance"}, 0.7, 0, 101);
+  ASSERT_FALSE(run.dx.causes.empty()) << run.dx.base_check.Evidence();
+  EXPECT_EQ(run.dx.cause, "tyre_compliance");
+  EXPECT_GT(run.dx.causes.front().heldout_gain_pct, 20.0);
+  const truth::TruthEffects& fx = run.set.effects;
+  const double omega = 2.0 * std::numbers::pi * fx.caster_tyre_hz;
+  const double caster_compliance = 1.0 / (fx.caster_unsprung_kg * omega * omega);
+  EXPECT_NEAR(run.dx.extended.params.fx.caster_tyre_compliance / caster_compliance, 1.0, 0.25);
+  double k_sum = 0.0;
+  for (const truth::TruthWheel& w : run.set.chair.wheels) k_sum += w.k_npm;
+  EXPECT_NEAR(run.dx.extended.params.lm.k_z / k_sum, 1.0, 0.15);
+  EXPECT_LT(run.dx.base.params.lm.k_z / k_sum, 0.85);  // the base model only sees the series pair
+}
+
+TEST(IndependentTruthDiagnoseTest, DahlFrictionIsNamed) {
+  // Per-wheel Dahl friction with a 1 mm presliding range (form 1) at strength 1.4 (56 N).
+  const TruthRun run = DiagnoseTruth({"suspension_friction"}, 1.4, 1, 102);
+  ASSERT_FALSE(run.dx.causes.empty()) << run.dx.base_check.Evidence();
+  EXPECT_EQ(run.dx.cause, "suspension_friction");
+  EXPECT_NE(run.dx.verdict, Verdict::kAdequate);
+  EXPECT_GT(run.dx.causes.front().heldout_gain_pct, 50.0);
 }
 
 }  // namespace
