@@ -56,6 +56,15 @@ std::vector<std::string> Causes(const Diagnosis& dx) {
   return out;
 }
 
+/// The hidden effect is the first cause, the model is not called adequate, and the cause
+/// removes more than `min_gain_pct` of the report trials' error above the noise.
+void ExpectNamedFirst(const TruthRun& run, const std::string& effect, double min_gain_pct) {
+  ASSERT_FALSE(run.dx.causes.empty()) << run.dx.base_check.Evidence();
+  EXPECT_EQ(run.dx.cause, effect);
+  EXPECT_NE(run.dx.verdict, Verdict::kAdequate);
+  EXPECT_GT(run.dx.causes.front().heldout_gain_pct, min_gain_pct);
+}
+
 TEST(IndependentTruthDiagnoseTest, NoEffectIsAdequate) {
   const TruthRun run = DiagnoseTruth({}, 1.0, 0, 31);
   EXPECT_EQ(run.dx.verdict, Verdict::kAdequate) << run.dx.base_check.Evidence();
@@ -69,10 +78,7 @@ TEST(IndependentTruthDiagnoseTest, NoEffectIsAdequate) {
 
 TEST(IndependentTruthDiagnoseTest, InertialPitchNamedWithTheLeverOfTheTruth) {
   const TruthRun run = DiagnoseTruth({"inertial_pitch"}, 1.0, 1, 32);
-  ASSERT_FALSE(run.dx.causes.empty()) << run.dx.base_check.Evidence();
-  EXPECT_EQ(run.dx.cause, "inertial_pitch");
-  EXPECT_NE(run.dx.verdict, Verdict::kAdequate);
-  EXPECT_GT(run.dx.causes.front().heldout_gain_pct, 50.0);
+  ExpectNamedFirst(run, "inertial_pitch", 50.0);
   // The truth's torque is a_x (M_0 h_c + M_u h_u); the extension's is a_x (M_0 h + M_u h_u'):
   // the torque per unit acceleration must agree within 15 % at every load driven.
   const truth::TruthEffects& fx = run.set.effects;
@@ -108,9 +114,7 @@ TEST(IndependentTruthDiagnoseTest, SoftCasterTyresInSeriesAreNamedWithTheirStiff
   // the tyres and, from the trials alone, find the caster tyre's compliance 1/k_t and the
   // suspension's own K_Z = Σ k_i, which the base model's series stiffness hides.
   const TruthRun run = DiagnoseTruth({"tyre_compliance"}, 0.7, 0, 101);
-  ASSERT_FALSE(run.dx.causes.empty()) << run.dx.base_check.Evidence();
-  EXPECT_EQ(run.dx.cause, "tyre_compliance");
-  EXPECT_GT(run.dx.causes.front().heldout_gain_pct, 20.0);
+  ExpectNamedFirst(run, "tyre_compliance", 20.0);
   const truth::TruthEffects& fx = run.set.effects;
   const double omega = 2.0 * std::numbers::pi * fx.caster_tyre_hz;
   const double caster_compliance = 1.0 / (fx.caster_unsprung_kg * omega * omega);
@@ -124,10 +128,7 @@ TEST(IndependentTruthDiagnoseTest, SoftCasterTyresInSeriesAreNamedWithTheirStiff
 TEST(IndependentTruthDiagnoseTest, DahlFrictionIsNamed) {
   // Per-wheel Dahl friction with a 1 mm presliding range (form 1) at strength 1.4 (56 N).
   const TruthRun run = DiagnoseTruth({"suspension_friction"}, 1.4, 1, 102);
-  ASSERT_FALSE(run.dx.causes.empty()) << run.dx.base_check.Evidence();
-  EXPECT_EQ(run.dx.cause, "suspension_friction");
-  EXPECT_NE(run.dx.verdict, Verdict::kAdequate);
-  EXPECT_GT(run.dx.causes.front().heldout_gain_pct, 50.0);
+  ExpectNamedFirst(run, "suspension_friction", 50.0);
 }
 
 }  // namespace
