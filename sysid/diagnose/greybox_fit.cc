@@ -232,16 +232,13 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
   // and, for the cushion, over its two load bases; the start with the lowest error is solved.
   // (Solving the best three for the tyres was tried: on the independent truth it found no
   // better basin and added a spurious cause, at twice the time.)
-  struct Start {
-    double sse;
-    std::vector<double> u;
-    bool whole_chair;
-  };
-  std::vector<Start> starts;
   if (last) {
     const auto& specs = effects::EffectParameters(*last);
     const bool cushion = *last == effects::EffectId::kCushionCompliance;
     const std::vector<double> lm_start(u.begin(), u.begin() + 4);
+    double best = std::numeric_limits<double>::infinity();
+    std::vector<double> best_u;
+    bool best_basis = map.base_fx.cushion_whole_chair;
     for (int basis = 0; basis < (cushion ? 2 : 1); ++basis) {
       if (cushion) map.base_fx.cushion_whole_chair = basis == 1;
       std::vector<std::size_t> index(specs.size(), 0);
@@ -256,68 +253,52 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
           std::copy(u_lm.begin(), u_lm.end(), u.begin());
         }
         const double sse = WeightedSse(training, map.Params(u.data()), weights);
-        starts.push_back({std::isfinite(sse) ? sse : std::numeric_limits<double>::infinity(), u,
-                          map.base_fx.cushion_whole_chair});
+        const double score = std::isfinite(sse) ? sse : std::numeric_limits<double>::infinity();
+        if (best_u.empty() || score < best) {  // the first of equal errors, a non-finite one too
+          best = score;
+          best_u = u;
+          best_basis = map.base_fx.cushion_whole_chair;
+        }
         std::size_t j = 0;
         while (j < specs.size() && ++index[j] == specs[j].starts.size()) index[j++] = 0;
         if (j == specs.size()) break;
       }
     }
-    std::stable_sort(starts.begin(), starts.end(),
-                     [](const Start& x, const Start& y) { return x.sse < y.sse; });
-    starts.resize(1);
-  } else {
-    starts.push_back({0.0, u, map.base_fx.cushion_whole_chair});
+    u = best_u;
+    map.base_fx.cushion_whole_chair = best_basis;
   }
 
-  ceres::Solver::Summary summary;
-  double best_cost = std::numeric_limits<double>::infinity();
-  std::vector<double> best_u = starts.front().u;
-  bool best_basis = starts.front().whole_chair;
-  for (const Start& start_point : starts) {
-    u = start_point.u;
-    map.base_fx.cushion_whole_chair = start_point.whole_chair;
-    ceres::Problem problem;
-    for (const FitTrial& trial : training) {
-      auto* cost = new ceres::DynamicNumericDiffCostFunction<TrialFunctor, ceres::FORWARD>(
-          new TrialFunctor{&trial, &map, weights});
-      cost->AddParameterBlock(size);
-      cost->SetNumResiduals(static_cast<int>(2 * trial.z.size()));
-      problem.AddResidualBlock(cost, nullptr, u.data());
-    }
-    for (int j = 0; j < 4; ++j) {
-      problem.SetParameterLowerBound(u.data(), j, -kLogBound);
-      problem.SetParameterUpperBound(u.data(), j, kLogBound);
-    }
-    {
-      int col = 4;
-      for (effects::EffectId id : effect_list) {
-        for (const effects::ParamSpec& spec : effects::EffectParameters(id)) {
-          problem.SetParameterLowerBound(u.data(), col, spec.lower / spec.scale);
-          problem.SetParameterUpperBound(u.data(), col, spec.upper / spec.scale);
-          ++col;
-        }
+  ceres::Problem problem;
+  for (const FitTrial& trial : training) {
+    auto* cost = new ceres::DynamicNumericDiffCostFunction<TrialFunctor, ceres::FORWARD>(
+        new TrialFunctor{&trial, &map, weights});
+    cost->AddParameterBlock(size);
+    cost->SetNumResiduals(static_cast<int>(2 * trial.z.size()));
+    problem.AddResidualBlock(cost, nullptr, u.data());
+  }
+  for (int j = 0; j < 4; ++j) {
+    problem.SetParameterLowerBound(u.data(), j, -kLogBound);
+    problem.SetParameterUpperBound(u.data(), j, kLogBound);
+  }
+  {
+    int col = 4;
+    for (effects::EffectId id : effect_list) {
+      for (const effects::ParamSpec& spec : effects::EffectParameters(id)) {
+        problem.SetParameterLowerBound(u.data(), col, spec.lower / spec.scale);
+        problem.SetParameterUpperBound(u.data(), col, spec.upper / spec.scale);
+        ++col;
       }
     }
-    ceres::Solver::Options solver;
-    solver.linear_solver_type = ceres::DENSE_QR;
-    solver.max_num_iterations = options.max_iterations;
-    solver.num_threads = options.threads;
-    solver.function_tolerance = options.function_tolerance;
-    solver.parameter_tolerance = 1e-7;
-    solver.logging_type = ceres::SILENT;
-    ceres::Solver::Summary this_summary;
-    ceres::Solve(solver, &problem, &this_summary);
-    const double final_sse = WeightedSse(training, map.Params(u.data()), weights);
-    if (final_sse < best_cost) {
-      best_cost = final_sse;
-      best_u = u;
-      best_basis = start_point.whole_chair;
-      summary = this_summary;
-    }
   }
-  u = best_u;
-  map.base_fx.cushion_whole_chair = best_basis;
+  ceres::Solver::Options solver;
+  solver.linear_solver_type = ceres::DENSE_QR;
+  solver.max_num_iterations = options.max_iterations;
+  solver.num_threads = options.threads;
+  solver.function_tolerance = options.function_tolerance;
+  solver.parameter_tolerance = 1e-7;
+  solver.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver, &problem, &summary);
 
   FitResult result;
   result.effects = effect_list;
