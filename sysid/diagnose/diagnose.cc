@@ -120,6 +120,8 @@ Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records,
   const ChannelWeights w = MakeChannelWeights(training);
   const LumpedParams start = dx.chair.lm.value_or(LumpedParams{});
   dx.base = FitModel(training, std::nullopt, start, w, options.fit);
+  // Every candidate is simulated on identification's grid (FitStep), so each split is put on
+  // it once here and serves the base model and every extension alike.
   const std::vector<FitTrial> heldout_base = WithFitStep(heldout, std::nullopt);
   const std::vector<FitTrial> selection_base = WithFitStep(selection, std::nullopt);
   const std::vector<FitTrial> checked_base = WithFitStep(checked, std::nullopt);
@@ -177,11 +179,11 @@ Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records,
     e.effect = id;
     e.fit = FitModel(training, id, dx.base.params.lm, w, options.fit);
     e.delta_bic = e.fit.bic - dx.base.bic;
-    const double err = HeldOutError(WithFitStep(heldout, id), e.fit.params, w);
+    const double err = HeldOutError(heldout_base, e.fit.params, w);
     e.heldout_gain = base_error > 0.0 ? 1.0 - err / base_error : 0.0;
-    const double sel = HeldOutError(WithFitStep(selection, id), e.fit.params, w);
+    const double sel = HeldOutError(selection_base, e.fit.params, w);
     e.selection_gain = base_sel > 0.0 ? 1.0 - sel / base_sel : 0.0;
-    e.heldout = PooledFitPct(WithFitStep(heldout, id), e.fit.params);
+    e.heldout = PooledFitPct(heldout_base, e.fit.params);
     e.earns = e.delta_bic < options.bic_threshold && e.selection_gain >= options.min_heldout_gain;
     e.parameters = NamedParameters(e.fit);
     e.evidence = dx.residuals.evidence[static_cast<int>(id)] +
@@ -225,7 +227,7 @@ Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records,
           std::vector<EffectId> list = found;
           list.push_back(id);
           FitResult f = FitModelJoint(training, list, current.params, w, options.fit);
-          const double sel = HeldOutError(WithFitStep(selection, id), f.params, w);
+          const double sel = HeldOutError(selection_base, f.params, w);
           const double gain = current_sel > 0.0 ? 1.0 - sel / current_sel : 0.0;
           const bool earns = f.bic - current.bic < options.bic_threshold && gain >= options.min_heldout_gain;
           if (earns && gain > best_gain) {
@@ -240,8 +242,7 @@ Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records,
       c.effect = best->effects.back();
       c.selection_gain = best_gain;
       c.delta_bic = best->bic - current.bic;
-      const std::vector<FitTrial> held_ext = WithFitStep(heldout, c.effect);
-      const double excess = std::max(0.0, MeanSquareError(held_ext, best->params, w) - noise_ms);
+      const double excess = std::max(0.0, MeanSquareError(heldout_base, best->params, w) - noise_ms);
       c.heldout_gain_pct = base_excess > 0.0 ? 100.0 * (previous_excess - excess) / base_excess : 0.0;
       previous_excess = excess;
       found.push_back(c.effect);
@@ -249,7 +250,7 @@ Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records,
       current = std::move(*best);
       current_sel = best_sel;
       dx.extended_check =
-          CheckResidual(ResidualRecords(WithFitStep(checked, c.effect), records, checked_index, current.params),
+          CheckResidual(ResidualRecords(checked_base, records, checked_index, current.params),
                         dx.sigma_z, dx.sigma_pitch, options.verdict);
       if (dx.extended_check.NoiseLike()) break;
     }
@@ -260,11 +261,9 @@ Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records,
   if (dx.verdict == Verdict::kAdequate) dx.causes.clear();
   if (!dx.causes.empty()) {
     dx.cause = effects::EffectName(dx.causes.front().effect);
-    const EffectId last = dx.causes.back().effect;
-    dx.extended_heldout = PooledFitPct(WithFitStep(heldout, last), dx.extended.params);
-    const std::vector<FitTrial> all_ext = WithFitStep(all, last);
-    for (std::size_t i = 0; i < all_ext.size(); ++i) {
-      const TrialResidual r = ComputeResidual(all_ext[i], dx.extended.params);
+    dx.extended_heldout = PooledFitPct(heldout_base, dx.extended.params);
+    for (std::size_t i = 0; i < all.size(); ++i) {
+      const TrialResidual r = ComputeResidual(all[i], dx.extended.params);
       if (!r.finite) continue;
       dx.trials[i].z_ext = r.z_model;
       dx.trials[i].pitch_ext = r.pitch_model;
