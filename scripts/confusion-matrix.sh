@@ -6,13 +6,13 @@
 # (chair.yaml carries no gm/lm), K and C started from Table I (not the truth), no bounds on the
 # truth, the effect never named. Prints Markdown: rows = hidden effect(s), columns = verdict and
 # first named cause, with the held-out fitness and each cause's held-out gain.
-#   scripts/confusion-matrix.sh [BUILD_DIR] [SEEDS] [JOBS]   (default: build, 2, 2)
+#   scripts/confusion-matrix.sh [BUILD_DIR] [SEEDS] [JOBS]   (default: build, 3, 2: every variant)
 # SEEDS seeds per effect; seed s uses physical variant ("form") s-1 of the effect and strength
 # 0.7 (odd seeds) or 1.4 (even seeds). 12 trials per set (0.5/0.9/1.3/1.7 m/s × 0/50/100 kg).
 # Same-model figures (pwsim's own generator): bench/diagnose_bench --matrix-only.
 set -euo pipefail
 build=${1:-build}
-seeds=${2:-2}
+seeds=${2:-3}
 jobs=${3:-2}
 cmake --build "$build" --target pwsim independent_truth_set -j2 > /dev/null
 work=$(mktemp -d /tmp/pwsim-confusion.XXXXXX)
