@@ -133,6 +133,21 @@ TEST(IndependentTruthDiagnoseTest, DISABLED_EveryTyreSoftIsNamed) {
   ExpectNamedFirst(run, "tyre_compliance", 20.0);
 }
 
+// Also open (docs/diagnosis.md, confusion matrix): casters only, lightly damped (form 2 at
+// strength 0.7: 10 Hz casters on 3 kg, ζ 0.06, rigid drive tyres). Today the verdict is
+// `unexplained`: the tyre fit removes only 5 % of the selection error.
+TEST(IndependentTruthDiagnoseTest, DISABLED_LightlyDampedCasterTyresAreNamed) {
+  const TruthRun run = DiagnoseTruth({"tyre_compliance"}, 0.7, 2, 103);
+  ExpectNamedFirst(run, "tyre_compliance", 20.0);
+}
+
+// Open too: symmetric stops (form 2), acting in rebound as well as compression. Named today,
+// but the compression-only family does not generalise (held-out gain −3 %).
+TEST(IndependentTruthDiagnoseTest, DISABLED_ReboundStopsAreNamedWithAGain) {
+  const TruthRun run = DiagnoseTruth({"nonlinear_stiffness"}, 0.7, 2, 103);
+  ExpectNamedFirst(run, "nonlinear_stiffness", 20.0);
+}
+
 TEST(IndependentTruthDiagnoseTest, DahlFrictionIsNamed) {
   // Per-wheel Dahl friction with a 1 mm presliding range (form 1) at strength 1.4 (56 N).
   const TruthRun run = DiagnoseTruth({"suspension_friction"}, 1.4, 1, 102);
