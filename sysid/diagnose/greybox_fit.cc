@@ -3,6 +3,7 @@
 #include <ceres/ceres.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -59,33 +60,47 @@ struct TrialFunctor {
   }
 };
 
-/// LM log multipliers (u[0..3]) for a tyre start: K_Z and K_θ raised so that in series with
-/// the start's tyres (k_t = 1/c_t per wheel; heave Σ k_t, pitch Σ k_t x²) they give the
-/// starting K again. Unchanged where the tyres alone are softer than the start.
+/// LM log multipliers (u[0..3]) for a tyre start. The start's LM is the base model's, which
+/// saw tyres and suspension in series: the suspension is started stiffer so that with the
+/// start's tyres in series it keeps the stiffness the data showed. Tyre j under wheel share
+/// a_j (heave) and pitch share p_j (the GM's plane) adds compliance c_j a_j² to heave and
+/// c_j p_j² to pitch: 1/K_s = 1/K - Σ c_j a_j², 1/K_θs = 1/K_θ - Σ c_j p_j²; the dampers are
+/// raised in the same ratio. Unchanged where the tyres alone are softer than the start.
 std::vector<double> SeriesStiffnessStart(const effects::PreparedTrial& trial, const Mapper& map,
                                          const std::vector<double>& u) {
   const effects::ExtendedParams p = map.Params(u.data());
-  double heave = 0.0, pitch = 0.0;
-  bool rigid = false;
-  for (int i = 0; i < trial.chair.wheel_count(); ++i) {
-    const double c = trial.is_caster[static_cast<std::size_t>(i)] ? p.fx.caster_tyre_compliance
-                                                                 : p.fx.drive_tyre_compliance;
-    if (c <= 0.0) {
-      rigid = true;
-      continue;
-    }
-    const double x = trial.chair.wheels[static_cast<std::size_t>(i)].x;
-    heave += 1.0 / c;
-    pitch += x * x / c;
+  const Chair& chair = trial.chair;
+  const int n = chair.wheel_count();
+  double s0 = 0.0, s1 = 0.0, s2 = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const double a = chair.gm->alpha[static_cast<std::size_t>(i)], x = chair.wheels[static_cast<std::size_t>(i)].x;
+    s0 += a;
+    s1 += a * x;
+    s2 += a * x * x;
+  }
+  const double det = s0 * s2 - s1 * s1;
+  double heave = 0.0, pitch = 0.0;  // added compliances [m/N], [1/(N m)]
+  for (int i = 0; i < n; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    const double c = trial.is_caster[k] ? p.fx.caster_tyre_compliance : p.fx.drive_tyre_compliance;
+    const double period = trial.is_caster[k] ? p.fx.caster_tyre_period : p.fx.drive_tyre_period;
+    if (c <= 0.0 || period <= 0.0 || !(det > 0.0)) continue;
+    const double a = chair.gm->alpha[k], x = chair.wheels[k].x;
+    const double share_z = a * (s2 - s1 * x) / det, share_t = a * (s0 * x - s1) / det;
+    heave += c * share_z * share_z;
+    pitch += c * share_t * share_t;
   }
   std::vector<double> out(u.begin(), u.begin() + 4);
-  auto raise = [](double k, double tyres) {
-    return tyres > 0.0 && k < 0.8 * tyres ? 1.0 / (1.0 / k - 1.0 / tyres) : k;
+  auto raise = [](double k, double added) {  // log ratio of the suspension to the seen stiffness
+    const double inv = 1.0 / k - added;
+    return inv > 0.2 / k ? std::log(1.0 / (k * inv)) : 0.0;
   };
-  if (!rigid) {
-    out[0] = std::clamp(std::log(raise(map.start.k_z, heave) / map.start.k_z), -kLogBound, kLogBound);
-    out[2] = std::clamp(std::log(raise(map.start.k_theta, pitch) / map.start.k_theta), -kLogBound, kLogBound);
-  }
+  const double rz = raise(map.start.k_z * std::exp(u[0]), heave);
+  const double rt = raise(map.start.k_theta * std::exp(u[2]), pitch);
+  out[0] = std::clamp(u[0] + rz, -kLogBound, kLogBound);
+  out[1] = std::clamp(u[1] + rz, -kLogBound, kLogBound);
+  out[2] = std::clamp(u[2] + rt, -kLogBound, kLogBound);
+  out[3] = std::clamp(u[3] + rt, -kLogBound, kLogBound);
   return out;
 }
 
@@ -229,76 +244,115 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
   }
 
   // Multi-start of the last effect over the catalogue's starting points (Cartesian product)
-  // and, for the cushion, over its two load bases; the start with the lowest error is solved.
-  // (Solving the best three for the tyres was tried: on the independent truth it found no
-  // better basin and added a spurious cause, at twice the time.)
+  // and, for the cushion, over its two load bases; the start with the lowest error is solved
+  // (for the tyres, the best stiff and the best compliant start, and the better fit kept).
+  // (Solving the best three tyre starts regardless of kind was tried: on the independent
+  // truth it found no better basin and added a spurious cause, at twice the time.)
+  std::vector<std::vector<double>> starts;  // solved, each; the lowest training error is kept
+  std::vector<bool> bases;                  // their cushion load bases
   if (last) {
     const auto& specs = effects::EffectParameters(*last);
     const bool cushion = *last == effects::EffectId::kCushionCompliance;
     const std::vector<double> lm_start(u.begin(), u.begin() + 4);
-    double best = std::numeric_limits<double>::infinity();
-    std::vector<double> best_u;
-    bool best_basis = map.base_fx.cushion_whole_chair;
+    // Tyres: the best start of each kind, stiff (no reaction, c_t = 0) and compliant, is solved
+    // (a compliant start can score best and still end in a worse basin than the stiff one).
+    std::array<double, 2> best{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+    std::array<std::vector<double>, 2> best_u;
+    std::array<bool, 2> best_basis{map.base_fx.cushion_whole_chair, map.base_fx.cushion_whole_chair};
     for (int basis = 0; basis < (cushion ? 2 : 1); ++basis) {
       if (cushion) map.base_fx.cushion_whole_chair = basis == 1;
       std::vector<std::size_t> index(specs.size(), 0);
       while (true) {
         for (std::size_t j = 0; j < specs.size(); ++j)
           u[static_cast<std::size_t>(last_col) + j] = specs[j].starts[index[j]] / specs[j].scale;
+        // Compliant tyres in series soften the chair: each tyre start is tried both with the
+        // base LM and with the suspension raised so that the series pair keeps the stiffness
+        // the data showed (SeriesStiffnessStart).
         std::copy(lm_start.begin(), lm_start.end(), u.begin());
-        if (*last == effects::EffectId::kTyreCompliance && effect_list.size() == 1) {
-          // Compliant tyres in series soften the chair: start the suspension stiffer so that
-          // the series pair keeps the stiffness the data showed (1/K = 1/K_s + 1/K_tyres).
-          const std::vector<double> u_lm = SeriesStiffnessStart(training.front().prepared, map, u);
-          std::copy(u_lm.begin(), u_lm.end(), u.begin());
-        }
-        const double sse = WeightedSse(training, map.Params(u.data()), weights);
-        const double score = std::isfinite(sse) ? sse : std::numeric_limits<double>::infinity();
-        if (best_u.empty() || score < best) {  // the first of equal errors, a non-finite one too
-          best = score;
-          best_u = u;
-          best_basis = map.base_fx.cushion_whole_chair;
+        const bool series = *last == effects::EffectId::kTyreCompliance && effect_list.size() == 1;
+        const std::vector<double> raised =
+            series ? SeriesStiffnessStart(training.front().prepared, map, u) : lm_start;
+        for (int lm = 0; lm < (raised != lm_start ? 2 : 1); ++lm) {
+          std::copy(lm == 0 ? lm_start.begin() : raised.begin(), lm == 0 ? lm_start.end() : raised.end(),
+                    u.begin());
+          const double sse = WeightedSse(training, map.Params(u.data()), weights);
+          const double score = std::isfinite(sse) ? sse : std::numeric_limits<double>::infinity();
+          const effects::EffectParams fx = map.Params(u.data()).fx;
+          const std::size_t kind =
+              *last == effects::EffectId::kTyreCompliance &&
+                      (fx.caster_tyre_compliance > 0.0 || fx.drive_tyre_compliance > 0.0)
+                  ? 1
+                  : 0;
+          if (best_u[kind].empty() || score < best[kind]) {  // the first of equal errors, a non-finite one too
+            best[kind] = score;
+            best_u[kind] = u;
+            best_basis[kind] = map.base_fx.cushion_whole_chair;
+          }
         }
         std::size_t j = 0;
         while (j < specs.size() && ++index[j] == specs[j].starts.size()) index[j++] = 0;
         if (j == specs.size()) break;
       }
     }
-    u = best_u;
-    map.base_fx.cushion_whole_chair = best_basis;
+    for (std::size_t kind = 0; kind < 2; ++kind) {
+      if (best_u[kind].empty()) continue;
+      starts.push_back(best_u[kind]);
+      bases.push_back(best_basis[kind]);
+    }
   }
 
-  ceres::Problem problem;
-  for (const FitTrial& trial : training) {
-    auto* cost = new ceres::DynamicNumericDiffCostFunction<TrialFunctor, ceres::FORWARD>(
-        new TrialFunctor{&trial, &map, weights});
-    cost->AddParameterBlock(size);
-    cost->SetNumResiduals(static_cast<int>(2 * trial.z.size()));
-    problem.AddResidualBlock(cost, nullptr, u.data());
+  if (starts.empty()) {
+    starts.push_back(u);
+    bases.push_back(map.base_fx.cushion_whole_chair);
   }
-  for (int j = 0; j < 4; ++j) {
-    problem.SetParameterLowerBound(u.data(), j, -kLogBound);
-    problem.SetParameterUpperBound(u.data(), j, kLogBound);
-  }
-  {
+  auto solve = [&](std::vector<double>& x) {
+    ceres::Problem problem;
+    for (const FitTrial& trial : training) {
+      auto* cost = new ceres::DynamicNumericDiffCostFunction<TrialFunctor, ceres::FORWARD>(
+          new TrialFunctor{&trial, &map, weights});
+      cost->AddParameterBlock(size);
+      cost->SetNumResiduals(static_cast<int>(2 * trial.z.size()));
+      problem.AddResidualBlock(cost, nullptr, x.data());
+    }
+    for (int j = 0; j < 4; ++j) {
+      problem.SetParameterLowerBound(x.data(), j, -kLogBound);
+      problem.SetParameterUpperBound(x.data(), j, kLogBound);
+    }
     int col = 4;
     for (effects::EffectId id : effect_list) {
       for (const effects::ParamSpec& spec : effects::EffectParameters(id)) {
-        problem.SetParameterLowerBound(u.data(), col, spec.lower / spec.scale);
-        problem.SetParameterUpperBound(u.data(), col, spec.upper / spec.scale);
+        problem.SetParameterLowerBound(x.data(), col, spec.lower / spec.scale);
+        problem.SetParameterUpperBound(x.data(), col, spec.upper / spec.scale);
         ++col;
       }
     }
+    ceres::Solver::Options solver;
+    solver.linear_solver_type = ceres::DENSE_QR;
+    solver.max_num_iterations = options.max_iterations;
+    solver.num_threads = options.threads;
+    solver.function_tolerance = options.function_tolerance;
+    solver.parameter_tolerance = 1e-7;
+    solver.logging_type = ceres::SILENT;
+    ceres::Solver::Summary summary;
+    ceres::Solve(solver, &problem, &summary);
+    return static_cast<int>(summary.iterations.size());
+  };
+  double best_sse = std::numeric_limits<double>::infinity();
+  int iterations = 0;
+  bool basis = map.base_fx.cushion_whole_chair;
+  for (std::size_t k = 0; k < starts.size(); ++k) {
+    map.base_fx.cushion_whole_chair = bases[k];
+    std::vector<double> x = starts[k];
+    const int it = solve(x);
+    const double sse = WeightedSse(training, map.Params(x.data()), weights);
+    if (k == 0 || sse < best_sse) {  // the first of equal errors
+      best_sse = sse;
+      u = x;
+      iterations = it;
+      basis = bases[k];
+    }
   }
-  ceres::Solver::Options solver;
-  solver.linear_solver_type = ceres::DENSE_QR;
-  solver.max_num_iterations = options.max_iterations;
-  solver.num_threads = options.threads;
-  solver.function_tolerance = options.function_tolerance;
-  solver.parameter_tolerance = 1e-7;
-  solver.logging_type = ceres::SILENT;
-  ceres::Solver::Summary summary;
-  ceres::Solve(solver, &problem, &summary);
+  map.base_fx.cushion_whole_chair = basis;
 
   FitResult result;
   result.effects = effect_list;
@@ -308,7 +362,7 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
     result.effect_values.insert(result.effect_values.end(), v.begin(), v.end());
   }
   result.parameter_count = size;
-  result.iterations = static_cast<int>(summary.iterations.size());
+  result.iterations = iterations;
   result.sse = WeightedSse(training, result.params, weights, &result.residual_count);
   const double n = static_cast<double>(result.residual_count);
   result.bic = n * std::log(std::max(1e-300, result.sse / n)) + size * std::log(n);

@@ -114,6 +114,64 @@ PreparedTrial PrepareTrial(const Chair& chair, const Terrain& terrain, double lo
 
 namespace {
 
+using WheelArray = std::array<double, kMaxWheels>;
+
+/// Suspension shares s_i of wheels whose tyres (compliance c_i, 0 = rigid) are in series with
+/// their suspension springs k_i = s_i K: the pairs' series stiffnesses k'_i = 1/(1/k_i + c_i)
+/// keep the static GM's shares (k'_i = λ α_i, what the GM identified on the ground heights saw),
+/// i.e. k_i = 1/(1/(λ α_i) - c_i), with λ such that Σ k_i = K (Σ k_i grows monotonically in
+/// λ on (0, min 1/(α_i c_i)): bisection). Rigid tyres everywhere: s = α.
+WheelArray SuspensionShares(const WheelArray& alpha, const WheelArray& compliance, int wheels,
+                            double k_total) {
+  WheelArray share{};
+  double lambda_max = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < wheels; ++i)
+    if (alpha[i] > 0.0 && compliance[i] > 0.0) lambda_max = std::min(lambda_max, 1.0 / (alpha[i] * compliance[i]));
+  auto stiffness = [&](double lambda, int i) {
+    if (alpha[i] <= 0.0) return 0.0;
+    return 1.0 / (1.0 / (lambda * alpha[i]) - compliance[i]);
+  };
+  double lambda = k_total;  // all rigid: k_i = K α_i
+  if (std::isfinite(lambda_max) && k_total > 0.0) {
+    double lo = 0.0, hi = lambda_max;
+    for (int it = 0; it < 200 && hi - lo > 1e-12 * hi; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      double sum = 0.0;
+      for (int i = 0; i < wheels; ++i) sum += stiffness(mid, i);
+      (sum < k_total ? lo : hi) = mid;
+    }
+    lambda = 0.5 * (lo + hi);
+  }
+  double sum = 0.0;
+  for (int i = 0; i < wheels; ++i) sum += (share[i] = std::max(0.0, stiffness(lambda, i)));
+  for (int i = 0; i < wheels; ++i) share[i] = sum > 0.0 ? share[i] / sum : alpha[i];
+  return share;
+}
+
+/// Weighted least-squares plane through the wheel heights u_i at x_i, weights w_i:
+/// [Σw Σwx; Σwx Σwx²] [Z; θ] = [Σ w u; Σ w x u], written Z = Σ z_i u_i, θ = Σ pitch_i u_i. The
+/// same coefficients split a force F and torque Γ on the plane over the wheels,
+/// R_i = z_i F + pitch_i Γ (Σ R_i = F, Σ x_i R_i = Γ).
+struct Plane {
+  WheelArray z{}, pitch{};
+};
+Plane WeightedPlane(const WheelArray& w, const WheelArray& x, int wheels) {
+  double s0 = 0.0, s1 = 0.0, s2 = 0.0;
+  for (int i = 0; i < wheels; ++i) {
+    s0 += w[i];
+    s1 += w[i] * x[i];
+    s2 += w[i] * x[i] * x[i];
+  }
+  const double det = s0 * s2 - s1 * s1;
+  Plane p;
+  if (!(det > 0.0)) return p;
+  for (int i = 0; i < wheels; ++i) {
+    p.z[i] = w[i] * (s2 - s1 * x[i]) / det;
+    p.pitch[i] = w[i] * (s0 * x[i] - s1) / det;
+  }
+  return p;
+}
+
 /// Everything one simulation needs, fixed for the trial and the parameters.
 struct Setup {
   int wheels{0};
@@ -127,7 +185,12 @@ struct Setup {
   std::array<double, kMaxWheels> lift_off{};       ///< -(W_i/m_u + g): the tyre's pull limit [m/s²]
   std::array<double, 3> tyre_omega2{}, tyre_2zw{};  ///< ω², 2ζω of each tyre class
   std::array<AxisPropagator, 3> tyre_propagator{};
-  double inv_alpha_x2{0.0};  ///< 1 / Σ α_i x_i²
+  // Compliant tyres: each wheel's own suspension (header, tyre_compliance).
+  std::array<double, kMaxWheels> share{};             ///< s_i, suspension shares (Σ s_i = 1)
+  std::array<double, kMaxWheels> k_wheel{}, c_wheel{};  ///< s_i K_Z [N/m], s_i C_Z [N s/m]
+  std::array<double, kMaxWheels> plane_z{}, plane_t{};  ///< s-weighted plane: Z = Σ plane_z_i u_i
+  std::array<double, kMaxWheels> gm_dz{}, gm_dt{};      ///< GM correction (s-plane - α-plane)
+  bool series{false};  ///< some tyre is compliant (c_t > 0)
   AxisPropagator heave, pitch;
   double mass{1.0}, lever{0.0};
   double k_z{0}, c_z{0}, k_t{0}, c_t{0}, k_zt{0}, c_zt{0};
@@ -154,22 +217,21 @@ Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
     m.tyre_omega2[t] = omega * omega;
     m.tyre_2zw[t] = 2.0 * fx.tyre_damping * omega;
   }
-  double alpha_x2 = 0.0;
+  std::array<double, kMaxWheels> compliance{};
   for (int i = 0; i < m.wheels; ++i) {
     const bool caster = trial.is_caster[i];
     m.wheel_x[i] = chair.wheels[i].x;
     m.alpha[i] = chair.gm->alpha[i];
-    alpha_x2 += m.alpha[i] * m.wheel_x[i] * m.wheel_x[i];
     m.radius[i] = caster ? fx.caster_radius : fx.drive_radius;
     m.any_radius = m.any_radius || m.radius[i] > 0.0;
     const double period = caster ? fx.caster_tyre_period : fx.drive_tyre_period;
     m.tyre[i] = period > 1e-6 ? (caster ? 1 : 2) : 0;
     m.any_tyre = m.any_tyre || m.tyre[i] != 0;
-    const double compliance = std::max(0.0, caster ? fx.caster_tyre_compliance : fx.drive_tyre_compliance);
     const double omega = m.tyre[i] != 0 ? 2.0 * std::numbers::pi / period : 0.0;
-    m.inv_unsprung[i] = omega * omega * compliance;
-    // A tyre pushes, never pulls: its force (static W_i + m_u g plus the deviation) stays ≥ 0.
-    m.lift_off[i] = -(loads[i] * m.inv_unsprung[i] + kGravity);
+    if (m.tyre[i] != 0)
+      compliance[i] = std::max(0.0, caster ? fx.caster_tyre_compliance : fx.drive_tyre_compliance);
+    m.inv_unsprung[i] = omega * omega * compliance[i];
+    m.series = m.series || m.inv_unsprung[i] > 0.0;
     m.friction[i] = caster ? fx.caster_friction : fx.drive_friction;
     m.any_friction = m.any_friction || m.friction[i] > 0.0;
     const double load_kn =
@@ -180,8 +242,26 @@ Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
     m.height_factor[i] = std::max(0.0, fx.cushion_height_gain - loss);
     m.unit_heights = m.unit_heights && m.height_factor[i] == 1.0;
   }
-  m.inv_alpha_x2 = alpha_x2 > 0.0 ? 1.0 / alpha_x2 : 0.0;
   m.mass = MovingMass(chair, trial.load_kg);
+  if (m.any_tyre) {
+    m.share = SuspensionShares(m.alpha, compliance, m.wheels, params.lm.k_z);
+    const Plane by_share = WeightedPlane(m.share, m.wheel_x, m.wheels);
+    const Plane by_alpha = WeightedPlane(m.alpha, m.wheel_x, m.wheels);
+    for (int i = 0; i < m.wheels; ++i) {
+      m.k_wheel[i] = m.share[i] * params.lm.k_z;
+      // Held over the step, the wheel's own damper is stable while c Δt / m_u < 2: capped at 1.
+      m.c_wheel[i] = m.inv_unsprung[i] > 0.0
+                         ? std::min(m.share[i] * params.lm.c_z, 1.0 / (m.inv_unsprung[i] * dt))
+                         : 0.0;
+      m.plane_z[i] = by_share.z[i];
+      m.plane_t[i] = by_share.pitch[i];
+      m.gm_dz[i] = by_share.z[i] - by_alpha.z[i];
+      m.gm_dt[i] = by_share.pitch[i] - by_alpha.pitch[i];
+      // A tyre pushes, never pulls: its force (static W_i + m_u g plus the deviation) stays ≥ 0;
+      // the static load W_i is the suspension's share of the weight.
+      m.lift_off[i] = -(m.share[i] * m.mass * kGravity * m.inv_unsprung[i] + kGravity);
+    }
+  }
   m.k_z = params.lm.k_z;
   m.c_z = params.lm.c_z;
   m.k_t = params.lm.k_theta;
@@ -304,7 +384,16 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
   };
   auto geometric = [&](std::size_t j, const double* zc) {
     if (gm_cache) return GeometricOutput{trial.gm_cache[2 * j], trial.gm_cache[2 * j + 1]};
-    return gm.Evaluate(std::span<const double>(zc, static_cast<std::size_t>(w)));
+    GeometricOutput out = gm.Evaluate(std::span<const double>(zc, static_cast<std::size_t>(w)));
+    if (m.series) {
+      // The GM saw the ground through tyre and suspension in series; on the unsprung wheels'
+      // heights it is the suspension's: shift it by the difference of the two planes.
+      for (int i = 0; i < w; ++i) {
+        out.z += m.gm_dz[i] * zc[i];
+        out.pitch += m.gm_dt[i] * zc[i];
+      }
+    }
+    return out;
   };
 
   std::vector<double> z_grid(grid), pitch_grid(grid), z_gm_grid(grid), pitch_gm_grid(grid);
@@ -331,6 +420,18 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
   }
   record(0, body, g0);
   double gm_z_rate_prev = 0.0, gm_pitch_rate_prev = 0.0;
+  // Each wheel's height off the suspension plane through the wheels (its own spring's share of
+  // the deflection that the chassis does not see), from its static value.
+  auto off_plane = [&](const double* u, std::array<double, kMaxWheels>& d) {
+    double plane_z = 0.0, plane_t = 0.0;
+    for (int i = 0; i < w; ++i) {
+      plane_z += m.plane_z[i] * u[i];
+      plane_t += m.plane_t[i] * u[i];
+    }
+    for (int i = 0; i < w; ++i) d[i] = u[i] - plane_z - m.wheel_x[i] * plane_t;
+  };
+  std::array<double, kMaxWheels> off0{}, off{}, off_rate{}, zc_rate{};
+  if (m.series) off_plane(zc0.data(), off0);
 
   for (std::size_t j = 0; j + 1 < grid; ++j) {
     if (need_contacts) contacts(j + 1, body.pitch + dt * body.pitch_rate, h1.data());
@@ -341,12 +442,20 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
       const double dz_rate = body.z_rate - gm_z_rate_prev, dp_rate = body.pitch_rate - gm_pitch_rate_prev;
       const double force = m.k_z * dz + m.c_z * dz_rate + m.k_zt * dp + m.c_zt * dp_rate;
       const double torque = m.k_t * dp + m.c_t * dp_rate + m.k_zt * dz + m.c_zt * dz_rate;
+      if (m.series) {
+        for (int i = 0; i < w; ++i) zc_rate[i] = m.tyre[i] != 0 ? tyre_rate[i] : (h1[i] - h0[i]) * inv_dt;
+        off_plane(zc0.data(), off);
+        off_plane(zc_rate.data(), off_rate);
+      }
       for (int i = 0; i < w; ++i) {
         if (m.tyre[i] == 0) {
           zc1[i] = h1[i];
           continue;
         }
-        const double reaction = m.alpha[i] * (force + torque * m.wheel_x[i] * m.inv_alpha_x2);
+        // The chassis' force and torque split over the wheels by the suspension plane, plus
+        // the wheel's own spring and damper on its height off that plane.
+        const double reaction = m.plane_z[i] * force + m.plane_t[i] * torque -
+                                m.k_wheel[i] * (off[i] - off0[i]) - m.c_wheel[i] * off_rate[i];
         const int c = m.tyre[i];
         const double ground_rate = (h1[i] - h0[i]) * inv_dt;
         const double tyre_accel =

@@ -38,15 +38,24 @@ struct EffectParams {
   double caster_radius{0.0};  ///< [m] radius of every caster wheel (0 = point contact)
   double drive_radius{0.0};   ///< [m] radius of every non-caster wheel
   // tyre_compliance: per wheel an unsprung mass m_u on a tyre of stiffness k_t = 1/c_t and
-  // damping ratio ζ under the suspension, ω² = k_t / m_u; its height z_u is the GM's input:
+  // damping ratio ζ under its own suspension spring, ω² = k_t / m_u; its height z_u is the GM's
+  // input:
   //   z̈_u = ω² (h - z_u) + 2ζω (ḣ - ż_u) + ω² c_t R_i        (R_i / m_u = ω² c_t R_i)
-  // R_i = α_i (F_Z + Γ x_i / Σ_j α_j x_j²) the wheel's share of the LM's suspension force F_Z
-  // and torque Γ (deviations from static equilibrium). c_t = 0 drops the reaction (a stiff
-  // tyre under a heavy wheel: a unit-DC-gain filter of the ground); c_t > 0 puts the tyre in
-  // series with the suspension (static sag c_t R_i, hop mode at √((k_t + k_s)/m_u)), and the
-  // tyre pushes but never pulls: when its total force (static W_i + m_u g plus the deviation)
-  // would fall below zero the wheel leaves the ground for that step (ballistic, R_i and g; at
-  // c_t = 0 the wheel still cannot follow the ground down faster than g).
+  //   R_i = a_i F + p_i Γ - k_i d_i
+  // (deviations from static equilibrium): the LM's suspension force F and torque Γ split over
+  // the wheels by the suspension plane (a_i, p_i: coefficients of the s-weighted least-squares
+  // plane through the wheel heights, so Σ R_i = F and Σ x_i R_i = Γ), plus the wheel's own
+  // spring k_i = s_i K_Z on its height d_i off that plane (the hop mode at √((k_t + k_i)/m_u);
+  // the chassis does not feel d_i). Its own damper s_i C_Z is left out: held over the step it
+  // is unstable on light wheels (s_i C_Z Δt / m_u > 2). The suspension shares
+  // s_i: the GM was identified on ground heights, through each tyre in series with its spring,
+  // so s keeps the series pairs 1/(1/k_i + c_t,i) = λ α_i at the GM's shares α (Σ k_i = K_Z),
+  // and the GM acting on the unsprung heights is the identified one shifted by the s-plane minus
+  // the α-plane. c_t = 0 drops the reaction (a stiff tyre under a heavy wheel: a unit-DC-gain
+  // filter of the ground, s = α). The tyre pushes but never pulls: when its total force (static
+  // s_i M g + m_u g plus the deviation) would fall below zero the wheel leaves the ground for
+  // that step (ballistic, R_i and g; at c_t = 0 it still cannot follow the ground down faster
+  // than g).
   double caster_tyre_period{0.0};      ///< [s] 2π/ω of the caster tyre (0 = rigid)
   double drive_tyre_period{0.0};       ///< [s] 2π/ω of the drive tyre (0 = rigid)
   double tyre_damping{0.5};            ///< ζ [-] of the tyre modes

@@ -127,16 +127,19 @@ TEST(IndependentTruthDiagnoseTest, SoftCasterTyresInSeriesAreNamedWithTheirStiff
 
 // The open case of issue 11 (see docs/diagnosis.md, limits): every tyre much softer than the
 // suspension (the truth's form 1 at strength 1.4: casters 5 Hz on 3 kg, drive wheels 6.4 Hz on
-// 8 kg). Disabled, not deleted: heave_pitch_coupling is named today; this is the target.
+// 8 kg). Disabled, not deleted: tyre_compliance is named first today, but its fit does not
+// generalise (held-out gain −154 %: the suspension shares inverted from the GM's are
+// ill-conditioned when the tyre is as soft as its series pair); this is the target.
 TEST(IndependentTruthDiagnoseTest, DISABLED_EveryTyreSoftIsNamed) {
   const TruthRun run = DiagnoseTruth({"tyre_compliance"}, 1.4, 1, 102);
   ExpectNamedFirst(run, "tyre_compliance", 20.0);
 }
 
-// Also open (docs/diagnosis.md, confusion matrix): casters only, lightly damped (form 2 at
-// strength 0.7: 10 Hz casters on 3 kg, ζ 0.06, rigid drive tyres). Today the verdict is
-// `unexplained`: the tyre fit removes only 5 % of the selection error.
-TEST(IndependentTruthDiagnoseTest, DISABLED_LightlyDampedCasterTyresAreNamed) {
+TEST(IndependentTruthDiagnoseTest, LightlyDampedCasterTyresAreNamed) {
+  // Casters only, lightly damped (form 2 at strength 0.7: 10 Hz casters on 3 kg, ζ 0.06, rigid
+  // drive tyres). The GM identified on these trials sees each caster through its tyre in series
+  // (α of the casters 0.25/0.28 against the springs' 0.34/0.38): only a family whose suspension
+  // keeps its own shares and springs per wheel reaches the truth's behaviour.
   const TruthRun run = DiagnoseTruth({"tyre_compliance"}, 0.7, 2, 103);
   ExpectNamedFirst(run, "tyre_compliance", 20.0);
 }

@@ -221,6 +221,40 @@ TEST(EffectModelTest, TyreReactionVanishesAsTheTyreStiffens) {
   }
 }
 
+TEST(EffectModelTest, CompliantTyresKeepTheStaticResponseTheGmSaw) {
+  // The GM is identified on ground heights, i.e. through each tyre in series with its
+  // suspension; the tyre model picks the suspension's own shares s so that the series pairs
+  // keep the GM's shares α, and adds each wheel's own spring on its height off the suspension
+  // plane. So crawling over the cushion (quasi-static: every mode far above the input) the
+  // chassis follows the GM of the ground heights whatever the tyres' compliance; casters and
+  // drive wheel carry loads in the ratio 0.17 : 0.66, so a model that took α for the
+  // suspension's shares would not (its series weights α_i / (1 + c_t α_i K_Z) differ from α).
+  PreparedTrial trial = CushionTrial(0.05, 50.0);
+  trial.chair.gm->beta = {{0, 2, 1.0}};  // the α-weighted plane's pitch (Σ α x = 0, drive at x = 0)
+  ExtendedParams rigid{*trial.chair.lm, {}};
+  rigid.fx.caster_tyre_period = 0.08;
+  rigid.fx.drive_tyre_period = 0.08;
+  rigid.fx.tyre_damping = 0.7;
+  ExtendedParams soft = rigid;
+  soft.fx.caster_tyre_compliance = 1.0 / trial.chair.lm->k_z;  // each tyre as stiff as K_Z
+  soft.fx.drive_tyre_compliance = 1.0 / trial.chair.lm->k_z;
+  const ModelOutput a = SimulateExtended(trial, rigid);
+  const ModelOutput b = SimulateExtended(trial, soft);
+  double rise = 0.0, tilt = 0.0;
+  for (std::size_t k = 0; k < a.z.size(); ++k) {
+    rise = std::max(rise, std::abs(a.z[k] - a.z.front()));
+    tilt = std::max(tilt, std::abs(a.pitch[k] - a.pitch.front()));
+  }
+  ASSERT_GT(rise, 0.02);
+  EXPECT_LT(MaxAbsDiff(a.z, b.z), 0.01 * rise);
+  EXPECT_LT(MaxAbsDiff(a.pitch, b.pitch), 0.01 * tilt);
+  // Driven at 1.2 m/s the same tyres matter (the hop modes are excited): the test can tell.
+  const PreparedTrial fast = CushionTrial(1.2, 50.0);
+  const ModelOutput fa = SimulateExtended(fast, rigid);
+  const ModelOutput fb = SimulateExtended(fast, soft);
+  EXPECT_GT(MaxAbsDiff(fa.z, fb.z), 0.05 * rise);
+}
+
 TEST(EffectModelTest, DahlFrictionLeavesAStictionOffset) {
   const PreparedTrial trial = CushionTrial(0.8, 50.0);
   const ModelOutput base = SimulateExtended(trial, ExtendedParams{*trial.chair.lm, {}});
