@@ -135,7 +135,8 @@ TEST(IndependentTruthDiagnoseTest, DISABLED_EveryTyreSoftIsNamed) {
 
 // Also open (docs/diagnosis.md, confusion matrix): casters only, lightly damped (form 2 at
 // strength 0.7: 10 Hz casters on 3 kg, ζ 0.06, rigid drive tyres). Today the verdict is
-// `unexplained`: the tyre fit removes only 5 % of the selection error.
+// `unexplained`: the tyre fit removes only 5 % of the selection error. A per-wheel suspension
+// family that names it (not landed: it costs a same-model case) is traced in docs/diagnosis.md.
 TEST(IndependentTruthDiagnoseTest, DISABLED_LightlyDampedCasterTyresAreNamed) {
   const TruthRun run = DiagnoseTruth({"tyre_compliance"}, 0.7, 2, 103);
   ExpectNamedFirst(run, "tyre_compliance", 20.0);
