@@ -92,6 +92,7 @@ std::vector<double> SeriesStiffnessStart(const effects::PreparedTrial& trial, co
   }
   std::vector<double> out(u.begin(), u.begin() + 4);
   auto raise = [](double k, double added) {  // log ratio of the suspension to the seen stiffness
+    if (!(added > 0.0)) return 0.0;  // rigid tyres: the start as it is
     const double inv = 1.0 / k - added;
     return inv > 0.2 / k ? std::log(1.0 / (k * inv)) : 0.0;
   };
@@ -250,15 +251,21 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
   // truth it found no better basin and added a spurious cause, at twice the time.)
   std::vector<std::vector<double>> starts;  // solved, each; the lowest training error is kept
   std::vector<bool> bases;                  // their cushion load bases
+  std::vector<bool> stiff;                  // stiff-tyre starts: compliances held at zero
   if (last) {
     const auto& specs = effects::EffectParameters(*last);
     const bool cushion = *last == effects::EffectId::kCushionCompliance;
     const std::vector<double> lm_start(u.begin(), u.begin() + 4);
-    // Tyres: the best start of each kind, stiff (no reaction, c_t = 0) and compliant, is solved
-    // (a compliant start can score best and still end in a worse basin than the stiff one).
-    std::array<double, 2> best{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
-    std::array<std::vector<double>, 2> best_u;
-    std::array<bool, 2> best_basis{map.base_fx.cushion_whole_chair, map.base_fx.cushion_whole_chair};
+    // Tyres: the best starts of each kind are solved, stiff (no reaction, c_t = 0: the best
+    // two, whose tyre periods lie in different basins more often than not) and compliant (the
+    // best one): a compliant start can score best and still end in a worse basin.
+    const bool tyre = *last == effects::EffectId::kTyreCompliance;
+    struct Scored {
+      double score;
+      std::vector<double> u;
+      bool basis;
+    };
+    std::array<std::vector<Scored>, 2> scored;  // by kind: stiff, compliant
     for (int basis = 0; basis < (cushion ? 2 : 1); ++basis) {
       if (cushion) map.base_fx.cushion_whole_chair = basis == 1;
       std::vector<std::size_t> index(specs.size(), 0);
@@ -269,7 +276,7 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
         // base LM and with the suspension raised so that the series pair keeps the stiffness
         // the data showed (SeriesStiffnessStart).
         std::copy(lm_start.begin(), lm_start.end(), u.begin());
-        const bool series = *last == effects::EffectId::kTyreCompliance && effect_list.size() == 1;
+        const bool series = tyre && effect_list.size() == 1;
         const std::vector<double> raised =
             series ? SeriesStiffnessStart(training.front().prepared, map, u) : lm_start;
         for (int lm = 0; lm < (raised != lm_start ? 2 : 1); ++lm) {
@@ -279,15 +286,8 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
           const double score = std::isfinite(sse) ? sse : std::numeric_limits<double>::infinity();
           const effects::EffectParams fx = map.Params(u.data()).fx;
           const std::size_t kind =
-              *last == effects::EffectId::kTyreCompliance &&
-                      (fx.caster_tyre_compliance > 0.0 || fx.drive_tyre_compliance > 0.0)
-                  ? 1
-                  : 0;
-          if (best_u[kind].empty() || score < best[kind]) {  // the first of equal errors, a non-finite one too
-            best[kind] = score;
-            best_u[kind] = u;
-            best_basis[kind] = map.base_fx.cushion_whole_chair;
-          }
+              tyre && (fx.caster_tyre_compliance > 0.0 || fx.drive_tyre_compliance > 0.0) ? 1 : 0;
+          scored[kind].push_back({score, u, map.base_fx.cushion_whole_chair});
         }
         std::size_t j = 0;
         while (j < specs.size() && ++index[j] == specs[j].starts.size()) index[j++] = 0;
@@ -295,17 +295,32 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
       }
     }
     for (std::size_t kind = 0; kind < 2; ++kind) {
-      if (best_u[kind].empty()) continue;
-      starts.push_back(best_u[kind]);
-      bases.push_back(best_basis[kind]);
+      // The lowest errors first; of equal errors (a non-finite one too) the first tried.
+      std::stable_sort(scored[kind].begin(), scored[kind].end(),
+                       [](const Scored& a, const Scored& b) { return a.score < b.score; });
+      const std::size_t keep = tyre && kind == 0 ? 2 : 1;
+      for (std::size_t k = 0; k < std::min(keep, scored[kind].size()); ++k) {
+        starts.push_back(scored[kind][k].u);
+        bases.push_back(scored[kind][k].basis);
+        stiff.push_back(tyre && kind == 0);
+      }
     }
   }
 
   if (starts.empty()) {
     starts.push_back(u);
     bases.push_back(map.base_fx.cushion_whole_chair);
+    stiff.push_back(false);
   }
-  auto solve = [&](std::vector<double>& x) {
+  // Columns of the last effect's tyre compliances (held at zero when a stiff start is solved:
+  // the stiff tyre is its own member of the family, a filter of the ground with no reaction).
+  std::vector<int> compliance_cols;
+  if (last && *last == effects::EffectId::kTyreCompliance) {
+    const auto& specs = effects::EffectParameters(*last);
+    for (std::size_t j = 0; j < specs.size(); ++j)
+      if (specs[j].name.find("compliance") != std::string::npos) compliance_cols.push_back(last_col + static_cast<int>(j));
+  }
+  auto solve = [&](std::vector<double>& x, bool hold_compliance) {
     ceres::Problem problem;
     for (const FitTrial& trial : training) {
       auto* cost = new ceres::DynamicNumericDiffCostFunction<TrialFunctor, ceres::FORWARD>(
@@ -314,6 +329,8 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
       cost->SetNumResiduals(static_cast<int>(2 * trial.z.size()));
       problem.AddResidualBlock(cost, nullptr, x.data());
     }
+    if (hold_compliance && !compliance_cols.empty())
+      problem.SetManifold(x.data(), new ceres::SubsetManifold(size, compliance_cols));
     for (int j = 0; j < 4; ++j) {
       problem.SetParameterLowerBound(x.data(), j, -kLogBound);
       problem.SetParameterUpperBound(x.data(), j, kLogBound);
@@ -343,7 +360,7 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
   for (std::size_t k = 0; k < starts.size(); ++k) {
     map.base_fx.cushion_whole_chair = bases[k];
     std::vector<double> x = starts[k];
-    const int it = solve(x);
+    const int it = solve(x, stiff[k]);
     const double sse = WeightedSse(training, map.Params(x.data()), weights);
     if (k == 0 || sse < best_sse) {  // the first of equal errors
       best_sse = sse;

@@ -41,13 +41,13 @@ struct EffectParams {
   // damping ratio ζ under its own suspension spring, ω² = k_t / m_u; its height z_u is the GM's
   // input:
   //   z̈_u = ω² (h - z_u) + 2ζω (ḣ - ż_u) + ω² c_t R_i        (R_i / m_u = ω² c_t R_i)
-  //   R_i = a_i F + p_i Γ - k_i d_i
+  //   R_i = a_i F + p_i Γ - k_i d_i - c_i ḋ_i
   // (deviations from static equilibrium): the LM's suspension force F and torque Γ split over
   // the wheels by the suspension plane (a_i, p_i: coefficients of the s-weighted least-squares
   // plane through the wheel heights, so Σ R_i = F and Σ x_i R_i = Γ), plus the wheel's own
   // spring k_i = s_i K_Z on its height d_i off that plane (the hop mode at √((k_t + k_i)/m_u);
-  // the chassis does not feel d_i). Its own damper s_i C_Z is left out: held over the step it
-  // is unstable on light wheels (s_i C_Z Δt / m_u > 2). The suspension shares
+  // the chassis does not feel d_i), and its own damper s_i C_Z on ḋ_i (held over the step, so
+  // capped where s_i C_Z Δt / m_u would pass 1: beyond 2 it is unstable). The suspension shares
   // s_i: the GM was identified on ground heights, through each tyre in series with its spring,
   // so s keeps the series pairs 1/(1/k_i + c_t,i) = λ α_i at the GM's shares α (Σ k_i = K_Z),
   // and the GM acting on the unsprung heights is the identified one shifted by the s-plane minus
