@@ -83,9 +83,12 @@ std::vector<ResidualRecord> ResidualRecords(const std::vector<FitTrial>& trials,
 
 }  // namespace
 
-Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records,
+Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records_given,
                    const DiagnoseOptions& options) {
-  PWSIM_DEMAND(records.size() >= 2);
+  PWSIM_DEMAND(records_given.size() >= 2);
+  std::vector<effects::TrialRecord> records = records_given;  // in the order of their names
+  std::stable_sort(records.begin(), records.end(),
+                   [](const effects::TrialRecord& a, const effects::TrialRecord& b) { return a.name < b.name; });
   Diagnosis dx;
   dx.chair = records.front().chair;
   PWSIM_DEMAND(dx.chair.gm.has_value());

@@ -141,7 +141,10 @@ struct Diagnosis {
 };
 
 /// Runs the whole diagnosis. @pre ≥ 2 trials, all with the same chair wheels; chair.gm set
-/// on every record (use IdentifyBaseChair first when it is not).
+/// on every record (use IdentifyBaseChair first when it is not). The trials are taken in the
+/// order of their names whatever order they come in (the fits sum over trials in floating
+/// point, and a multi-start can tip either way on the last bit), so one set of trials gives
+/// one diagnosis.
 Diagnosis Diagnose(const std::vector<effects::TrialRecord>& trials,
                    const DiagnoseOptions& options = {});
 

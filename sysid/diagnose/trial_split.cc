@@ -80,6 +80,9 @@ std::vector<effects::TrialRecord> RecordsFromMeasured(const std::vector<Measured
   std::vector<MeasuredTrial> training;
   for (std::size_t i = 0; i < trials.size(); ++i)
     if (!held[i]) training.push_back(trials[i]);
+  // In the order of their names, whatever order they came in: one set, one base model.
+  std::stable_sort(training.begin(), training.end(),
+                   [](const MeasuredTrial& a, const MeasuredTrial& b) { return a.name < b.name; });
   try {
     const IdentifyResult id = IdentifyChair(training, AssignRoles(training));
     chair = id.chair;
