@@ -32,6 +32,8 @@ std::vector<std::pair<std::string, double>> NamedParameters(const FitResult& fit
     for (std::size_t j = 0; j < specs.size(); ++j) out.emplace_back(specs[j].name, fit.effect_values[col++]);
     if (id == EffectId::kCushionCompliance)
       out.emplace_back("cushion_whole_chair", fit.params.fx.cushion_whole_chair ? 1.0 : 0.0);
+    if (id == EffectId::kNonlinearStiffness)
+      out.emplace_back("bump_rebound", fit.params.fx.bump_rebound ? 1.0 : 0.0);
   }
   out.emplace_back("k_z", fit.params.lm.k_z);
   out.emplace_back("c_z", fit.params.lm.c_z);
@@ -87,8 +89,9 @@ Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records_given,
                    const DiagnoseOptions& options) {
   PWSIM_DEMAND(records_given.size() >= 2);
   std::vector<effects::TrialRecord> records = records_given;  // in the order of their names
-  std::stable_sort(records.begin(), records.end(),
-                   [](const effects::TrialRecord& a, const effects::TrialRecord& b) { return a.name < b.name; });
+  std::stable_sort(records.begin(), records.end(), [](const effects::TrialRecord& a, const effects::TrialRecord& b) {
+    return a.name < b.name;
+  });
   Diagnosis dx;
   dx.chair = records.front().chair;
   PWSIM_DEMAND(dx.chair.gm.has_value());

@@ -250,11 +250,12 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
   // (Solving the best three tyre starts regardless of kind was tried: on the independent
   // truth it found no better basin and added a spurious cause, at twice the time.)
   std::vector<std::vector<double>> starts;  // solved, each; the lowest training error is kept
-  std::vector<bool> bases;                  // their cushion load bases
+  std::vector<effects::EffectParams> bases;  // their discrete settings (cushion basis, rebound stops)
   std::vector<bool> stiff;                  // stiff-tyre starts: compliances held at zero
   if (last) {
     const auto& specs = effects::EffectParameters(*last);
     const bool cushion = *last == effects::EffectId::kCushionCompliance;
+    const bool stops = *last == effects::EffectId::kNonlinearStiffness;
     const std::vector<double> lm_start(u.begin(), u.begin() + 4);
     // Tyres: the best starts of each kind are solved, stiff (no reaction, c_t = 0: the best
     // two, whose tyre periods lie in different basins more often than not) and compliant (the
@@ -263,11 +264,15 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
     struct Scored {
       double score;
       std::vector<double> u;
-      bool basis;
+      effects::EffectParams base;
     };
     std::array<std::vector<Scored>, 2> scored;  // by kind: stiff, compliant
-    for (int basis = 0; basis < (cushion ? 2 : 1); ++basis) {
+    // The family's discrete members are multi-started: the cushion's load basis (per wheel or
+    // whole chair; the better start solved), the stops in compression only or in rebound as
+    // well (the best start of each solved: a start's error hardly tells them apart).
+    for (int basis = 0; basis < (cushion || stops ? 2 : 1); ++basis) {
       if (cushion) map.base_fx.cushion_whole_chair = basis == 1;
+      if (stops) map.base_fx.bump_rebound = basis == 1;
       std::vector<std::size_t> index(specs.size(), 0);
       while (true) {
         for (std::size_t j = 0; j < specs.size(); ++j)
@@ -285,9 +290,12 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
           const double sse = WeightedSse(training, map.Params(u.data()), weights);
           const double score = std::isfinite(sse) ? sse : std::numeric_limits<double>::infinity();
           const effects::EffectParams fx = map.Params(u.data()).fx;
-          const std::size_t kind =
-              tyre && (fx.caster_tyre_compliance > 0.0 || fx.drive_tyre_compliance > 0.0) ? 1 : 0;
-          scored[kind].push_back({score, u, map.base_fx.cushion_whole_chair});
+          // Kinds solved apart: stiff and compliant tyres; stops in compression only and in
+          // rebound as well (a rebound start without stops is the compression one again).
+          if (stops && fx.bump_rebound && fx.bump_gain <= 0.0) continue;
+          const bool compliant = tyre && (fx.caster_tyre_compliance > 0.0 || fx.drive_tyre_compliance > 0.0);
+          const std::size_t kind = compliant || (stops && fx.bump_rebound) ? 1 : 0;
+          scored[kind].push_back({score, u, map.base_fx});
         }
         std::size_t j = 0;
         while (j < specs.size() && ++index[j] == specs[j].starts.size()) index[j++] = 0;
@@ -301,7 +309,7 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
       const std::size_t keep = tyre && kind == 0 ? 2 : 1;
       for (std::size_t k = 0; k < std::min(keep, scored[kind].size()); ++k) {
         starts.push_back(scored[kind][k].u);
-        bases.push_back(scored[kind][k].basis);
+        bases.push_back(scored[kind][k].base);
         stiff.push_back(tyre && kind == 0);
       }
     }
@@ -309,7 +317,7 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
 
   if (starts.empty()) {
     starts.push_back(u);
-    bases.push_back(map.base_fx.cushion_whole_chair);
+    bases.push_back(map.base_fx);
     stiff.push_back(false);
   }
   // Columns of the last effect's tyre compliances (held at zero when a stiff start is solved:
@@ -318,7 +326,8 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
   if (last && *last == effects::EffectId::kTyreCompliance) {
     const auto& specs = effects::EffectParameters(*last);
     for (std::size_t j = 0; j < specs.size(); ++j)
-      if (specs[j].name.find("compliance") != std::string::npos) compliance_cols.push_back(last_col + static_cast<int>(j));
+      if (specs[j].name.find("compliance") != std::string::npos)
+        compliance_cols.push_back(last_col + static_cast<int>(j));
   }
   auto solve = [&](std::vector<double>& x, bool hold_compliance) {
     ceres::Problem problem;
@@ -356,9 +365,9 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
   };
   double best_sse = std::numeric_limits<double>::infinity();
   int iterations = 0;
-  bool basis = map.base_fx.cushion_whole_chair;
+  effects::EffectParams basis = map.base_fx;
   for (std::size_t k = 0; k < starts.size(); ++k) {
-    map.base_fx.cushion_whole_chair = bases[k];
+    map.base_fx = bases[k];
     std::vector<double> x = starts[k];
     const int it = solve(x, stiff[k]);
     const double sse = WeightedSse(training, map.Params(x.data()), weights);
@@ -369,7 +378,7 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
       basis = bases[k];
     }
   }
-  map.base_fx.cushion_whole_chair = basis;
+  map.base_fx = basis;
 
   FitResult result;
   result.effects = effect_list;

@@ -45,7 +45,8 @@ const char* EffectDescription(EffectId id) {
       "vertical tyre compliance: series spring-damper (with unsprung mass) per wheel",
       "the obstacle yields under load: effective height h (g - c (W/1 kN)^p), W per wheel or whole chair",
       "off-diagonal stiffness and damping between heave and pitch",
-      "progressive (hardening) suspension stiffness: symmetric cubic and per-wheel one-sided bump stops",
+      "progressive (hardening) suspension stiffness: symmetric cubic and per-wheel bump stops, "
+      "in compression or both ways",
       "dry (Coulomb) friction in the suspension",
       "pitch torque from longitudinal acceleration (the Γθ term), chair and occupant levers",
       "tracked origin not at O_V: a lever arm (forward, up) mixes pitch into the measured x and altitude"};

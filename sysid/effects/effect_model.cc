@@ -195,6 +195,7 @@ struct Setup {
   double mass{1.0}, lever{0.0};
   double k_z{0}, c_z{0}, k_t{0}, c_t{0}, k_zt{0}, c_zt{0};
   double hard_z{0}, hard_t{0}, bump_gain{0}, bump_gap{0}, presliding{5e-4};
+  bool bump_rebound{false};
   double marker_x{0}, marker_z{0};
   bool any_radius{false}, any_tyre{false}, any_friction{false}, unit_heights{true};
   bool held_forces{false};  ///< coupling, hardening, bump stops or friction present
@@ -274,6 +275,7 @@ Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
   m.hard_t = fx.pitch_hardening;
   m.bump_gain = fx.bump_gain;
   m.bump_gap = fx.bump_gap;
+  m.bump_rebound = fx.bump_rebound;
   m.presliding = std::max(1e-6, fx.friction_presliding);
   // Γ_θ = M lever a_x with the mass-weighted lever of chair and occupant.
   m.lever = (chair.mass * fx.cm_lever + trial.load_kg * fx.load_cm_lever) / m.mass;
@@ -304,12 +306,16 @@ Load HeldForces(const Setup& m, const Body& b, const GeometricOutput& gm, double
   f.pitch -= m.k_t * dp * m.hard_t * qp * qp + m.k_zt * dz + m.c_zt * dz_rate;
   if (m.bump_gain > 0.0) {
     // Bump stops: F_i = b K_Z α_i max(0, c_i - g)² / δ_ref on each wheel's compression
-    // c_i = Z_Oi - (Z + x_i sin θ), pushing the chassis up at x_i.
+    // c_i = Z_Oi - (Z + x_i sin θ), pushing the chassis up at x_i; rebound stops the same on
+    // its extension -c_i, pulling it down.
     const double sin_t = std::sin(b.pitch);
     for (int i = 0; i < m.wheels; ++i) {
-      const double over = zc[i] - (b.z + m.wheel_x[i] * sin_t) - m.bump_gap;
-      if (over <= 0.0) continue;
-      const double force = m.bump_gain * m.k_z * m.alpha[i] * over * over / kHeaveRef;
+      const double compression = zc[i] - (b.z + m.wheel_x[i] * sin_t);
+      const double over = compression - m.bump_gap;
+      const double under = m.bump_rebound ? -compression - m.bump_gap : 0.0;
+      double force = 0.0;
+      if (over > 0.0) force = m.bump_gain * m.k_z * m.alpha[i] * over * over / kHeaveRef;
+      if (under > 0.0) force = -m.bump_gain * m.k_z * m.alpha[i] * under * under / kHeaveRef;
       f.heave += force;
       f.pitch += force * m.wheel_x[i];
     }

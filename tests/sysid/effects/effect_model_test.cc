@@ -273,6 +273,28 @@ TEST(EffectModelTest, DahlFrictionLeavesAStictionOffset) {
   for (std::size_t k = 0; k <= last; ++k) ASSERT_TRUE(std::isfinite(out.z[k]) && std::isfinite(out.pitch[k]));
 }
 
+TEST(EffectModelTest, ReboundStopsHoldTheChassisDownAndActOnlyPastTheirGap) {
+  const PreparedTrial trial = CushionTrial(1.5, 0.0);
+  ExtendedParams compression{*trial.chair.lm, {}};
+  compression.fx.bump_gain = 2.0;
+  compression.fx.bump_gap = 0.002;
+  ExtendedParams both = compression;
+  both.fx.bump_rebound = true;
+  const ModelOutput a = SimulateExtended(trial, compression);
+  const ModelOutput b = SimulateExtended(trial, both);
+  // The chassis' largest rise above the GM's output is cut by the stops in rebound.
+  double rise_a = 0.0, rise_b = 0.0;
+  for (std::size_t k = 0; k < a.z.size(); ++k) {
+    rise_a = std::max(rise_a, a.z[k] - a.z_gm[k]);
+    rise_b = std::max(rise_b, b.z[k] - b.z_gm[k]);
+  }
+  ASSERT_GT(rise_a, 0.004);  // the crossing extends the suspension past the gap
+  EXPECT_LT(rise_b, 0.9 * rise_a);
+  // A gap wider than any stroke: the rebound stops never engage, to the bit.
+  compression.fx.bump_gap = both.fx.bump_gap = 0.5;
+  EXPECT_EQ(SimulateExtended(trial, compression).z, SimulateExtended(trial, both).z);
+}
+
 TEST(EffectModelTest, InertialPitchTorqueFollowsAcceleration) {
   const PreparedTrial trial = CushionTrial(1.2, 100.0);
   // Both centres of mass at h = 0.43 m: Γ = (M_0 + M_u) h a.
