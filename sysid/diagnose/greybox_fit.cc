@@ -245,10 +245,12 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
   }
 
   // Multi-start of the last effect over the catalogue's starting points (Cartesian product)
-  // and, for the cushion, over its two load bases; the start with the lowest error is solved
-  // (for the tyres, the best stiff and the best compliant start, and the better fit kept).
-  // (Solving the best three tyre starts regardless of kind was tried: on the independent
-  // truth it found no better basin and added a spurious cause, at twice the time.)
+  // and over its family's discrete members; the starts with the lowest error are solved and
+  // the best fit kept. One start in general; for the tyres the best two stiff starts (c_t held
+  // at 0: their periods lie in different basins more often than not) and the best compliant
+  // one, which can score best and still end in a worse basin; for the stops the best start of
+  // each member. (Solving the best three tyre starts regardless of kind was tried: on the
+  // independent truth it found no better basin and added a spurious cause, at twice the time.)
   std::vector<std::vector<double>> starts;  // solved, each; the lowest training error is kept
   std::vector<effects::EffectParams> bases;  // their discrete settings (cushion basis, rebound stops)
   std::vector<bool> stiff;                  // stiff-tyre starts: compliances held at zero
@@ -257,9 +259,6 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
     const bool cushion = *last == effects::EffectId::kCushionCompliance;
     const bool stops = *last == effects::EffectId::kNonlinearStiffness;
     const std::vector<double> lm_start(u.begin(), u.begin() + 4);
-    // Tyres: the best starts of each kind are solved, stiff (no reaction, c_t = 0: the best
-    // two, whose tyre periods lie in different basins more often than not) and compliant (the
-    // best one): a compliant start can score best and still end in a worse basin.
     const bool tyre = *last == effects::EffectId::kTyreCompliance;
     struct Scored {
       double score;
