@@ -74,10 +74,11 @@ struct EffectParams {
   // nonlinear_stiffness: K δ (1 + κ (δ/δ_ref)²), δ_ref = kHeaveRef, kPitchRef.
   double heave_hardening{0.0};  ///< κ_Z [-]
   double pitch_hardening{0.0};  ///< κ_θ [-]
-  // ... and per-wheel bump stops (progressive): wheel i adds F_i = b K_Z α_i max(0, c_i - g)² / δ_ref,
-  // c_i = Z_Oi - (Z + x_i sin θ) its compression, at x_i; with rebound stops as well (a
-  // discrete member of the family, both fitted and the better kept) it also adds
-  // -b K_Z α_i max(0, -c_i - g)² / δ_ref in extension, pulling the chassis back down.
+  // ... and per-wheel bump stops (progressive): wheel i adds
+  //   F_i = b K_Z α_i max(0, c_i - g)² / δ_ref,  c_i = Z_Oi - (Z + x_i sin θ) its compression,
+  // at x_i; with rebound stops as well (a discrete member of the family, both fitted and the
+  // better kept) it also adds -b K_Z α_i max(0, -c_i - g)² / δ_ref in extension, pulling the
+  // chassis back down.
   double bump_gain{0.0};      ///< b [-]
   double bump_gap{0.0};       ///< g [m] compression (and extension) before a stop engages
   bool bump_rebound{false};   ///< the stops act in rebound too

@@ -127,9 +127,9 @@ TEST(IndependentTruthDiagnoseTest, SoftCasterTyresInSeriesAreNamedWithTheirStiff
 
 // The open case of issue 11 (see docs/diagnosis.md, limits): every tyre much softer than the
 // suspension (the truth's form 1 at strength 1.4: casters 5 Hz on 3 kg, drive wheels 6.4 Hz on
-// 8 kg). Disabled, not deleted: tyre_compliance is named first today, but its fit does not
-// generalise (held-out gain −154 %: the suspension shares inverted from the GM's are
-// ill-conditioned when the tyre is as soft as its series pair); this is the target.
+// 8 kg). Disabled, not deleted: tyre_compliance is named first today, but by a fit far from the
+// truth's tyres (caster period at its 0.02 s bound against 0.20 s) that does not generalise
+// (held-out gain −154 %); this is the target.
 TEST(IndependentTruthDiagnoseTest, DISABLED_EveryTyreSoftIsNamed) {
   const TruthRun run = DiagnoseTruth({"tyre_compliance"}, 1.4, 1, 102);
   ExpectNamedFirst(run, "tyre_compliance", 20.0);
