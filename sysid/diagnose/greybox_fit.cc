@@ -71,24 +71,20 @@ std::vector<double> SeriesStiffnessStart(const effects::PreparedTrial& trial, co
   const effects::ExtendedParams p = map.Params(u.data());
   const Chair& chair = trial.chair;
   const int n = chair.wheel_count();
-  double s0 = 0.0, s1 = 0.0, s2 = 0.0;
+  effects::WheelArray alpha{}, x{};
   for (int i = 0; i < n; ++i) {
-    const double a = chair.gm->alpha[static_cast<std::size_t>(i)], x = chair.wheels[static_cast<std::size_t>(i)].x;
-    s0 += a;
-    s1 += a * x;
-    s2 += a * x * x;
+    alpha[static_cast<std::size_t>(i)] = chair.gm->alpha[static_cast<std::size_t>(i)];
+    x[static_cast<std::size_t>(i)] = chair.wheels[static_cast<std::size_t>(i)].x;
   }
-  const double det = s0 * s2 - s1 * s1;
+  const effects::WheelPlane share = effects::WeightedPlane(alpha, x, n);  // the GM's plane
   double heave = 0.0, pitch = 0.0;  // added compliances [m/N], [1/(N m)]
   for (int i = 0; i < n; ++i) {
     const auto k = static_cast<std::size_t>(i);
     const double c = trial.is_caster[k] ? p.fx.caster_tyre_compliance : p.fx.drive_tyre_compliance;
     const double period = trial.is_caster[k] ? p.fx.caster_tyre_period : p.fx.drive_tyre_period;
-    if (c <= 0.0 || period <= 0.0 || !(det > 0.0)) continue;
-    const double a = chair.gm->alpha[k], x = chair.wheels[k].x;
-    const double share_z = a * (s2 - s1 * x) / det, share_t = a * (s0 * x - s1) / det;
-    heave += c * share_z * share_z;
-    pitch += c * share_t * share_t;
+    if (c <= 0.0 || period <= 0.0) continue;
+    heave += c * share.z[k] * share.z[k];
+    pitch += c * share.pitch[k] * share.pitch[k];
   }
   std::vector<double> out(u.begin(), u.begin() + 4);
   auto raise = [](double k, double added) {  // log ratio of the suspension to the seen stiffness

@@ -112,9 +112,24 @@ PreparedTrial PrepareTrial(const Chair& chair, const Terrain& terrain, double lo
   return trial;
 }
 
-namespace {
+WheelPlane WeightedPlane(const WheelArray& w, const WheelArray& x, int wheels) {
+  double s0 = 0.0, s1 = 0.0, s2 = 0.0;
+  for (int i = 0; i < wheels; ++i) {
+    s0 += w[i];
+    s1 += w[i] * x[i];
+    s2 += w[i] * x[i] * x[i];
+  }
+  const double det = s0 * s2 - s1 * s1;
+  WheelPlane p;
+  if (!(det > 0.0)) return p;
+  for (int i = 0; i < wheels; ++i) {
+    p.z[i] = w[i] * (s2 - s1 * x[i]) / det;
+    p.pitch[i] = w[i] * (s0 * x[i] - s1) / det;
+  }
+  return p;
+}
 
-using WheelArray = std::array<double, kMaxWheels>;
+namespace {
 
 /// Suspension shares s_i of wheels whose tyres (compliance c_i, 0 = rigid) are in series with
 /// their suspension springs k_i = s_i K: the pairs' series stiffnesses k'_i = 1/(1/k_i + c_i)
@@ -146,30 +161,6 @@ WheelArray SuspensionShares(const WheelArray& alpha, const WheelArray& complianc
   for (int i = 0; i < wheels; ++i) sum += (share[i] = std::max(0.0, stiffness(lambda, i)));
   for (int i = 0; i < wheels; ++i) share[i] = sum > 0.0 ? share[i] / sum : alpha[i];
   return share;
-}
-
-/// Weighted least-squares plane through the wheel heights u_i at x_i, weights w_i:
-/// [Σw Σwx; Σwx Σwx²] [Z; θ] = [Σ w u; Σ w x u], written Z = Σ z_i u_i, θ = Σ pitch_i u_i. The
-/// same coefficients split a force F and torque Γ on the plane over the wheels,
-/// R_i = z_i F + pitch_i Γ (Σ R_i = F, Σ x_i R_i = Γ).
-struct Plane {
-  WheelArray z{}, pitch{};
-};
-Plane WeightedPlane(const WheelArray& w, const WheelArray& x, int wheels) {
-  double s0 = 0.0, s1 = 0.0, s2 = 0.0;
-  for (int i = 0; i < wheels; ++i) {
-    s0 += w[i];
-    s1 += w[i] * x[i];
-    s2 += w[i] * x[i] * x[i];
-  }
-  const double det = s0 * s2 - s1 * s1;
-  Plane p;
-  if (!(det > 0.0)) return p;
-  for (int i = 0; i < wheels; ++i) {
-    p.z[i] = w[i] * (s2 - s1 * x[i]) / det;
-    p.pitch[i] = w[i] * (s0 * x[i] - s1) / det;
-  }
-  return p;
 }
 
 /// Everything one simulation needs, fixed for the trial and the parameters.
@@ -246,8 +237,8 @@ Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
   m.mass = MovingMass(chair, trial.load_kg);
   if (m.any_tyre) {
     m.share = SuspensionShares(m.alpha, compliance, m.wheels, params.lm.k_z);
-    const Plane by_share = WeightedPlane(m.share, m.wheel_x, m.wheels);
-    const Plane by_alpha = WeightedPlane(m.alpha, m.wheel_x, m.wheels);
+    const WheelPlane by_share = WeightedPlane(m.share, m.wheel_x, m.wheels);
+    const WheelPlane by_alpha = WeightedPlane(m.alpha, m.wheel_x, m.wheels);
     for (int i = 0; i < m.wheels; ++i) {
       m.k_wheel[i] = m.share[i] * params.lm.k_z;
       // Held over the step, the wheel's own damper is stable while c Δt / m_u < 2: capped at 1.

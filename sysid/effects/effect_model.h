@@ -22,6 +22,7 @@
 //   params.fx.marker_lever_x = 0.1;
 //   ModelOutput out = SimulateExtended(trial, params);
 
+#include <array>
 #include <span>
 #include <string>
 #include <vector>
@@ -142,6 +143,19 @@ PreparedTrial PrepareTrial(const Chair& chair, const Terrain& terrain, double lo
 
 /// Casters: wheels named "*caster*" or clearly smaller than the largest wheel.
 std::vector<bool> CasterWheels(const Chair& chair);
+
+/// One value per wheel (the first `wheels` used).
+using WheelArray = std::array<double, kMaxWheels>;
+
+/// Weighted least-squares plane through the wheel heights u_i at x_i, weights w_i:
+/// [Σw Σwx; Σwx Σwx²] [Z; θ] = [Σ w u; Σ w x u], written Z = Σ z_i u_i, θ = Σ pitch_i u_i. The
+/// same coefficients split a force F and torque Γ on the plane over the wheels,
+/// R_i = z_i F + pitch_i Γ (Σ R_i = F, Σ x_i R_i = Γ). All zero when the weights do not fix a
+/// plane (fewer than two weighted positions).
+struct WheelPlane {
+  WheelArray z{}, pitch{};
+};
+WheelPlane WeightedPlane(const WheelArray& w, const WheelArray& x, int wheels);
 
 /// The extended model's output: pwsim::ModelOutput (sysid/measured/measured_trial.h) with the
 /// GM output filled in.
