@@ -60,6 +60,19 @@ nlohmann::ordered_json DiagnosisJson(const Diagnosis& d, const std::string& base
   j["selection_trials"] = d.selection_trials;
   j["training_trials"] = d.training_trials;
   j["split"] = d.split;
+  // The extended model: the causes' joint fit (the base model when none) and its GM (the base
+  // model's, or identified again under the marker lever found).
+  {
+    nlohmann::ordered_json effects = nlohmann::ordered_json::array();
+    for (effects::EffectId id : d.extended.effects) effects.push_back(effects::EffectName(id));
+    nlohmann::ordered_json params = nlohmann::ordered_json::object();
+    for (const auto& [name, value] : d.extended_parameters) params[name] = JsonNumber(value);
+    nlohmann::ordered_json alpha = nlohmann::ordered_json::array();
+    for (double a : d.chair.gm->alpha) alpha.push_back(JsonNumber(a));
+    j["extended_model"] = {{"effects", effects},
+                           {"parameters", params},
+                           {"gm", {{"identified_under_marker_lever", d.gm_under_marker}, {"alpha", alpha}}}};
+  }
   j["base_model"] = {{"source", base_source},
                      {"k_z", JsonNumber(d.base.params.lm.k_z)},
                      {"c_z", JsonNumber(d.base.params.lm.c_z)},

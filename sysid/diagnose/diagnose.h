@@ -128,13 +128,15 @@ struct Diagnosis {
   double sigma_z{0.0}, sigma_pitch{0.0};  ///< σ̂ [m], [rad]
   NoiseCheck base_check, extended_check;  ///< selection + report trials
   FitResult extended;              ///< the joint fit of every cause (base when none)
+  std::vector<std::pair<std::string, double>> extended_parameters;  ///< its parameters, named
   std::vector<std::string> selection_trials;
   std::vector<RankEntry> ranking;  ///< best first
   FitPct base_heldout, extended_heldout;
   std::vector<std::string> heldout_trials, training_trials;
   std::string split;  ///< how the held-out trials were chosen
   FitResult base;
-  Chair chair;        ///< the chair whose GM was used
+  Chair chair;        ///< the chair whose GM was used (by the extended model)
+  bool gm_under_marker{false};  ///< the GM was identified again under the marker lever found
   ResidualReport residuals;
   std::vector<TrialAnalysis> trials;
   std::vector<bool> selection;      ///< per trial: used to choose the causes
@@ -163,6 +165,16 @@ std::vector<bool> ChooseSelection(const std::vector<effects::TrialRecord>& trial
 /// @throws InputError when the trials do not share one chair's wheels.
 std::vector<effects::TrialRecord> RecordsFromMeasured(const std::vector<MeasuredTrial>& trials,
                                                       std::string* base_source = nullptr);
+
+/// The GM identified again (sysid/identify's step 1, regressors filtered by `lm`) on the same
+/// trials RecordsFromMeasured identified it on, their tracks first corrected for a marker at
+/// lever (r_x, r_z) in the chair frame (effect_model.h, marker_offset): the GM the base model
+/// would have had with the marker at O_V. Used once marker_offset is found in a set whose GM
+/// came from the trials (TrialRecord::gm_from_trials).
+GeometricParams GeometryUnderMarkerLever(const std::vector<effects::TrialRecord>& records,
+                                         const Chair& chair, const LumpedParams& lm,
+                                         double lever_x_m, double lever_z_m,
+                                         double rest_window = 0.25);
 
 /// MATLAB fit of model vs measured pooled over trials.
 FitPct PooledFitPct(const std::vector<FitTrial>& trials, const effects::ExtendedParams& params);

@@ -250,7 +250,7 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
   std::vector<std::vector<double>> starts;  // solved, each; the lowest training error is kept
   std::vector<effects::EffectParams> bases;  // their discrete settings (cushion basis, rebound stops)
   std::vector<bool> stiff;                  // stiff-tyre starts: compliances held at zero
-  if (last) {
+  if (last && options.multi_start) {
     const auto& specs = effects::EffectParameters(*last);
     const bool cushion = *last == effects::EffectId::kCushionCompliance;
     const bool stops = *last == effects::EffectId::kNonlinearStiffness;

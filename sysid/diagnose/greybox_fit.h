@@ -50,6 +50,9 @@ struct FitOptions {
   int max_iterations{15};
   int threads{2};
   double function_tolerance{1e-6};
+  /// FitModelJoint multi-starts its last effect; false: every effect starts from `start.fx`
+  /// (a refinement of a previous fit).
+  bool multi_start{true};
 };
 
 struct FitResult {

@@ -95,8 +95,57 @@ std::vector<effects::TrialRecord> RecordsFromMeasured(const std::vector<Measured
     if (!chair.lm) chair.lm = LumpedParams{};
     if (base_source) *base_source = "GM identified on every training trial, LM from Table I";
   }
-  for (auto& r : records) r.chair = chair;
+  for (auto& r : records) {
+    r.chair = chair;
+    r.gm_from_trials = true;
+  }
   return records;
+}
+
+GeometricParams GeometryUnderMarkerLever(const std::vector<effects::TrialRecord>& records,
+                                         const Chair& chair, const LumpedParams& lm,
+                                         double lever_x_m, double lever_z_m, double rest_window) {
+  PWSIM_DEMAND(chair.gm.has_value());
+  const std::vector<bool> held = ChooseHeldOut(records);
+  std::vector<MeasuredTrial> trials;
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    if (held[i]) continue;
+    const effects::TrialRecord& r = records[i];
+    MeasuredTrial m;
+    m.name = r.name;
+    m.chair = chair;
+    m.terrain = r.terrain;
+    m.load_kg = r.load_kg;
+    m.profile.speed = r.speed;
+    m.track.t = r.t;
+    m.track.x = r.x;
+    m.track.z = r.z;
+    m.track.pitch = r.pitch;
+    m.track.y.assign(r.t.size(), 0.0);
+    // θ centred on the rest window (the chair starts at rest on its start level), then the
+    // lever taken out: x = x_m - r_x cos θ + r_z sin θ, Z = Z_m - r_x sin θ - r_z (cos θ - 1).
+    double theta0 = 0.0;
+    std::size_t rest = 0;
+    for (std::size_t k = 0; k < r.t.size() && r.t[k] - r.t.front() <= rest_window; ++k, ++rest)
+      theta0 += r.pitch[k];
+    theta0 /= static_cast<double>(std::max<std::size_t>(rest, 1));
+    for (std::size_t k = 0; k < r.t.size(); ++k) {
+      const double th = r.pitch[k] - theta0;
+      m.track.x[k] = r.x[k] - lever_x_m * std::cos(th) + lever_z_m * std::sin(th);
+      m.track.z[k] = r.z[k] - lever_x_m * std::sin(th) - lever_z_m * (std::cos(th) - 1.0);
+    }
+    trials.push_back(std::move(m));
+  }
+  std::stable_sort(trials.begin(), trials.end(),
+                   [](const MeasuredTrial& a, const MeasuredTrial& b) { return a.name < b.name; });
+  // The same GM trials as the base identification (the slowest speed level), else all.
+  const std::vector<TrialRole> roles = AssignRoles(trials);
+  std::vector<const MeasuredTrial*> gm_trials;
+  for (std::size_t k = 0; k < trials.size(); ++k)
+    if (roles[k] == TrialRole::kGeometric) gm_trials.push_back(&trials[k]);
+  if (gm_trials.empty())
+    for (const MeasuredTrial& m : trials) gm_trials.push_back(&m);
+  return IdentifyGeometric(gm_trials, chair, {}, lm);
 }
 
 FitPct PooledFitPct(const std::vector<FitTrial>& trials, const effects::ExtendedParams& params) {

@@ -183,6 +183,9 @@ struct TrialRecord {
   std::vector<double> x;      ///< [m] measured O_V along the path
   std::vector<double> z;      ///< [m] measured altitude (any constant offset)
   std::vector<double> pitch;  ///< [rad] measured pitch (any constant offset)
+  /// chair.gm was identified from these trials (diagnose::RecordsFromMeasured), not given: the
+  /// diagnosis may identify it again once it knows where the marker sits.
+  bool gm_from_trials{false};
 };
 
 /// Static wheel load W_i = α_i M g [N] (α as load share; used by cushion_compliance).

@@ -82,6 +82,14 @@ TEST_F(DiagnoseCliTest, GenerateHiddenEffectThenDiagnose) {
     EXPECT_GE(j["noise_floor_fit_pct"][ch].get<double>(), j["heldout_fit_pct"]["extended"][ch].get<double>() - 1.0);
     EXPECT_LT(j["noise_floor_fit_pct"][ch].get<double>(), 100.0);
   }
+  // The extended model itself: its effects in the order found, their fitted parameters, its GM.
+  const auto& ext = j["extended_model"];
+  ASSERT_EQ(ext["effects"].size(), j["causes"].size());
+  for (std::size_t k = 0; k < ext["effects"].size(); ++k) EXPECT_EQ(ext["effects"][k], j["causes"][k]["effect"]);
+  EXPECT_TRUE(ext["parameters"]["cm_lever_m"].is_number());
+  EXPECT_GT(ext["parameters"]["k_theta"].get<double>(), 0.0);
+  EXPECT_EQ(ext["gm"]["alpha"].size(), 3u);
+  EXPECT_FALSE(ext["gm"]["identified_under_marker_lever"].get<bool>());
   EXPECT_NE(md.find("| # | effect |"), std::string::npos);
   EXPECT_TRUE(fs::exists(out / "plots" / "located-residual.png"));
   EXPECT_TRUE(fs::exists(out / "plots" / "residual-v1.20_m0_cushion_r1.png"));

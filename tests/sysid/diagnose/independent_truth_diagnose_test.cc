@@ -26,27 +26,36 @@ struct TruthRun {
   truth::TruthSet set;
 };
 
-TruthRun DiagnoseTruth(const std::vector<std::string>& effects, double strength, int form,
-                  std::uint64_t seed) {
+/// The set simulated by the truth, written in the spec's format, read back, and made records
+/// with the base model identified from the trials.
+std::vector<effects::TrialRecord> TruthRecords(const std::vector<std::string>& effects,
+                                               double strength, int form, std::uint64_t seed,
+                                               truth::TruthSet* set_out = nullptr) {
   truth::TruthSetConfig config;
   config.effects = effects;
   config.strength = strength;
   config.form = form;
   config.seed = seed;
-  TruthRun run;
-  run.set = truth::SimulateTruthSet(config);
+  const truth::TruthSet set = truth::SimulateTruthSet(config);
   const fs::path dir = fs::temp_directory_path() /
                        ("pwsim_indep_" + std::to_string(::getpid()) + "_" + std::to_string(seed));
   fs::remove_all(dir);
-  truth::WriteTruthSet(run.set, dir);
+  truth::WriteTruthSet(set, dir);
   std::vector<MeasuredTrial> trials;
-  for (const std::string& name : run.set.names) trials.push_back(ReadMeasuredTrial(dir / name));
+  for (const std::string& name : set.names) trials.push_back(ReadMeasuredTrial(dir / name));
   fs::remove_all(dir);
   fs::remove(dir.string() + ".truth.yaml");
   std::string source;
-  const std::vector<effects::TrialRecord> records = RecordsFromMeasured(trials, &source);
+  std::vector<effects::TrialRecord> records = RecordsFromMeasured(trials, &source);
   EXPECT_NE(source.find("identified"), std::string::npos) << source;
-  run.dx = Diagnose(records);
+  if (set_out) *set_out = set;
+  return records;
+}
+
+TruthRun DiagnoseTruth(const std::vector<std::string>& effects, double strength, int form,
+                  std::uint64_t seed) {
+  TruthRun run;
+  run.dx = Diagnose(TruthRecords(effects, strength, form, seed, &run.set));
   return run;
 }
 
@@ -151,6 +160,41 @@ TEST(IndependentTruthDiagnoseTest, ReboundStopsAreNamedWithAGain) {
   ExpectNamedFirst(run, "nonlinear_stiffness", 20.0);
   EXPECT_TRUE(run.dx.extended.params.fx.bump_rebound);
   EXPECT_NEAR(run.dx.extended.params.fx.bump_gap / run.set.effects.bump_gap_m, 1.0, 0.25);
+}
+
+// A marker 0.59 m from O_V (form 1 at strength 1.4: 0.17 m behind, 0.56 m up). The GM that
+// the trials identify saw the wheels where the marker was, so the lever is fitted under a
+// wrong GM (r_x -0.08 m alone) and the tyre family, which can move the GM, used to earn a
+// spurious second cause with 39 % of the error. Once the lever is found, the GM is identified
+// again on the tracks corrected for it, alternating with the fit.
+TEST(IndependentTruthDiagnoseTest, MarkerLeverIsFoundWithTheGeometryItHid) {
+  const TruthRun run = DiagnoseTruth({"marker_offset"}, 1.4, 1, 102);
+  ExpectNamedFirst(run, "marker_offset", 90.0);
+  EXPECT_TRUE(run.dx.gm_under_marker);
+  const effects::EffectParams& fit = run.dx.extended.params.fx;
+  EXPECT_NEAR(fit.marker_lever_x, run.set.effects.marker_x_m, 0.01);
+  EXPECT_NEAR(fit.marker_lever_z, run.set.effects.marker_z_m, 0.02);
+  for (std::size_t k = 1; k < run.dx.causes.size(); ++k)
+    EXPECT_LT(run.dx.causes[k].heldout_gain_pct, 5.0) << effects::EffectName(run.dx.causes[k].effect);
+}
+
+// GeometryUnderMarkerLever with the truth's own lever gives back (nearly) the GM that the
+// same chair's trials identify with the marker at O_V; the uncorrected tracks do not.
+TEST(IndependentTruthDiagnoseTest, GeometryUnderTheTrueLeverIsTheGeometryWithoutIt) {
+  truth::TruthSet set;
+  const std::vector<effects::TrialRecord> marked = TruthRecords({"marker_offset"}, 1.4, 1, 102, &set);
+  const std::vector<effects::TrialRecord> plain = TruthRecords({}, 1.0, 1, 102);
+  const Chair& chair = marked.front().chair;
+  const GeometricParams corrected = GeometryUnderMarkerLever(
+      marked, chair, *chair.lm, set.effects.marker_x_m, set.effects.marker_z_m);
+  const std::vector<double>& reference = plain.front().chair.gm->alpha;
+  double before = 0.0, after = 0.0;
+  for (std::size_t i = 0; i < reference.size(); ++i) {
+    before = std::max(before, std::abs(chair.gm->alpha[i] - reference[i]));
+    after = std::max(after, std::abs(corrected.alpha[i] - reference[i]));
+  }
+  EXPECT_GT(before, 0.03);  // the marker moved the identified shares (by 0.28 here)
+  EXPECT_LT(after, 0.1 * before) << before << " -> " << after;  // the corrected tracks give them back
 }
 
 TEST(IndependentTruthDiagnoseTest, DahlFrictionIsNamed) {
