@@ -99,8 +99,10 @@ Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records_given,
   dx.selection = ChooseSelection(records, held);
   std::vector<FitTrial> training, heldout, selection, all, checked;
   std::vector<std::size_t> checked_index;
-  // The splits as fit trials for `chair` (its GM); rebuilt when the GM is identified again.
-  auto make_splits = [&](const Chair* chair) {
+  // The splits as fit trials for `chair` (its GM); rebuilt when the GM is identified again
+  // under a marker lever, and then with a_x estimated from O_V's x rather than the marker's (a
+  // lever r_z turns a pitch oscillation into a swing of the measured x).
+  auto make_splits = [&](const Chair* chair, const effects::EffectParams* lever) {
     training.clear();
     heldout.clear();
     selection.clear();
@@ -111,7 +113,14 @@ Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records_given,
     dx.selection_trials.clear();
     dx.training_trials.clear();
     for (std::size_t i = 0; i < records.size(); ++i) {
-      FitTrial f = MakeFitTrial(records[i], chair ? *chair : records[i].chair, options.rest_window);
+      std::vector<double> accel;
+      if (lever) {
+        const TrackUnderLever o = TrackUnderMarkerLever(records[i], lever->marker_lever_x,
+                                                        lever->marker_lever_z, options.rest_window);
+        accel = effects::EstimateAcceleration(records[i].t, o.x);
+      }
+      FitTrial f = MakeFitTrial(records[i], chair ? *chair : records[i].chair, options.rest_window,
+                                std::move(accel));
       all.push_back(f);
       if (held[i] || dx.selection[i]) {
         checked.push_back(f);
@@ -135,7 +144,7 @@ Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records_given,
         if (held[i]) checked_index.push_back(i);
     }
   };
-  make_splits(nullptr);
+  make_splits(nullptr, nullptr);
   const ChannelWeights w = MakeChannelWeights(training);
   const LumpedParams start = dx.chair.lm.value_or(LumpedParams{});
   dx.base = FitModel(training, std::nullopt, start, w, options.fit);
@@ -225,6 +234,11 @@ Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records_given,
     FitResult current = dx.base;
     double current_sel = base_sel;
     std::vector<EffectId> found;
+    // Joint fits of the later rounds are screened with fewer iterations; the winner is then
+    // solved on (the joint fits are the expensive part of a diagnosis).
+    FitOptions screen = options.fit;
+    screen.max_iterations = std::min(options.fit.max_iterations, options.screen_iterations);
+    screen.multi_start = false;
     while (static_cast<int>(found.size()) < options.max_causes) {
       std::optional<FitResult> best;
       double best_gain = -1e9, best_sel = 0.0;
@@ -245,7 +259,13 @@ Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records_given,
           if (!(solo.delta_bic < options.bic_threshold)) continue;
           std::vector<EffectId> list = found;
           list.push_back(id);
-          FitResult f = FitModelJoint(training, list, current.params, w, options.fit);
+          // The new extension starts where its own fit alone ended (that fit searched the
+          // family's starts and members), the causes found where they are.
+          effects::ExtendedParams from = current.params;
+          effects::SetEffectValues(id, effects::GetEffectValues(id, solo.fit.params.fx), from.fx);
+          from.fx.cushion_whole_chair = solo.fit.params.fx.cushion_whole_chair;
+          from.fx.bump_rebound = solo.fit.params.fx.bump_rebound;
+          FitResult f = FitModelJoint(training, list, from, w, screen);
           const double sel = HeldOutError(selection_base, f.params, w);
           const double gain = current_sel > 0.0 ? 1.0 - sel / current_sel : 0.0;
           const bool earns = f.bic - current.bic < options.bic_threshold && gain >= options.min_heldout_gain;
@@ -257,6 +277,19 @@ Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records_given,
         }
       }
       if (!best) break;
+      if (!found.empty() && screen.max_iterations < options.fit.max_iterations) {
+        // The screened winner solved on to the full iterations (kept when it still earns).
+        FitOptions full = options.fit;
+        full.multi_start = false;
+        FitResult f = FitModelJoint(training, best->effects, best->params, w, full);
+        const double sel = HeldOutError(selection_base, f.params, w);
+        const double gain = current_sel > 0.0 ? 1.0 - sel / current_sel : 0.0;
+        if (f.bic - current.bic < options.bic_threshold && gain >= options.min_heldout_gain) {
+          best = std::move(f);
+          best_gain = gain;
+          best_sel = sel;
+        }
+      }
       // A marker lever found in a set whose GM was identified on the measured x: that GM saw
       // the wheels where the marker was, not where they were. The GM is identified again on
       // the tracks corrected for the lever, and the causes so far re-fitted with it (kept when
@@ -275,7 +308,7 @@ Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records_given,
           const std::vector<FitTrial> keep_training = training, keep_heldout = heldout,
                                       keep_selection = selection, keep_all = all,
                                       keep_checked = checked;
-          make_splits(&regeometry);
+          make_splits(&regeometry, &best->params.fx);
           FitResult refit = FitModelJoint(training, best->effects, best->params, w, refine);
           const std::vector<FitTrial> selection_new = WithFitStep(selection, std::nullopt);
           const double sel = HeldOutError(selection_new, refit.params, w);

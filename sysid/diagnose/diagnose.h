@@ -18,8 +18,11 @@
 //     selection: the extension with the largest gain on the SELECTION trials earns when
 //     ΔBIC < bic_threshold (training) AND it removes ≥ min_heldout_gain of the selection
 //     error; it is added, every further candidate (those with ΔBIC < bic_threshold alone) is
-//     fitted JOINTLY with the ones found, and
-//     so on while one earns and the residual is not yet noise-like (at most max_causes).
+//     fitted JOINTLY with the ones found (starting where its fit alone ended; compared after
+//     screen_iterations, the winner solved on), and so on while one earns and the residual is
+//     not yet noise-like (at most max_causes). A marker lever, once found in a set whose GM
+//     came from the trials, has the GM identified again on the tracks corrected for it
+//     (GeometryUnderMarkerLever), alternating with the fit, and a_x taken from O_V's x.
 //  6. Report trials: fitness of base and extended model, each cause's gain as the share of
 //     the base model's error above the noise that adding it removed; the extended model's
 //     residual tested as in 3: noise-like → `explained`, else `partly_explained`; no cause →
@@ -47,6 +50,7 @@ struct DiagnoseOptions {
                                             effects::AllEffects().end()};
   double rest_window{0.25};  ///< [s] initial window that centres each channel
   int max_causes{3};         ///< forward selection stops after this many
+  int screen_iterations{6};  ///< solver iterations of the joint fits compared in rounds ≥ 2
   VerdictOptions verdict;
 };
 
@@ -165,6 +169,15 @@ std::vector<bool> ChooseSelection(const std::vector<effects::TrialRecord>& trial
 /// @throws InputError when the trials do not share one chair's wheels.
 std::vector<effects::TrialRecord> RecordsFromMeasured(const std::vector<MeasuredTrial>& trials,
                                                       std::string* base_source = nullptr);
+
+/// A record's track with the marker at lever (r_x, r_z) in the chair frame taken out (the
+/// motion of O_V): x = x_m − r_x cos θ + r_z sin θ, Z = Z_m − r_x sin θ − r_z (cos θ − 1), θ the
+/// measured pitch less its mean over the first `rest_window` s (the chair at rest, level).
+struct TrackUnderLever {
+  std::vector<double> x, z;  ///< [m]
+};
+TrackUnderLever TrackUnderMarkerLever(const effects::TrialRecord& record, double lever_x_m,
+                                      double lever_z_m, double rest_window = 0.25);
 
 /// The GM identified again (sysid/identify's step 1, regressors filtered by `lm`) on the same
 /// trials RecordsFromMeasured identified it on, their tracks first corrected for a marker at

@@ -110,10 +110,12 @@ double Centre(const std::vector<double>& measured, const std::vector<double>& mo
 
 }  // namespace
 
-FitTrial MakeFitTrial(const effects::TrialRecord& record, const Chair& chair, double rest_window) {
+FitTrial MakeFitTrial(const effects::TrialRecord& record, const Chair& chair, double rest_window,
+                      std::vector<double> accel) {
   FitTrial fit;
   fit.name = record.name;
-  fit.prepared = effects::PrepareTrial(chair, record.terrain, record.load_kg, record.t, record.x);
+  fit.prepared =
+      effects::PrepareTrial(chair, record.terrain, record.load_kg, record.t, record.x, std::move(accel));
   fit.z = record.z;
   fit.pitch = record.pitch;
   fit.speed = record.speed;

@@ -24,9 +24,10 @@ struct FitTrial {
   std::size_t rest_samples{1};  ///< samples of the initial centring window (≥ 1)
 };
 
-/// Builds a FitTrial from a record; `chair` must have gm (its lm is not used here).
+/// Builds a FitTrial from a record; `chair` must have gm (its lm is not used here). The
+/// longitudinal acceleration is estimated from the record's x unless `accel` is given.
 FitTrial MakeFitTrial(const effects::TrialRecord& record, const Chair& chair,
-                      double rest_window = 0.25);
+                      double rest_window = 0.25, std::vector<double> accel = {});
 
 struct ChannelWeights {
   double z{1.0};      ///< [1/m]

@@ -102,6 +102,24 @@ std::vector<effects::TrialRecord> RecordsFromMeasured(const std::vector<Measured
   return records;
 }
 
+TrackUnderLever TrackUnderMarkerLever(const effects::TrialRecord& r, double lever_x_m,
+                                      double lever_z_m, double rest_window) {
+  // θ centred on the rest window (the chair starts at rest on its start level), then the
+  // lever taken out: x = x_m - r_x cos θ + r_z sin θ, Z = Z_m - r_x sin θ - r_z (cos θ - 1).
+  double theta0 = 0.0;
+  std::size_t rest = 0;
+  for (std::size_t k = 0; k < r.t.size() && r.t[k] - r.t.front() <= rest_window; ++k, ++rest)
+    theta0 += r.pitch[k];
+  theta0 /= static_cast<double>(std::max<std::size_t>(rest, 1));
+  TrackUnderLever out{r.x, r.z};
+  for (std::size_t k = 0; k < r.t.size(); ++k) {
+    const double th = r.pitch[k] - theta0;
+    out.x[k] = r.x[k] - lever_x_m * std::cos(th) + lever_z_m * std::sin(th);
+    out.z[k] = r.z[k] - lever_x_m * std::sin(th) - lever_z_m * (std::cos(th) - 1.0);
+  }
+  return out;
+}
+
 GeometricParams GeometryUnderMarkerLever(const std::vector<effects::TrialRecord>& records,
                                          const Chair& chair, const LumpedParams& lm,
                                          double lever_x_m, double lever_z_m, double rest_window) {
@@ -117,23 +135,12 @@ GeometricParams GeometryUnderMarkerLever(const std::vector<effects::TrialRecord>
     m.terrain = r.terrain;
     m.load_kg = r.load_kg;
     m.profile.speed = r.speed;
+    TrackUnderLever corrected = TrackUnderMarkerLever(r, lever_x_m, lever_z_m, rest_window);
     m.track.t = r.t;
-    m.track.x = r.x;
-    m.track.z = r.z;
+    m.track.x = std::move(corrected.x);
+    m.track.z = std::move(corrected.z);
     m.track.pitch = r.pitch;
     m.track.y.assign(r.t.size(), 0.0);
-    // θ centred on the rest window (the chair starts at rest on its start level), then the
-    // lever taken out: x = x_m - r_x cos θ + r_z sin θ, Z = Z_m - r_x sin θ - r_z (cos θ - 1).
-    double theta0 = 0.0;
-    std::size_t rest = 0;
-    for (std::size_t k = 0; k < r.t.size() && r.t[k] - r.t.front() <= rest_window; ++k, ++rest)
-      theta0 += r.pitch[k];
-    theta0 /= static_cast<double>(std::max<std::size_t>(rest, 1));
-    for (std::size_t k = 0; k < r.t.size(); ++k) {
-      const double th = r.pitch[k] - theta0;
-      m.track.x[k] = r.x[k] - lever_x_m * std::cos(th) + lever_z_m * std::sin(th);
-      m.track.z[k] = r.z[k] - lever_x_m * std::sin(th) - lever_z_m * (std::cos(th) - 1.0);
-    }
     trials.push_back(std::move(m));
   }
   std::stable_sort(trials.begin(), trials.end(),

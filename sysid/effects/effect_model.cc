@@ -66,6 +66,40 @@ EnvelopePoint RollingDiscEnvelope(const Terrain& terrain, double x, double radiu
   return {best - radius, std::clamp(best_s / root, -5.0, 5.0)};
 }
 
+std::vector<double> EstimateAcceleration(const std::vector<double>& t, const std::vector<double>& x,
+                                         double window) {
+  PWSIM_DEMAND(t.size() == x.size());
+  const std::size_t n = t.size();
+  std::vector<double> accel(n, 0.0);
+  std::size_t lo = 0, hi = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    while (t[k] - t[lo] > window) ++lo;
+    while (hi + 1 < n && t[hi + 1] - t[k] <= window) ++hi;
+    if (hi - lo < 4) continue;
+    // Least-squares quadratic x = c0 + c1 τ + c2 τ² around t[k].
+    double s[5] = {0, 0, 0, 0, 0}, r[3] = {0, 0, 0};
+    for (std::size_t m = lo; m <= hi; ++m) {
+      const double tau = t[m] - t[k];
+      double p = 1.0;
+      for (int e = 0; e < 5; ++e) {
+        s[e] += p;
+        if (e < 3) r[e] += p * x[m];
+        p *= tau;
+      }
+    }
+    // Solve [[s0 s1 s2][s1 s2 s3][s2 s3 s4]] c = r for c2 by Cramer's rule.
+    auto det3 = [](double a, double b, double c, double d, double e, double f, double g,
+                   double h, double i) {
+      return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
+    };
+    const double d = det3(s[0], s[1], s[2], s[1], s[2], s[3], s[2], s[3], s[4]);
+    if (std::abs(d) < 1e-300) continue;
+    const double d2 = det3(s[0], s[1], r[0], s[1], s[2], r[1], s[2], s[3], r[2]);
+    accel[k] = 2.0 * d2 / d;
+  }
+  return accel;
+}
+
 PreparedTrial PrepareTrial(const Chair& chair, const Terrain& terrain, double load_kg,
                            std::vector<double> t, std::vector<double> x,
                            std::vector<double> accel, double accel_window) {
@@ -77,35 +111,7 @@ PreparedTrial PrepareTrial(const Chair& chair, const Terrain& terrain, double lo
   trial.load_kg = load_kg;
   trial.is_caster = CasterWheels(chair);
   const std::size_t n = t.size();
-  if (accel.size() != n) {
-    accel.assign(n, 0.0);
-    std::size_t lo = 0, hi = 0;
-    for (std::size_t k = 0; k < n; ++k) {
-      while (t[k] - t[lo] > accel_window) ++lo;
-      while (hi + 1 < n && t[hi + 1] - t[k] <= accel_window) ++hi;
-      if (hi - lo < 4) continue;
-      // Least-squares quadratic x = c0 + c1 τ + c2 τ² around t[k].
-      double s[5] = {0, 0, 0, 0, 0}, r[3] = {0, 0, 0};
-      for (std::size_t m = lo; m <= hi; ++m) {
-        const double tau = t[m] - t[k];
-        double p = 1.0;
-        for (int e = 0; e < 5; ++e) {
-          s[e] += p;
-          if (e < 3) r[e] += p * x[m];
-          p *= tau;
-        }
-      }
-      // Solve [[s0 s1 s2][s1 s2 s3][s2 s3 s4]] c = r for c2 by Cramer's rule.
-      auto det3 = [](double a, double b, double c, double d, double e, double f, double g,
-                     double h, double i) {
-        return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
-      };
-      const double d = det3(s[0], s[1], s[2], s[1], s[2], s[3], s[2], s[3], s[4]);
-      if (std::abs(d) < 1e-300) continue;
-      const double d2 = det3(s[0], s[1], r[0], s[1], s[2], r[1], s[2], s[3], r[2]);
-      accel[k] = 2.0 * d2 / d;
-    }
-  }
+  if (accel.size() != n) accel = EstimateAcceleration(t, x, accel_window);
   trial.t = std::move(t);
   trial.x = std::move(x);
   trial.accel = std::move(accel);

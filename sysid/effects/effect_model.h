@@ -141,6 +141,11 @@ PreparedTrial PrepareTrial(const Chair& chair, const Terrain& terrain, double lo
                            std::vector<double> t, std::vector<double> x,
                            std::vector<double> accel = {}, double accel_window = 0.15);
 
+/// Longitudinal acceleration of x(t): at each sample the curvature 2 c₂ of the least-squares
+/// quadratic x ≈ c₀ + c₁τ + c₂τ² over the samples within ±`window` s (0 where fewer than five).
+std::vector<double> EstimateAcceleration(const std::vector<double>& t, const std::vector<double>& x,
+                                         double window = 0.15);
+
 /// Casters: wheels named "*caster*" or clearly smaller than the largest wheel.
 std::vector<bool> CasterWheels(const Chair& chair);
 
