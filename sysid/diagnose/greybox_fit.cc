@@ -304,7 +304,18 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
       std::stable_sort(scored[kind].begin(), scored[kind].end(),
                        [](const Scored& a, const Scored& b) { return a.score < b.score; });
       const std::size_t keep = tyre && kind == 0 ? 2 : 1;
-      for (std::size_t k = 0; k < std::min(keep, scored[kind].size()); ++k) {
+      std::vector<double> rungs;  // compliant tyres: caster compliances already taken
+      for (std::size_t k = 0, taken = 0; k < scored[kind].size(); ++k) {
+        if (tyre && kind == 1) {
+          // The best start of each caster-compliance rung: the start's error favours the
+          // stiffer rungs, whose fits stay near the base model, over a soft tyre's basin.
+          const double c = map.Params(scored[kind][k].u.data()).fx.caster_tyre_compliance;
+          if (std::find(rungs.begin(), rungs.end(), c) != rungs.end()) continue;
+          rungs.push_back(c);
+        } else if (taken == keep) {
+          break;
+        }
+        ++taken;
         starts.push_back(scored[kind][k].u);
         bases.push_back(scored[kind][k].base);
         stiff.push_back(tyre && kind == 0);

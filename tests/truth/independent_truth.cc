@@ -99,7 +99,7 @@ struct System {
     std::fill(ds.begin(), ds.end(), 0.0);
     ds[0] = v;
     ds[1] = a;
-    const double ct_ = std::cos(th), st_ = std::sin(th);
+    const double ct_ = c->small_angle ? 1.0 : std::cos(th), st_ = c->small_angle ? th : std::sin(th);
     double force = 0.0, moment = 0.0;
     for (int i = 0; i < lay.n; ++i) {
       const TruthWheel& w = c->chair.wheels[static_cast<std::size_t>(i)];
@@ -358,6 +358,7 @@ TruthSet SimulateTruthSet(const TruthSetConfig& config) {
       c.drive.speed_mps = speed;
       c.drive.cruise_until_m = end_x;
       c.rate_hz = config.rate_hz;
+      c.small_angle = config.small_angle;
       c.seed = config.seed * 1000 + static_cast<std::uint64_t>(index++);
       std::ostringstream name;
       name << "s" << speed << "_l" << load;
@@ -432,6 +433,8 @@ void WriteTruthSet(const TruthSet& set, const std::filesystem::path& dir) {
            ", dahl_force_n: " + Num(fx.dahl_force_n) + ", chassis_cm_height_m: " + Num(fx.chassis_cm_height_m) +
            ", load_cm_height_m: " + Num(fx.load_cm_height_m) + ", marker_x_m: " + Num(fx.marker_x_m) +
            ", marker_z_m: " + Num(fx.marker_z_m) + ", occupant_share: " + Num(fx.occupant_share) + "}\n";
+  const bool small_angle = !set.configs.empty() && set.configs.front().small_angle;
+  truth += std::string("kinematics: ") + (small_angle ? "small_angle" : "exact") + "\n";
   std::filesystem::path beside = dir;
   if (beside.filename().empty()) beside = beside.parent_path();
   WriteText(beside.string() + ".truth.yaml", truth);

@@ -109,6 +109,10 @@ struct TruthTrialConfig {
   double noise_x_m{3e-4}, noise_z_m{3e-4}, noise_pitch_rad{5e-4};
   double z_offset_m{0.4};  ///< altitude of the lab's origin at rest
   std::uint64_t seed{1};
+  /// Chassis kinematics linearised as the paper's model has them (cos θ -> 1, sin θ -> θ for
+  /// the wheels' positions, the suspension anchors and the moment arms). Off: exact rigid-body
+  /// geometry, which departs from the linear model only when the chair pitches far.
+  bool small_angle{false};
 };
 
 struct TruthTrial {
@@ -139,6 +143,7 @@ struct TruthSetConfig {
   std::vector<double> loads{0.0, 50.0, 100.0};
   std::uint64_t seed{1};
   double rate_hz{100.0};
+  bool small_angle{false};  ///< TruthTrialConfig::small_angle for every trial
 };
 
 struct TruthSet {

@@ -3,7 +3,7 @@
 // (DIR.truth.yaml). For tests, benchmarks and scripts/confusion-matrix.sh.
 //
 //   independent_truth_set --out DIR [--effects ID[,ID]] [--strength S] [--form N] [--seed N]
-//                         [--speeds a,b,..] [--loads a,b,..] [--rate HZ]
+//                         [--speeds a,b,..] [--loads a,b,..] [--rate HZ] [--small-angle]
 
 #include <cstdio>
 #include <cstdlib>
@@ -50,6 +50,7 @@ int main(int argc, char** argv) {
       else if (arg == "--speeds") config.speeds = Numbers(next());
       else if (arg == "--loads") config.loads = Numbers(next());
       else if (arg == "--rate") config.rate_hz = std::stod(next());
+      else if (arg == "--small-angle") config.small_angle = true;
       else throw std::invalid_argument("unknown option " + arg);
     }
     if (out.empty()) throw std::invalid_argument("--out DIR is required");
