@@ -13,6 +13,7 @@ namespace pwsim::diagnose {
 namespace {
 
 constexpr double kLogBound = 2.5;  ///< LM multipliers within e^±2.5 of the start
+constexpr int kScreenIterations = 5;  ///< first-pass iterations when many starts are solved
 
 /// u (optimiser vector) <-> ExtendedParams: 4 LM log multipliers, then each effect's values/scale.
 struct Mapper {
@@ -337,7 +338,7 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
       if (specs[j].name.find("compliance") != std::string::npos)
         compliance_cols.push_back(last_col + static_cast<int>(j));
   }
-  auto solve = [&](std::vector<double>& x, bool hold_compliance) {
+  auto solve = [&](std::vector<double>& x, bool hold_compliance, int max_iterations) {
     ceres::Problem problem;
     for (const FitTrial& trial : training) {
       auto* cost = new ceres::DynamicNumericDiffCostFunction<TrialFunctor, ceres::FORWARD>(
@@ -362,7 +363,7 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
     }
     ceres::Solver::Options solver;
     solver.linear_solver_type = ceres::DENSE_QR;
-    solver.max_num_iterations = options.max_iterations;
+    solver.max_num_iterations = max_iterations;
     solver.num_threads = options.threads;
     solver.function_tolerance = options.function_tolerance;
     solver.parameter_tolerance = 1e-7;
@@ -374,19 +375,30 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
   double best_sse = std::numeric_limits<double>::infinity();
   int iterations = 0;
   effects::EffectParams basis = map.base_fx;
+  // More than three starts (the tyres' stiff starts and compliance rungs): each is solved a
+  // few iterations, the best then solved on; the solves are the cost of a fit.
+  const bool screened = starts.size() > 3;
+  const int first_pass = screened ? std::min(options.max_iterations, kScreenIterations) : options.max_iterations;
+  bool held = false;
   for (std::size_t k = 0; k < starts.size(); ++k) {
     map.base_fx = bases[k];
     std::vector<double> x = starts[k];
-    const int it = solve(x, stiff[k]);
+    const int it = solve(x, stiff[k], first_pass);
     const double sse = WeightedSse(training, map.Params(x.data()), weights);
     if (k == 0 || sse < best_sse) {  // the first of equal errors
       best_sse = sse;
       u = x;
       iterations = it;
       basis = bases[k];
+      held = stiff[k];
     }
   }
   map.base_fx = basis;
+  if (screened && options.max_iterations > first_pass) {
+    std::vector<double> x = u;
+    iterations += solve(x, held, options.max_iterations - first_pass);
+    if (WeightedSse(training, map.Params(x.data()), weights) <= best_sse) u = x;
+  }
 
   FitResult result;
   result.effects = effect_list;
