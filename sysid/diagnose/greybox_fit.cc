@@ -247,8 +247,9 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
   // and over its family's discrete members; the starts with the lowest error are solved and
   // the best fit kept. One start in general; for the tyres the best two stiff starts (c_t held
   // at 0: their periods lie in different basins more often than not) and the best compliant
-  // one, which can score best and still end in a worse basin; for the stops the best start of
-  // each member. (Solving the best three tyre starts regardless of kind was tried: on the
+  // start of each caster-compliance rung (a start's error favours the stiff rungs, whose fits
+  // stay near the base model, over a soft tyre's basin); for the stops the best start of each
+  // member. (Solving the best three tyre starts regardless of kind was tried: on the
   // independent truth it found no better basin and added a spurious cause, at twice the time.)
   std::vector<std::vector<double>> starts;  // solved, each; the lowest training error is kept
   std::vector<effects::EffectParams> bases;  // their discrete settings (cushion basis, rebound stops)
