@@ -97,21 +97,23 @@ Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records_given,
   PWSIM_DEMAND(dx.chair.gm.has_value());
   const std::vector<bool> held = ChooseHeldOut(records, &dx.split);
   dx.selection = ChooseSelection(records, held);
-  std::vector<FitTrial> training, heldout, selection, all, checked;
-  std::vector<std::size_t> checked_index;
-  // The splits as fit trials for `chair` (its GM); rebuilt when the GM is identified again
-  // under a marker lever, and then with a_x estimated from O_V's x rather than the marker's (a
-  // lever r_z turns a pitch oscillation into a swing of the measured x).
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    if (held[i]) dx.heldout_trials.push_back(records[i].name);
+    else if (dx.selection[i]) dx.selection_trials.push_back(records[i].name);
+    else dx.training_trials.push_back(records[i].name);
+  }
+  // The splits as fit trials for `chair` (its GM; the records' own when null). Every candidate
+  // is simulated on identification's grid (FitStep), so each split but the training one (the
+  // fits put it there themselves) is put on it once here and serves the base model and every
+  // extension alike. Rebuilt when the GM is identified again under a marker lever, and then
+  // with a_x estimated from O_V's x rather than the marker's (a lever r_z turns a pitch
+  // oscillation into a swing of the measured x).
+  struct Splits {
+    std::vector<FitTrial> training, report, selection, all, checked;  ///< report: held out
+    std::vector<std::size_t> checked_index;  ///< records of `checked`
+  };
   auto make_splits = [&](const Chair* chair, const effects::EffectParams* lever) {
-    training.clear();
-    heldout.clear();
-    selection.clear();
-    all.clear();
-    checked.clear();
-    checked_index.clear();
-    dx.heldout_trials.clear();
-    dx.selection_trials.clear();
-    dx.training_trials.clear();
+    Splits out;
     for (std::size_t i = 0; i < records.size(); ++i) {
       std::vector<double> accel;
       if (lever) {
@@ -121,39 +123,37 @@ Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records_given,
       }
       FitTrial f = MakeFitTrial(records[i], chair ? *chair : records[i].chair, options.rest_window,
                                 std::move(accel));
-      all.push_back(f);
+      out.all.push_back(f);
       if (held[i] || dx.selection[i]) {
-        checked.push_back(f);
-        checked_index.push_back(i);
+        out.checked.push_back(f);
+        out.checked_index.push_back(i);
       }
-      if (held[i]) {
-        heldout.push_back(std::move(f));
-        dx.heldout_trials.push_back(records[i].name);
-      } else if (dx.selection[i]) {
-        selection.push_back(std::move(f));
-        dx.selection_trials.push_back(records[i].name);
-      } else {
-        training.push_back(std::move(f));
-        dx.training_trials.push_back(records[i].name);
-      }
+      if (held[i]) out.report.push_back(std::move(f));
+      else if (dx.selection[i]) out.selection.push_back(std::move(f));
+      else out.training.push_back(std::move(f));
     }
-    if (selection.empty()) selection = training;  // too few trials: choose on the training ones
-    if (checked.empty()) {
-      checked = heldout;
+    if (out.selection.empty()) out.selection = out.training;  // too few trials: choose on the training ones
+    if (out.checked.empty()) {
+      out.checked = out.report;
       for (std::size_t i = 0; i < records.size(); ++i)
-        if (held[i]) checked_index.push_back(i);
+        if (held[i]) out.checked_index.push_back(i);
     }
+    out.report = WithFitStep(out.report, std::nullopt);
+    out.selection = WithFitStep(out.selection, std::nullopt);
+    out.checked = WithFitStep(out.checked, std::nullopt);
+    out.all = WithFitStep(out.all, std::nullopt);
+    return out;
   };
-  make_splits(nullptr, nullptr);
+  Splits splits = make_splits(nullptr, nullptr);
+  const std::vector<FitTrial>& training = splits.training;
+  const std::vector<FitTrial>& heldout_base = splits.report;
+  const std::vector<FitTrial>& selection_base = splits.selection;
+  const std::vector<FitTrial>& checked_base = splits.checked;
+  const std::vector<FitTrial>& all = splits.all;
+  const std::vector<std::size_t>& checked_index = splits.checked_index;
   const ChannelWeights w = MakeChannelWeights(training);
   const LumpedParams start = dx.chair.lm.value_or(LumpedParams{});
   dx.base = FitModel(training, std::nullopt, start, w, options.fit);
-  // Every candidate is simulated on identification's grid (FitStep), so each split is put on
-  // it once here and serves the base model and every extension alike.
-  std::vector<FitTrial> heldout_base = WithFitStep(heldout, std::nullopt);
-  std::vector<FitTrial> selection_base = WithFitStep(selection, std::nullopt);
-  std::vector<FitTrial> checked_base = WithFitStep(checked, std::nullopt);
-  all = WithFitStep(all, std::nullopt);
   const double base_error = HeldOutError(heldout_base, dx.base.params, w);
   dx.base_heldout = PooledFitPct(heldout_base, dx.base.params);
 
@@ -305,28 +305,14 @@ Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records_given,
           regeometry.gm = GeometryUnderMarkerLever(records, dx.chair, best->params.lm,
                                                    best->params.fx.marker_lever_x,
                                                    best->params.fx.marker_lever_z, options.rest_window);
-          const std::vector<FitTrial> keep_training = training, keep_heldout = heldout,
-                                      keep_selection = selection, keep_all = all,
-                                      keep_checked = checked;
-          make_splits(&regeometry, &best->params.fx);
-          FitResult refit = FitModelJoint(training, best->effects, best->params, w, refine);
-          const std::vector<FitTrial> selection_new = WithFitStep(selection, std::nullopt);
-          const double sel = HeldOutError(selection_new, refit.params, w);
-          if (!(sel < best_sel)) {
-            training = keep_training;
-            heldout = keep_heldout;
-            selection = keep_selection;
-            all = keep_all;
-            checked = keep_checked;
-            break;
-          }
+          Splits next = make_splits(&regeometry, &best->params.fx);
+          FitResult refit = FitModelJoint(next.training, best->effects, best->params, w, refine);
+          const double sel = HeldOutError(next.selection, refit.params, w);
+          if (!(sel < best_sel)) break;
           const bool small = sel > 0.99 * best_sel;
+          splits = std::move(next);
           dx.chair = regeometry;
           dx.gm_under_marker = true;
-          selection_base = selection_new;
-          heldout_base = WithFitStep(heldout, std::nullopt);
-          checked_base = WithFitStep(checked, std::nullopt);
-          all = WithFitStep(all, std::nullopt);
           best_gain = current_sel > 0.0 ? 1.0 - sel / current_sel : best_gain;
           best_sel = sel;
           best = std::move(refit);
