@@ -262,9 +262,7 @@ Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records_given,
           // The new extension starts where its own fit alone ended (that fit searched the
           // family's starts and members), the causes found where they are.
           effects::ExtendedParams from = current.params;
-          effects::SetEffectValues(id, effects::GetEffectValues(id, solo.fit.params.fx), from.fx);
-          from.fx.cushion_whole_chair = solo.fit.params.fx.cushion_whole_chair;
-          from.fx.bump_rebound = solo.fit.params.fx.bump_rebound;
+          effects::CopyEffect(id, solo.fit.params.fx, from.fx);
           FitResult f = FitModelJoint(training, list, from, w, screen);
           const double sel = HeldOutError(selection_base, f.params, w);
           const double gain = current_sel > 0.0 ? 1.0 - sel / current_sel : 0.0;

@@ -95,6 +95,12 @@ const std::vector<ParamSpec>& EffectParameters(EffectId id) {
   return specs[Index(id)];
 }
 
+void CopyEffect(EffectId id, const EffectParams& from, EffectParams& to) {
+  SetEffectValues(id, GetEffectValues(id, from), to);
+  if (id == EffectId::kCushionCompliance) to.cushion_whole_chair = from.cushion_whole_chair;
+  if (id == EffectId::kNonlinearStiffness) to.bump_rebound = from.bump_rebound;
+}
+
 void SetEffectValues(EffectId id, std::span<const double> v, EffectParams& fx) {
   PWSIM_DEMAND(v.size() == EffectParameters(id).size());
   switch (id) {

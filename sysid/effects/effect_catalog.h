@@ -52,6 +52,9 @@ const std::vector<ParamSpec>& EffectParameters(EffectId id);
 void SetEffectValues(EffectId id, std::span<const double> values, EffectParams& fx);
 /// Reads the named vector of effect `id` from `fx`.
 std::vector<double> GetEffectValues(EffectId id, const EffectParams& fx);
+/// Copies effect `id` from `from` into `to`: its values and its family's discrete member (the
+/// cushion's load basis, the stops' rebound), nothing of any other effect.
+void CopyEffect(EffectId id, const EffectParams& from, EffectParams& to);
 
 /// The hidden-effect parameters for synthetic trials of `chair` at `strength` (1 = moderate;
 /// 0 = off). Strength scales the physical size of the effect (radius, compliance, coupling...).

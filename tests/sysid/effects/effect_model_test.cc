@@ -316,6 +316,33 @@ TEST(EffectModelTest, InertialPitchTorqueFollowsAcceleration) {
               trial.chair.mass * 0.43 * 1.0 / trial.chair.lm->k_theta, 5e-4);
 }
 
+// Copying one effect into a model that already holds others (a joint fit's start) carries
+// that effect's discrete member and leaves every other effect's, its member included, alone.
+TEST(EffectCatalogTest, CopyEffectCarriesItsOwnMemberOnly) {
+  EffectParams found;  // causes found so far: whole-chair cushion, rebound stops
+  found.cushion_whole_chair = true;
+  found.cushion_loss_per_kn = 0.3;
+  found.bump_rebound = true;
+  found.bump_gain = 0.2;
+  EffectParams solo;  // an extension fitted alone: every other effect at its default
+  solo.caster_tyre_period = 0.2;
+  solo.caster_tyre_compliance = 3e-4;
+  EffectParams to = found;
+  CopyEffect(EffectId::kTyreCompliance, solo, to);
+  EXPECT_EQ(to.caster_tyre_period, 0.2);
+  EXPECT_EQ(to.caster_tyre_compliance, 3e-4);
+  EXPECT_TRUE(to.cushion_whole_chair);
+  EXPECT_TRUE(to.bump_rebound);
+  EXPECT_EQ(to.cushion_loss_per_kn, 0.3);
+  EffectParams basis;
+  basis.cushion_whole_chair = true;
+  basis.cushion_loss_per_kn = 0.1;
+  EffectParams into;
+  CopyEffect(EffectId::kCushionCompliance, basis, into);
+  EXPECT_TRUE(into.cushion_whole_chair);
+  EXPECT_EQ(into.cushion_loss_per_kn, 0.1);
+}
+
 TEST(EffectCatalogTest, IdsParseAndParametersRoundTrip) {
   EXPECT_EQ(AllEffects().size(), 8u);
   for (EffectId id : AllEffects()) {
