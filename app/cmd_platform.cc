@@ -117,9 +117,14 @@ int PlatformCommand(const ParsedArgs& args) {
     const sp::AxisDiagnosis d = sp::DiagnoseAxis(ReadAll(files), ReadAll(validate), o);
     std::filesystem::create_directories(out);
     PrintWritten(verb, report::WritePlatformDiagnosisReport(d, out));
-    std::cout << "pwsim platform diagnose: verdict " << d.verdict << ", cause " << d.cause
-              << ", held-out relative error " << d.heldout_base_pct << " % -> "
-              << d.heldout_extended_pct << " % (noise floor " << d.noise_floor_pct << " %)\n";
+    std::cout << "pwsim platform diagnose: verdict " << diagnose::VerdictName(d.verdict)
+              << ", cause " << d.cause << ", report-row (held-out) relative error "
+              << d.heldout_base_pct << " % -> " << d.heldout_extended_pct << " % (noise floor "
+              << d.noise_floor_pct << " %)\n";
+    for (const sp::AxisCause& c : d.causes)
+      std::cout << "pwsim platform diagnose: cause " << sp::AxisEffectId(c.effect) << " gain "
+                << c.heldout_gain_pct << " % (se " << c.heldout_gain_se_pct << " %, "
+                << (c.confirmed ? "confirmed" : "not confirmed") << ")\n";
     return 0;
   }
   if (verb == "frequency-response") {

@@ -2,7 +2,9 @@
 // hidden_effects.h (one effect of the spec's table each, the command delay, and no effect)
 // and seeds 1..N, simulate a training and a held-out recording with the independent truth
 // (tests/sysid/platform/truth_axis.*), diagnose, and tabulate the cause found (rows: truth,
-// columns: cause) with the verdicts. Prints Markdown. usage: platform_diagnose_matrix [N]
+// columns: cause) with the verdicts. Prints Markdown; with --cases, one line per case first
+// (verdict, every cause with its report gain, uncertainty and confirmation).
+// usage: platform_diagnose_matrix [N] [--cases]
 #include <chrono>
 #include <cstdio>
 #include <map>
@@ -14,6 +16,7 @@
 int main(int argc, char** argv) {
   namespace sp = pwsim::sysid::platform;
   const int seeds = argc > 1 ? std::atoi(argv[1]) : 5;
+  const bool cases = argc > 2 && std::string(argv[2]) == "--cases";
   std::vector<std::string> columns{"none"};
   for (sp::AxisEffect e : sp::AllAxisEffects()) columns.push_back(sp::AxisEffectId(e));
   std::map<std::string, std::map<std::string, int>> counts;
@@ -35,7 +38,17 @@ int main(int argc, char** argv) {
       seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       ++runs;
       counts[c.effect][d.cause]++;
-      verdicts[c.effect][d.verdict]++;
+      if (cases) {
+        std::printf("seed %d, %s: %s, report %.3f -> %.3f %% (floor %.3f %%)", seed, c.effect.c_str(),
+                    pwsim::diagnose::VerdictName(d.verdict), d.heldout_base_pct,
+                    d.heldout_extended_pct, d.noise_floor_pct);
+        for (const sp::AxisCause& k : d.causes)
+          std::printf("; %s sel %.1f %%, report %.1f ± %.1f %%%s", sp::AxisEffectId(k.effect),
+                      k.selection_gain_pct, k.heldout_gain_pct, k.heldout_gain_se_pct,
+                      k.confirmed ? "" : " (not confirmed)");
+        std::printf("\n");
+      }
+      verdicts[c.effect][pwsim::diagnose::VerdictName(d.verdict)]++;
     }
   }
   std::printf("Hidden-effect matrix: independent truth (tests/sysid/platform/truth_axis.*), %d "

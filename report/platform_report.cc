@@ -53,6 +53,7 @@ std::vector<std::filesystem::path> PlatformIdentifyOutputs(const std::filesystem
 std::vector<std::filesystem::path> PlatformDiagnoseOutputs(const std::filesystem::path& dir) {
   std::vector<std::filesystem::path> out{dir / "diagnosis.json", dir / "diagnosis.md"};
   for (const auto& f : FigureList(dir / "diagnosis-heldout")) out.push_back(f);
+  for (const auto& f : FigureList(dir / "diagnosis-velocity")) out.push_back(f);
   return out;
 }
 std::vector<std::filesystem::path> PlatformFrequencyOutputs(const std::filesystem::path& dir) {
@@ -175,14 +176,18 @@ std::vector<std::filesystem::path> WritePlatformDiagnosisReport(const sp::AxisDi
   Json root;
   root["format"] = "pwsim-diagnosis/1";
   root["joint"] = d.joint;
-  root["verdict"] = d.verdict;
+  root["verdict"] = diagnose::VerdictName(d.verdict);
   root["cause"] = d.cause;
   Json causes = Json::array();
-  for (const auto& [effect, gain] : d.causes) {
-    Json c;
-    c["effect"] = sp::AxisEffectId(effect);
-    c["heldout_gain_pct"] = 100.0 * gain;
-    causes.push_back(c);
+  for (const sp::AxisCause& c : d.causes) {
+    Json x;
+    x["effect"] = sp::AxisEffectId(c.effect);
+    x["heldout_gain_pct"] = c.heldout_gain_pct;
+    x["confirmed"] = c.confirmed;
+    x["heldout_gain_se_pct"] = c.heldout_gain_se_pct;
+    x["heldout_gain_lower_pct"] = c.heldout_gain_lower_pct;
+    x["selection_gain_pct"] = c.selection_gain_pct;
+    causes.push_back(x);
   }
   root["causes"] = causes;
   Json ranking = Json::array();
@@ -193,8 +198,10 @@ std::vector<std::filesystem::path> WritePlatformDiagnosisReport(const sp::AxisDi
     e["delta_bic"] = r.delta_bic;
     e["earns"] = r.earns;
     e["train_relative_error_pct"] = r.train_relative_error_pct;
+    e["selection_relative_error_pct"] = r.selection_relative_error_pct;
+    e["selection_gain_pct"] = r.selection_gain_pct;
     e["heldout_relative_error_pct"] = r.heldout_relative_error_pct;
-    e["heldout_gain_pct"] = 100.0 * r.heldout_gain;
+    e["heldout_gain_pct"] = r.heldout_gain_pct;
     Json params = Json::object();
     for (const auto& p : r.parameters) params[p.name] = p.value;
     e["parameters"] = params;
@@ -207,8 +214,26 @@ std::vector<std::filesystem::path> WritePlatformDiagnosisReport(const sp::AxisDi
   root["heldout_relative_error_pct"] = held;
   root["noise_floor_relative_error_pct"] = d.noise_floor_pct;
   root["train_relative_error_pct"] = d.base_train_relative_error_pct;
+  Json sel;
+  sel["base"] = d.selection_base_pct;
+  sel["extended"] = d.selection_extended_pct;
+  root["selection_relative_error_pct"] = sel;
+  root["selection_noise_floor_relative_error_pct"] = d.selection_floor_pct;
+  root["noise_sigma"] = d.noise_sigma;
+  root["report_blocks"] = d.report_blocks;
   root["heldout_trials"] = d.heldout_recordings;
   root["training_recordings"] = d.training_recordings;
+  root["selection_recordings"] = d.selection_recordings;
+  Json split = Json::array();
+  for (const sp::AxisBlock& b : d.blocks) {
+    Json x;
+    x["recording"] = b.recording;
+    x["begin_sample"] = b.begin;
+    x["end_sample"] = b.end;
+    x["role"] = sp::AxisRoleName(b.role);
+    split.push_back(x);
+  }
+  root["split"] = split;
   if (!d.unexplained_evidence.empty()) {
     Json u;
     u["heldout_relative_error_pct"] = d.heldout_extended_pct;
@@ -240,7 +265,8 @@ std::vector<std::filesystem::path> WritePlatformDiagnosisReport(const sp::AxisDi
   root["closed_loop"] = loop;
 
   plot::Figure fig;
-  fig.title = "held-out recordings (moving rows): verdict " + d.verdict + ", cause " + d.cause;
+  const std::string verdict = diagnose::VerdictName(d.verdict);
+  fig.title = "report rows (moving): verdict " + verdict + ", cause " + d.cause;
   fig.x_label = "row";
   std::vector<double> idx(d.heldout_tau.size());
   for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = static_cast<double>(i);
@@ -268,7 +294,7 @@ std::vector<std::filesystem::path> WritePlatformDiagnosisReport(const sp::AxisDi
   if (!idx.empty()) {
     figure_line = TryFigure(dir / "diagnosis-heldout", fig, &written);
     plot::Figure fv;
-    fv.title = "held-out residual against velocity";
+    fv.title = "report-row residual against velocity";
     fv.x_label = "velocity [m/s or rad/s]";
     fv.panels = {p3};
     figure_line += "\n\n" + TryFigure(dir / "diagnosis-velocity", fv, &written);
@@ -276,28 +302,43 @@ std::vector<std::filesystem::path> WritePlatformDiagnosisReport(const sp::AxisDi
 
   std::ostringstream md;
   md << "# Platform diagnosis: joint `" << d.joint << "`\n\n"
-     << "**Verdict: " << d.verdict << "**, cause `" << d.cause << "`.\n\n"
+     << "**Verdict: " << verdict << "**, cause `" << d.cause << "`.\n\n"
+     << "Training rows fit, selection rows decide, report rows (held out) only report; blocks "
+        "of contiguous samples, each filtered on its own.\n\n"
      << "| measure | base | extended |\n|---|---|---|\n"
      << "| training relative error | " << Fixed(d.base_train_relative_error_pct, 3) << " % | |\n"
-     << "| held-out relative error | " << Fixed(d.heldout_base_pct, 3) << " % | "
+     << "| selection relative error | " << Fixed(d.selection_base_pct, 3) << " % | "
+     << Fixed(d.selection_extended_pct, 3) << " % |\n"
+     << "| noise floor (selection) | " << Fixed(d.selection_floor_pct, 3) << " % | |\n"
+     << "| report (held-out) relative error | " << Fixed(d.heldout_base_pct, 3) << " % | "
      << Fixed(d.heldout_extended_pct, 3) << " % |\n"
-     << "| noise floor (held-out) | " << Fixed(d.noise_floor_pct, 3) << " % | |\n\n"
-     << "Training: " << d.training_recordings.size() << " recording(s); held out: ";
+     << "| noise floor (report) | " << Fixed(d.noise_floor_pct, 3) << " % | |\n\n"
+     << "Blocks: " << d.training_recordings.size() << " training, " << d.selection_recordings.size()
+     << " selection, " << d.heldout_recordings.size() << " report (" << d.report_blocks
+     << " blocks for the uncertainty): ";
   for (std::size_t i = 0; i < d.heldout_recordings.size(); ++i)
     md << (i ? ", " : "") << "`" << d.heldout_recordings[i] << "`";
   md << ".\n\n## Causes, in the order found\n\n";
   if (d.causes.empty()) md << "none\n";
-  for (const auto& [effect, gain] : d.causes)
-    md << "- `" << sp::AxisEffectId(effect) << "`: removes " << Fixed(100.0 * gain, 1)
-       << " % of the base model's held-out error above the noise\n";
-  md << "\n## Every candidate on the base model\n\n| effect | ΔBIC | held-out error | gain | earns | evidence |\n|---|---|---|---|---|---|\n";
+  else
+    md << "| effect | selection gain | report gain ± se | lower bound | confirmed |\n|---|---|---|---|---|\n";
+  for (const sp::AxisCause& c : d.causes)
+    md << "| `" << sp::AxisEffectId(c.effect) << "` | " << Fixed(c.selection_gain_pct, 1) << " % | "
+       << Fixed(c.heldout_gain_pct, 1) << " ± " << Fixed(c.heldout_gain_se_pct, 1) << " % | "
+       << Fixed(c.heldout_gain_lower_pct, 1) << " % | " << (c.confirmed ? "yes" : "no") << " |\n";
+  md << "\nGain: the share of the base model's error above the noise that adding the effect "
+        "removed. Confirmed: the one-sided lower bound (jackknife over the report blocks, Student "
+        "t) is positive.\n";
+  md << "\n## Every candidate on the base model\n\n| effect | ΔBIC | selection gain | earns | "
+        "report error | report gain | evidence |\n|---|---|---|---|---|---|---|\n";
   for (const auto& r : d.ranking)
     md << "| `" << sp::AxisEffectId(r.effect) << "` | " << Fixed(r.delta_bic, 1) << " | "
-       << Fixed(r.heldout_relative_error_pct, 3) << " % | " << Fixed(100.0 * r.heldout_gain, 1)
-       << " % | " << (r.earns ? "yes" : "no") << " | " << r.evidence << " |\n";
+       << Fixed(r.selection_gain_pct, 1) << " % | " << (r.earns ? "yes" : "no") << " | "
+       << Fixed(r.heldout_relative_error_pct, 3) << " % | " << Fixed(r.heldout_gain_pct, 1)
+       << " % | " << r.evidence << " |\n";
   md << "\n## Extended model parameters\n\n";
   for (const auto& p : d.extended_parameters) md << "- " << p.name << " = " << p.value << "\n";
-  md << "\n## Closed-loop simulation on the held-out recordings\n\n"
+  md << "\n## Closed-loop simulation, compared on the report samples\n\n"
      << "| recording | model | position | velocity | effort |\n|---|---|---|---|---|\n";
   for (const auto& c : d.closed_loop) {
     if (!c.available) {

@@ -147,20 +147,6 @@ std::string ChannelLine(const char* name, const ChannelCheck& c, const VerdictOp
 
 }  // namespace
 
-const char* VerdictName(Verdict verdict) {
-  switch (verdict) {
-    case Verdict::kAdequate:
-      return "adequate";
-    case Verdict::kExplained:
-      return "explained";
-    case Verdict::kPartlyExplained:
-      return "partly_explained";
-    case Verdict::kUnexplained:
-      return "unexplained";
-  }
-  return "unexplained";
-}
-
 double NoiseSigma(std::span<const double> y) {
   if (y.size() < 5) return 0.0;
   std::vector<double> d;

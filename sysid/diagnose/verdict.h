@@ -41,11 +41,11 @@
 #include <string>
 #include <vector>
 
+#include "sysid/diagnosis_verdict.h"
+
 namespace pwsim::diagnose {
 
-enum class Verdict { kAdequate, kExplained, kPartlyExplained, kUnexplained };
-/// "adequate", "explained", "partly_explained", "unexplained".
-const char* VerdictName(Verdict verdict);
+// Verdict and VerdictName: sysid/diagnosis_verdict.h (shared with the axis diagnosis).
 
 /// σ̂ of white noise on a sampled signal (4th differences, median absolute value). 0 for < 5 samples.
 double NoiseSigma(std::span<const double> y);

@@ -67,26 +67,47 @@ ClosedLoopRun SimulateClosedLoop(const AxisRecording& recording, const AxisForwa
   return run;
 }
 
+void ClosedLoopSums::Add(const ClosedLoopSums& o) {
+  position_err2 += o.position_err2;
+  position2 += o.position2;
+  velocity_err2 += o.velocity_err2;
+  velocity2 += o.velocity2;
+  effort_err2 += o.effort_err2;
+  effort2 += o.effort2;
+}
+
+ClosedLoopErrors ClosedLoopSums::Pct() const {
+  auto pct = [](double err2, double meas2) {
+    return meas2 > 0.0 ? 100.0 * std::sqrt(err2 / meas2) : 0.0;
+  };
+  return {pct(position_err2, position2), pct(velocity_err2, velocity2), pct(effort_err2, effort2)};
+}
+
+ClosedLoopSums CompareClosedLoopSums(const AxisRecording& recording,
+                                     const std::vector<double>& measured_qd,
+                                     std::size_t measured_offset, const ClosedLoopRun& run,
+                                     std::size_t run_offset) {
+  const JointRecording& j = recording.joints.at(0);
+  // Σ (meas_i − sim_{at + i})², Σ meas_i² over the samples both have.
+  auto add = [](const std::vector<double>& meas, const std::vector<double>& sim, std::size_t at,
+                double* err2, double* meas2) {
+    for (std::size_t i = 0; i < meas.size() && at + i < sim.size(); ++i) {
+      const double d = meas[i] - sim[at + i];
+      *err2 += d * d;
+      *meas2 += meas[i] * meas[i];
+    }
+  };
+  ClosedLoopSums s;
+  add(j.position, run.q, run_offset, &s.position_err2, &s.position2);
+  add(measured_qd, run.qd, run_offset + measured_offset, &s.velocity_err2, &s.velocity2);
+  add(j.effort, run.effort, run_offset, &s.effort_err2, &s.effort2);
+  return s;
+}
+
 ClosedLoopErrors CompareClosedLoop(const AxisRecording& recording,
                                    const std::vector<double>& measured_qd,
                                    std::size_t measured_offset, const ClosedLoopRun& run) {
-  const JointRecording& j = recording.joints.at(0);
-  auto rel = [](const std::vector<double>& meas, const std::vector<double>& sim, std::size_t from) {
-    double num = 0.0, den = 0.0;
-    for (std::size_t i = from; i < meas.size() && i < sim.size(); ++i) {
-      num += (meas[i] - sim[i]) * (meas[i] - sim[i]);
-      den += meas[i] * meas[i];
-    }
-    return den > 0.0 ? 100.0 * std::sqrt(num / den) : 0.0;
-  };
-  ClosedLoopErrors e;
-  e.position_pct = rel(j.position, run.q, 0);
-  std::vector<double> sim_qd;
-  for (std::size_t i = 0; i < measured_qd.size() && measured_offset + i < run.qd.size(); ++i)
-    sim_qd.push_back(run.qd[measured_offset + i]);
-  e.velocity_pct = rel(measured_qd, sim_qd, 0);
-  e.effort_pct = rel(j.effort, run.effort, 0);
-  return e;
+  return CompareClosedLoopSums(recording, measured_qd, measured_offset, run).Pct();
 }
 
 }  // namespace pwsim::sysid::platform

@@ -28,6 +28,16 @@ struct ClosedLoopErrors {
   double position_pct{0.0}, velocity_pct{0.0}, effort_pct{0.0};
 };
 
+/// The sums of squares behind ClosedLoopErrors, so that pieces of one run (the report blocks of
+/// a recording) can be pooled: error = 100·sqrt(Σ err²/Σ meas²) over every piece.
+struct ClosedLoopSums {
+  double position_err2{0.0}, position2{0.0};
+  double velocity_err2{0.0}, velocity2{0.0};
+  double effort_err2{0.0}, effort2{0.0};
+  void Add(const ClosedLoopSums& other);
+  ClosedLoopErrors Pct() const;
+};
+
 /// @throws std::invalid_argument when the recording has no reference or no loop gains.
 ClosedLoopRun SimulateClosedLoop(const AxisRecording& recording, const AxisForwardModel& model,
                                  int substeps = 10);
@@ -36,5 +46,11 @@ ClosedLoopRun SimulateClosedLoop(const AxisRecording& recording, const AxisForwa
 ClosedLoopErrors CompareClosedLoop(const AxisRecording& recording,
                                    const std::vector<double>& measured_qd,
                                    std::size_t measured_offset, const ClosedLoopRun& run);
+/// The same as sums; `run_offset`: the run's sample at the recording's first sample (a piece of
+/// a recording compared with the run of the whole).
+ClosedLoopSums CompareClosedLoopSums(const AxisRecording& recording,
+                                     const std::vector<double>& measured_qd,
+                                     std::size_t measured_offset, const ClosedLoopRun& run,
+                                     std::size_t run_offset = 0);
 
 }  // namespace pwsim::sysid::platform

@@ -1,12 +1,14 @@
 #include "sysid/platform/axis_diagnose.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <set>
 #include <sstream>
 #include <stdexcept>
 
+#include "sysid/platform/block_jackknife.h"
 #include "sysid/platform/signal_filters.h"
 
 namespace pwsim::sysid::platform {
@@ -15,8 +17,9 @@ namespace {
 // One recording (or part of one) ready for regression: full-rate states and decimated rows.
 struct Part {
   std::string name;
-  const AxisRecording* source{nullptr};
-  AxisRecording recording;
+  const AxisRecording* source{nullptr};  // the whole recording this block was cut from
+  std::size_t begin{0};                  // the block's first sample in `source`
+  AxisRecording recording;               // the block
   JointStates s;                 // full rate, after the border
   std::vector<double> t;         // full rate
   std::vector<double> q3, q4;    // third and fourth derivatives of the filtered q
@@ -37,10 +40,15 @@ Eigen::VectorXd DecimateColumn(const std::vector<double>& v, int r) {
   return Eigen::Map<const Eigen::VectorXd>(d.data(), static_cast<Eigen::Index>(d.size()));
 }
 
-Part MakePart(const AxisRecording& r, const std::string& name, const IdimOptions& o) {
+// Samples [begin, end) of `source`, cut out before filtering.
+Part MakePart(const AxisRecording& source, std::size_t begin, std::size_t end,
+              const std::string& name, const IdimOptions& o) {
   Part p;
   p.name = name;
-  p.recording = r;
+  p.source = &source;
+  p.begin = begin;
+  p.recording = begin == 0 && end == source.size() ? source : source.Slice(begin, end);
+  const AxisRecording& r = p.recording;
   const ProcessedRecording pr = Preprocess(r, o);
   p.s = pr.joints.at(0);
   p.t = pr.t;
@@ -94,12 +102,17 @@ struct Chosen {
 
 // The load side's position seen through the transmission from the (measured) motor side:
 // compliance: q_l = H(s) q_m, H = (2ζω s + ω²)/(s² + 2ζω s + ω²) (load J_l on a spring-damper,
-// k/J_l = ω², c/J_l = 2ζω), Tustin at the sampling rate, started in steady state;
+// k/J_l = ω², c/J_l = 2ζω), Tustin at the sampling rate;
 // backlash: the play operator q_l = clamp(q_l, q_m − b/2, q_m + b/2) (rigid contact).
-std::vector<double> LoadPosition(const Chosen& c, const std::vector<double>& qm, double dt) {
+// A block starts in motion, so both start where the motion has brought them: the filter on its
+// forced response to the quadratic through the first samples (PolynomialSteadyState), the load
+// of the play operator trailing the motor by half the gap.
+std::vector<double> LoadPosition(const Chosen& c, const std::vector<double>& qm,
+                                 const std::vector<double>& qdm, double dt) {
   std::vector<double> ql(qm.size());
+  if (qm.empty()) return ql;
   if (c.effect == AxisEffect::kBacklash) {
-    double l = qm.empty() ? 0.0 : qm[0];
+    double l = qm[0] - 0.5 * c.h * Sign(qdm.empty() ? 0.0 : qdm[0]);
     for (std::size_t i = 0; i < qm.size(); ++i) {
       l = std::clamp(l, qm[i] - 0.5 * c.h, qm[i] + 0.5 * c.h);
       ql[i] = l;
@@ -110,8 +123,23 @@ std::vector<double> LoadPosition(const Chosen& c, const std::vector<double>& qm,
   TransferFunction tf;
   tf.b = {2.0 * z * w * k + w * w, 2.0 * w * w, -2.0 * z * w * k + w * w};
   tf.a = {k * k + 2.0 * z * w * k + w * w, -2.0 * k * k + 2.0 * w * w, k * k - 2.0 * z * w * k + w * w};
-  std::vector<double> state = SteadyStateInitial(tf);
-  for (double& v : state) v *= qm.empty() ? 0.0 : qm[0];
+  std::vector<double> state = PolynomialSteadyState(tf, qm[0], 0.0, 0.0);
+  const std::size_t m = std::min<std::size_t>(qm.size(), 21);
+  if (m >= 3) {
+    // q_m ≈ c0 + c1·k + c2·k² over the first m samples (least squares).
+    Eigen::MatrixXd a(static_cast<Eigen::Index>(m), 3);
+    Eigen::VectorXd y(static_cast<Eigen::Index>(m));
+    for (std::size_t i = 0; i < m; ++i) {
+      const auto r = static_cast<Eigen::Index>(i);
+      const double t = static_cast<double>(i);
+      a(r, 0) = 1.0;
+      a(r, 1) = t;
+      a(r, 2) = t * t;
+      y(r) = qm[i];
+    }
+    const Eigen::Vector3d cq = a.colPivHouseholderQr().solve(y);
+    state = PolynomialSteadyState(tf, cq(0), cq(1), cq(2));
+  }
   Filter(tf, qm, ql, state);
   return ql;
 }
@@ -159,7 +187,7 @@ std::vector<std::vector<double>> EffectColumns(const Chosen& chosen, const Part&
     case AxisEffect::kBacklash: {
       // τ = J_m q̈_m + J_l q̈_l + f(q̇_l) = (J_m + J_l) q̈_m + J_l (q̈_l − q̈_m) + f(q̇_m)
       //     + [f(q̇_l) − f(q̇_m)]: the base columns plus the load's lag behind the motor.
-      const std::vector<double> ql = LoadPosition(chosen, s.q, p.dt);
+      const std::vector<double> ql = LoadPosition(chosen, s.q, s.qd, p.dt);
       const std::vector<double> vl = DiffCentral(ql, p.dt);
       const std::vector<double> al = DiffCentral(vl, p.dt);
       c.assign(3, std::vector<double>(n));
@@ -490,22 +518,382 @@ double SmootherFactor(double beta) {
   return (b - 2.0 * std::sin(b) + b / 2.0 + std::sin(2.0 * b) / 4.0) / b;
 }
 
-double NoiseFloorPct(const std::vector<Eigen::VectorXd>& residual, const std::vector<Part>& parts,
-                     int decimation) {
-  double ss = 0.0, n = 0.0, yy = 0.0;
-  for (std::size_t k = 0; k < parts.size(); ++k) {
-    const Eigen::VectorXd& e = residual[k];
+// σ² of the white part of per-part residuals (the local smoother of step 4).
+double WhiteNoiseVariance(const std::vector<Eigen::VectorXd>& residual, int decimation) {
+  double ss = 0.0, n = 0.0;
+  for (const Eigen::VectorXd& e : residual)
     for (Eigen::Index i = 1; i + 1 < e.size(); ++i) {
       const double d = e(i) - 0.5 * (e(i - 1) + e(i + 1));
       ss += d * d;
       n += 1.0;
     }
-    for (Eigen::Index i : parts[k].keep) yy += parts[k].y(i) * parts[k].y(i);
+  return ss / std::max(n, 1.0) / SmootherFactor(decimation > 1 ? 0.8 : 1.0);
+}
+
+// What one set of rows holds for the relative errors: Σe², Σy², the number of rows.
+struct RowSums {
+  double sse{0.0}, yy{0.0}, n{0.0};
+  void Add(const RowSums& o) {
+    sse += o.sse;
+    yy += o.yy;
+    n += o.n;
   }
-  const double var = ss / std::max(n, 1.0) / SmootherFactor(decimation > 1 ? 0.8 : 1.0);
-  double rows = 0;
-  for (const Part& p : parts) rows += static_cast<double>(p.Rows());
-  return 100.0 * std::sqrt(var * rows / yy);
+  double RelPct() const { return yy > 0.0 ? 100.0 * std::sqrt(sse / yy) : 0.0; }
+  /// Relative error of white noise of variance `var` on these rows.
+  double FloorPct(double var) const { return yy > 0.0 ? 100.0 * std::sqrt(var * n / yy) : 0.0; }
+};
+
+// ---- 1. The split ----
+
+struct Split {
+  std::vector<Part> train, select, report;
+  std::vector<AxisBlock> blocks;
+};
+
+// Roles for n blocks in turn, each block to the role furthest behind its share (ties: training,
+// selection, report): every prefix of the recording keeps the shares, so every role draws
+// blocks from the whole recording.
+std::vector<AxisRole> DealRoles(std::size_t n, const std::array<double, 3>& share) {
+  std::vector<AxisRole> roles;
+  std::array<double, 3> count{0.0, 0.0, 0.0};
+  for (std::size_t b = 0; b < n; ++b) {
+    int best = -1;
+    double best_deficit = 0.0;
+    for (int r = 0; r < 3; ++r) {
+      const double deficit = share[static_cast<std::size_t>(r)] * static_cast<double>(b + 1) -
+                             count[static_cast<std::size_t>(r)];
+      if (share[static_cast<std::size_t>(r)] > 0.0 && (best < 0 || deficit > best_deficit + 1e-12)) {
+        best = r;
+        best_deficit = deficit;
+      }
+    }
+    count[static_cast<std::size_t>(best)] += 1.0;
+    roles.push_back(static_cast<AxisRole>(best));
+  }
+  return roles;
+}
+
+std::string BlockName(const AxisRecording& r, std::size_t begin, std::size_t end) {
+  std::ostringstream o;
+  o.setf(std::ios::fixed);
+  o.precision(3);
+  o << r.file.filename().string() << "[" << r.t[begin] << "-" << r.t[end - 1] << " s]";
+  return o.str();
+}
+
+// Cuts `r` into blocks of about block_s (at least the filter borders and 20 decimated rows) and
+// deals them to the roles with these shares (training, selection, report).
+void DealRecording(const AxisRecording& r, const std::array<double, 3>& share,
+                   const AxisDiagnoseOptions& options, const IdimOptions& idim, Split* split) {
+  const std::size_t n = r.size();
+  const auto min_len = static_cast<std::size_t>(
+      std::max(1, idim.border_samples + idim.end_border_samples + 20 * idim.decimation));
+  const auto wanted = static_cast<std::size_t>(
+      std::max(1.0, std::round(options.block_s / std::max(r.dt, 1e-12))));
+  const std::size_t len = std::max(wanted, min_len);
+  std::size_t roles_needed = 0;
+  for (double f : share) roles_needed += f > 0.0 ? 1 : 0;
+  const std::size_t blocks = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(
+                                                          static_cast<double>(n) / static_cast<double>(len))));
+  if (blocks < roles_needed || n / blocks < min_len)
+    throw std::invalid_argument(
+        r.file.string() + ": " + std::to_string(n) + " samples, too few for the diagnosis' split into " +
+        std::to_string(roles_needed) + " roles; expected at least " + std::to_string(roles_needed * min_len) +
+        " samples (blocks of " + std::to_string(len) + " samples, --block-s)");
+  const std::vector<AxisRole> roles = DealRoles(blocks, share);
+  for (std::size_t b = 0; b < blocks; ++b) {
+    const std::size_t begin = b * n / blocks, end = (b + 1) * n / blocks;
+    const AxisRole role = roles[b];
+    split->blocks.push_back({r.file.filename().string(), begin, end, role});
+    Part part = MakePart(r, begin, end, BlockName(r, begin, end), idim);
+    (role == AxisRole::kTraining    ? split->train
+     : role == AxisRole::kSelection ? split->select
+                                    : split->report)
+        .push_back(std::move(part));
+  }
+}
+
+Split MakeSplit(const std::vector<AxisRecording>& recordings,
+                const std::vector<AxisRecording>& validation, const AxisDiagnoseOptions& options,
+                const IdimOptions& idim) {
+  Split split;
+  const double report = validation.empty() ? options.holdout_fraction : 0.0;
+  const double select = (1.0 - report) * options.selection_fraction;
+  const std::array<double, 3> share{1.0 - report - select, select, report};
+  for (const AxisRecording& r : recordings) DealRecording(r, share, options, idim, &split);
+  for (const AxisRecording& r : validation) {
+    split.blocks.push_back({r.file.filename().string(), 0, r.size(), AxisRole::kReport});
+    split.report.push_back(MakePart(r, 0, r.size(), r.file.filename().string(), idim));
+  }
+  return split;
+}
+
+// ---- Fits and errors ----
+
+Eigen::VectorXd FitOn(const std::vector<Part>& train, const std::vector<Chosen>& effects,
+                      const Stroke& st, int dec) {
+  const Stack s = StackParts(train, effects, st, dec);
+  return SolveOls(s.x, s.y);
+}
+
+// Per-part residuals y − Xθ on the kept rows.
+std::vector<Eigen::VectorXd> Residuals(const std::vector<Part>& parts,
+                                       const std::vector<Chosen>& effects,
+                                       const Eigen::VectorXd& theta, const Stroke& st, int dec) {
+  const Stack s = StackParts(parts, effects, st, dec);
+  const Eigen::VectorXd e = s.y - s.x * theta;
+  std::vector<Eigen::VectorXd> out;
+  Eigen::Index at = 0;
+  for (const Part& p : parts) {
+    out.push_back(e.segment(at, p.Rows()));
+    at += p.Rows();
+  }
+  return out;
+}
+
+RowSums SumsOn(const std::vector<Part>& parts, const std::vector<Chosen>& effects,
+               const Eigen::VectorXd& theta, const Stroke& st, int dec) {
+  const Stack s = StackParts(parts, effects, st, dec);
+  return {(s.y - s.x * theta).squaredNorm(), s.y.squaredNorm(), static_cast<double>(s.y.size())};
+}
+
+std::vector<Chosen> With(std::vector<Chosen> effects, const Chosen& extra) {
+  effects.push_back(extra);
+  return effects;
+}
+
+// ---- 3. Grid parameters, fitted on the training rows ----
+
+std::vector<Chosen> FitGridParameters(const std::vector<AxisEffect>& candidates,
+                                      const std::vector<Part>& train,
+                                      const std::vector<Eigen::VectorXd>& train_res,
+                                      const Stroke& st, int dec) {
+  std::vector<Chosen> out;
+  for (AxisEffect e : candidates) {
+    Chosen c{e, 0.0, 0.0};
+    std::vector<std::pair<double, double>> grid = HyperGrid(e, st, train, dec);
+    if (e == AxisEffect::kCogging && !grid.empty()) {
+      std::vector<double> periods;
+      for (const auto& g : grid) periods.push_back(g.first);
+      grid.clear();
+      for (double pp : ScreenCogging(periods, train, train_res)) grid.push_back({pp, 0.0});
+    }
+    double best = 1e300;
+    for (const auto& [h, h2] : grid) {
+      const std::vector<Chosen> trial{Chosen{e, h, h2}};
+      const Stack s = StackParts(train, trial, st, dec);
+      const double sse = (s.y - s.x * SolveOls(s.x, s.y)).squaredNorm();
+      if (sse < best) {
+        best = sse;
+        c.h = h;
+        c.h2 = h2;
+      }
+    }
+    out.push_back(c);
+  }
+  return out;
+}
+
+// ---- 5. Forward selection on the selection rows ----
+
+struct Selection {
+  std::vector<Chosen> causes;               // in the order found
+  std::vector<double> selection_gain_pct;   // per cause
+  std::vector<Eigen::VectorXd> theta;       // theta[k]: base + the first k causes
+  std::vector<EffectResult> first_round;    // every candidate on the base model
+  std::vector<Eigen::VectorXd> first_round_theta;
+  std::vector<Chosen> first_round_effect;
+  bool base_adequate{false};
+  double base_pct{0.0}, extended_pct{0.0}, floor_pct{0.0};
+};
+
+Selection ForwardSelect(const std::vector<Part>& train, const std::vector<Part>& select,
+                        const std::vector<Chosen>& grid_fitted,
+                        const std::vector<Eigen::VectorXd>& train_res, double noise_var,
+                        const Eigen::VectorXd& base_theta, const Stroke& st,
+                        const AxisDiagnoseOptions& options, int dec) {
+  Selection out;
+  std::vector<Chosen> current;
+  Eigen::VectorXd theta = base_theta;
+  out.theta.push_back(theta);
+  const RowSums base_sums = SumsOn(select, current, theta, st, dec);
+  const double floor = base_sums.FloorPct(noise_var);
+  out.floor_pct = floor;
+  out.base_pct = base_sums.RelPct();
+  out.base_adequate = Excess(out.base_pct, floor) <= options.adequate_ratio * floor;
+  const Stack base_train = StackParts(train, current, st, dec);
+  double current_bic = Bic(base_train.x, base_train.y, theta);
+  double current_pct = out.base_pct;
+  const double ex_base = Excess(out.base_pct, floor);
+  std::set<std::size_t> used;
+  bool first_round = true;
+  while (true) {
+    std::optional<std::size_t> best;
+    double best_score = -1e300, best_gain = 0.0;
+    Eigen::VectorXd best_theta;
+    for (std::size_t i = 0; i < grid_fitted.size(); ++i) {
+      if (used.count(i)) continue;
+      const std::vector<Chosen> trial = With(current, grid_fitted[i]);
+      const Stack t2 = StackParts(train, trial, st, dec);
+      const Eigen::VectorXd th = SolveOls(t2.x, t2.y);
+      EffectResult r;
+      r.effect = grid_fitted[i].effect;
+      r.delta_bic = Bic(t2.x, t2.y, th, HyperCount(trial)) - current_bic;
+      r.train_relative_error_pct = RelPct(t2.x, t2.y, th);
+      r.selection_relative_error_pct = SumsOn(select, trial, th, st, dec).RelPct();
+      // Gain: the share of the BASE model's excess error that this effect removes on top of
+      // the effects already found (so later rounds need as much as the first).
+      r.selection_gain_pct =
+          ex_base > 0.0
+              ? 100.0 * (Excess(current_pct, floor) - Excess(r.selection_relative_error_pct, floor)) / ex_base
+              : 0.0;
+      r.earns = !out.base_adequate && r.delta_bic < options.bic_threshold &&
+                r.selection_gain_pct >= options.min_gain_pct;
+      r.parameters = NameParameters(trial, th);
+      r.evidence = Evidence(grid_fitted[i].effect, train, train_res, grid_fitted[i].h);
+      // Among the effects that earn, the most probable one (lowest training BIC, parameters
+      // and grid parameters counted): a delay and a compliant load both add lag, and the
+      // simpler explanation must win when both fit.
+      if (r.earns && -r.delta_bic > best_score) {
+        best_score = -r.delta_bic;
+        best_gain = r.selection_gain_pct;
+        best = i;
+        best_theta = th;
+      }
+      if (first_round) {
+        out.first_round.push_back(std::move(r));
+        out.first_round_theta.push_back(th);
+        out.first_round_effect.push_back(grid_fitted[i]);
+      }
+    }
+    first_round = false;
+    if (!best) break;
+    used.insert(*best);
+    current.push_back(grid_fitted[*best]);
+    theta = best_theta;
+    out.causes.push_back(grid_fitted[*best]);
+    out.selection_gain_pct.push_back(best_gain);
+    out.theta.push_back(theta);
+    const Stack t2 = StackParts(train, current, st, dec);
+    current_bic = Bic(t2.x, t2.y, theta, HyperCount(current));
+    current_pct = SumsOn(select, current, theta, st, dec).RelPct();
+    // Explained on the selection rows: nothing above the noise is left to attribute.
+    if (Excess(current_pct, floor) <= options.adequate_ratio * floor) break;
+  }
+  out.extended_pct = current_pct;
+  return out;
+}
+
+// ---- 6. The report rows ----
+
+// Row sums of `effects`/`theta` per report block: each part cut into round(span/block_s)
+// chunks of consecutive rows (one chunk for a block of the split).
+std::vector<RowSums> BlockSums(const std::vector<Part>& report, const std::vector<Chosen>& effects,
+                               const Eigen::VectorXd& theta, const Stroke& st, int dec,
+                               double block_s) {
+  const std::vector<Eigen::VectorXd> res = Residuals(report, effects, theta, st, dec);
+  std::vector<RowSums> out;
+  for (std::size_t k = 0; k < report.size(); ++k) {
+    const Part& p = report[k];
+    if (p.Rows() == 0) continue;
+    const double span = p.tdec[static_cast<std::size_t>(p.keep.back())] -
+                        p.tdec[static_cast<std::size_t>(p.keep.front())];
+    const auto chunks = static_cast<Eigen::Index>(std::max(1L, std::lround(span / block_s)));
+    const std::size_t first = out.size();
+    out.resize(first + static_cast<std::size_t>(chunks));
+    for (Eigen::Index i = 0; i < p.Rows(); ++i) {
+      RowSums& b = out[first + static_cast<std::size_t>(i * chunks / p.Rows())];
+      const double y = p.y(p.keep[static_cast<std::size_t>(i)]);
+      b.sse += res[k](i) * res[k](i);
+      b.yy += y * y;
+      b.n += 1.0;
+    }
+  }
+  return out;
+}
+
+RowSums Pool(const std::vector<RowSums>& blocks, int excluded) {
+  RowSums s;
+  for (std::size_t b = 0; b < blocks.size(); ++b)
+    if (static_cast<int>(b) != excluded) s.Add(blocks[b]);
+  return s;
+}
+
+// The gain [%] of going from `before` to `after` as a share of the base's excess, on the report
+// blocks without `excluded`.
+double ReportGainPct(const std::vector<RowSums>& base, const std::vector<RowSums>& before,
+                     const std::vector<RowSums>& after, double noise_var, int excluded) {
+  const RowSums b = Pool(base, excluded);
+  const double floor = b.FloorPct(noise_var);
+  const double ex_base = Excess(b.RelPct(), floor);
+  if (!(ex_base > 0.0)) return 0.0;
+  return 100.0 *
+         (Excess(Pool(before, excluded).RelPct(), floor) - Excess(Pool(after, excluded).RelPct(), floor)) /
+         ex_base;
+}
+
+std::string UnexplainedEvidence(const AxisDiagnosis& d, const Selection& sel) {
+  std::ostringstream o;
+  o.precision(3);
+  o << "report-row relative error " << d.heldout_extended_pct << " % against a noise floor of "
+    << d.noise_floor_pct << " %; ";
+  if (sel.base_adequate) {
+    o << "the base model was noise-like on the selection rows (" << sel.base_pct << " % against "
+      << sel.floor_pct << " %), so no cause was searched";
+    return o.str();
+  }
+  bool unconfirmed = false;
+  for (const AxisCause& c : d.causes) {
+    if (c.confirmed) continue;
+    o << (unconfirmed ? ", " : "not confirmed on the report rows: ") << AxisEffectId(c.effect) << " ("
+      << c.heldout_gain_pct << " ± " << c.heldout_gain_se_pct << " %)";
+    unconfirmed = true;
+  }
+  if (unconfirmed) o << "; ";
+  o << "no further effect of the table earns its parameters on the selection rows";
+  return o.str();
+}
+
+// ---- 7. Closed loop ----
+
+std::vector<ClosedLoopComparison> CompareInClosedLoop(const std::vector<Part>& report,
+                                                      const std::vector<Chosen>& causes,
+                                                      const Eigen::VectorXd& base_theta,
+                                                      const Eigen::VectorXd& theta, const Stroke& st,
+                                                      std::size_t border) {
+  std::vector<ClosedLoopComparison> out;
+  std::vector<const AxisRecording*> sources;
+  for (const Part& p : report)
+    if (std::find(sources.begin(), sources.end(), p.source) == sources.end()) sources.push_back(p.source);
+  for (const AxisRecording* r : sources) {
+    ClosedLoopComparison c;
+    c.recording = r->file.filename().string();
+    if (!r->loop || r->joints[0].reference.empty()) {
+      c.why_not = "the recording has no reference or no loop gains";
+      out.push_back(c);
+      continue;
+    }
+    AxisForwardModel base_model, ext_model;
+    ForwardFriction({}, base_theta, st, &base_model);
+    const bool ext_known = ForwardFriction(causes, theta, st, &ext_model);
+    if (!ext_known)
+      c.why_not = "the extended model's effect is not a force of (q, q') alone; base only";
+    // The whole recording is simulated (the model reads only the reference and the gains) and
+    // compared on its report samples.
+    const ClosedLoopRun base_run = SimulateClosedLoop(*r, base_model);
+    const ClosedLoopRun ext_run = ext_known ? SimulateClosedLoop(*r, ext_model) : base_run;
+    ClosedLoopSums base_sums, ext_sums;
+    for (const Part& p : report) {
+      if (p.source != r) continue;
+      base_sums.Add(CompareClosedLoopSums(p.recording, p.s.qd, border, base_run, p.begin));
+      ext_sums.Add(CompareClosedLoopSums(p.recording, p.s.qd, border, ext_run, p.begin));
+    }
+    c.base = base_sums.Pct();
+    c.extended = ext_sums.Pct();
+    c.available = true;
+    out.push_back(c);
+  }
+  return out;
 }
 
 }  // namespace
@@ -531,6 +919,15 @@ const std::vector<AxisEffect>& AllAxisEffects() {
   return all;
 }
 
+const char* AxisRoleName(AxisRole role) {
+  switch (role) {
+    case AxisRole::kTraining: return "training";
+    case AxisRole::kSelection: return "selection";
+    case AxisRole::kReport: return "report";
+  }
+  return "?";
+}
+
 AxisDiagnosis DiagnoseAxis(const std::vector<AxisRecording>& recordings,
                            const std::vector<AxisRecording>& validation,
                            const AxisDiagnoseOptions& options) {
@@ -541,29 +938,21 @@ AxisDiagnosis DiagnoseAxis(const std::vector<AxisRecording>& recordings,
         throw std::invalid_argument(r.file.string() + ": diagnose expects one joint, got " +
                                     std::to_string(r.joints.size()));
   const int dec = options.idim.decimation;
-  // Split recordings start and end in motion: drop the filter border at both ends.
+  // Blocks start and end in motion: drop the filter border at both ends.
   IdimOptions idim = options.idim;
   if (idim.end_border_samples <= 0) idim.end_border_samples = idim.border_samples;
-  std::vector<Part> train, held;
-  for (const AxisRecording& r : recordings) {
-    const std::string name = r.file.filename().string();
-    if (validation.empty()) {
-      const auto cut = static_cast<std::size_t>(
-          std::lround(static_cast<double>(r.size()) * (1.0 - options.holdout_fraction)));
-      train.push_back(MakePart(r.Slice(0, cut), name + "[train]", idim));
-      held.push_back(MakePart(r.Slice(cut, r.size()), name + "[held-out]", idim));
-    } else {
-      train.push_back(MakePart(r, name, idim));
-    }
-  }
-  for (const AxisRecording& r : validation)
-    held.push_back(MakePart(r, r.file.filename().string(), idim));
+  Split split = MakeSplit(recordings, validation, options, idim);
+  const std::vector<Part>& train = split.train;
+  const std::vector<Part>& select = split.select;
 
   AxisDiagnosis out;
   out.joint = recordings.front().joints.front().name;
+  out.blocks = split.blocks;
   for (const Part& p : train) out.training_recordings.push_back(p.name);
-  for (const Part& p : held) out.heldout_recordings.push_back(p.name);
+  for (const Part& p : select) out.selection_recordings.push_back(p.name);
+  for (const Part& p : split.report) out.heldout_recordings.push_back(p.name);
 
+  // The stroke and the peak speed of the training rows map positions and define rest.
   Stroke st;
   st.q_min = 1e300;
   st.q_max = -1e300;
@@ -576,201 +965,115 @@ AxisDiagnosis DiagnoseAxis(const std::vector<AxisRecording>& recordings,
   if (!(st.q_max > st.q_min)) st.q_max = st.q_min + 1.0;
   // Rows at rest carry static friction, which no inverse model can predict (any force up to
   // breakaway holds the axis): the diagnosis uses the moving rows.
-  for (auto* parts : {&train, &held})
+  for (auto* parts : {&split.train, &split.select, &split.report})
     for (Part& p : *parts)
       for (Eigen::Index i = 0; i < p.qddec.size(); ++i)
         if (std::abs(p.qddec(i)) >= options.rest_speed_fraction * st.v_peak) p.keep.push_back(i);
 
-  // Base.
-  std::vector<Chosen> current;
-  Stack tr = StackParts(train, current, st, dec);
-  Stack ho = StackParts(held, current, st, dec);
-  Eigen::VectorXd theta = SolveOls(tr.x, tr.y);
-  out.base_parameters = NameParameters(current, theta);
-  out.base_train_relative_error_pct = RelPct(tr.x, tr.y, theta);
-  out.heldout_base_pct = RelPct(ho.x, ho.y, theta);
-  const Eigen::VectorXd base_theta = theta;
-  std::vector<Eigen::VectorXd> held_res, train_res;
-  {
-    Eigen::Index at = 0;
-    for (const Part& p : held) {
-      held_res.push_back(ho.y.segment(at, p.Rows()) - ho.x.middleRows(at, p.Rows()) * theta);
-      at += p.Rows();
-    }
-    at = 0;
-    for (const Part& p : train) {
-      train_res.push_back(tr.y.segment(at, p.Rows()) - tr.x.middleRows(at, p.Rows()) * theta);
-      at += p.Rows();
-    }
+  // 2. Base, 3. grid parameters (training rows).
+  const Eigen::VectorXd base_theta = FitOn(train, {}, st, dec);
+  out.base_parameters = NameParameters({}, base_theta);
+  out.base_train_relative_error_pct = SumsOn(train, {}, base_theta, st, dec).RelPct();
+  const std::vector<Eigen::VectorXd> train_res = Residuals(train, {}, base_theta, st, dec);
+  const std::vector<Chosen> grid_fitted =
+      FitGridParameters(options.candidates, train, train_res, st, dec);
+
+  // 4. Noise model (selection rows): the smoother on the base residual, or on the residual of
+  // every candidate at once when that is lower (structure the smoother mistakes for noise,
+  // e.g. the sharp pulses of a delay at each acceleration switch, is then taken out first).
+  double noise_var =
+      WhiteNoiseVariance(Residuals(select, {}, base_theta, st, dec), dec);
+  noise_var = std::min(noise_var, WhiteNoiseVariance(Residuals(select, grid_fitted,
+                                                               FitOn(train, grid_fitted, st, dec), st, dec),
+                                                     dec));
+  out.noise_sigma = std::sqrt(noise_var);
+
+  // 5. Forward selection (selection rows).
+  const Selection sel =
+      ForwardSelect(train, select, grid_fitted, train_res, noise_var, base_theta, st, options, dec);
+  out.selection_base_pct = sel.base_pct;
+  out.selection_extended_pct = sel.extended_pct;
+  out.selection_floor_pct = sel.floor_pct;
+  const Eigen::VectorXd& theta = sel.theta.back();
+  out.extended_parameters = NameParameters(sel.causes, theta);
+
+  // 6. The report rows, read from here on only to report.
+  const std::vector<Part>& report = split.report;
+  std::vector<std::vector<RowSums>> step_sums;  // base, base + first cause, ...
+  for (std::size_t k = 0; k < sel.theta.size(); ++k)
+    step_sums.push_back(BlockSums(
+        report, std::vector<Chosen>(sel.causes.begin(), sel.causes.begin() + static_cast<std::ptrdiff_t>(k)),
+        sel.theta[k], st, dec, options.block_s));
+  out.report_blocks = static_cast<int>(step_sums.front().size());
+  const RowSums base_all = Pool(step_sums.front(), -1);
+  out.heldout_base_pct = base_all.RelPct();
+  out.heldout_extended_pct = Pool(step_sums.back(), -1).RelPct();
+  out.noise_floor_pct = base_all.FloorPct(noise_var);
+  std::size_t confirmed = 0;
+  for (std::size_t k = 0; k < sel.causes.size(); ++k) {
+    const JackknifeBound g = BlockJackknife(
+        out.report_blocks,
+        [&](int excluded) {
+          return ReportGainPct(step_sums.front(), step_sums[k], step_sums[k + 1], noise_var, excluded);
+        },
+        options.confirm_level);
+    AxisCause c;
+    c.effect = sel.causes[k].effect;
+    c.selection_gain_pct = sel.selection_gain_pct[k];
+    c.heldout_gain_pct = g.estimate;
+    c.heldout_gain_se_pct = g.se;
+    c.heldout_gain_lower_pct = g.lower;
+    c.confirmed = g.lower > 0.0;
+    confirmed += c.confirmed ? 1 : 0;
+    out.causes.push_back(c);
   }
-  // Nonlinear parameter of each effect: chosen once, on the base residual / training error.
-  std::vector<Chosen> hyper;
-  for (AxisEffect e : options.candidates) {
-    Chosen c{e, 0.0, 0.0};
-    std::vector<std::pair<double, double>> grid = HyperGrid(e, st, train, dec);
-    if (e == AxisEffect::kCogging && !grid.empty()) {
-      std::vector<double> periods;
-      for (const auto& g : grid) periods.push_back(g.first);
-      grid.clear();
-      for (double pp : ScreenCogging(periods, train, train_res)) grid.push_back({pp, 0.0});
-    }
-    if (!grid.empty()) {
-      double best = 1e300;
-      for (const auto& [h, h2] : grid) {
-        std::vector<Chosen> trial{Chosen{e, h, h2}};
-        const Stack s = StackParts(train, trial, st, dec);
-        const double sse = (s.y - s.x * SolveOls(s.x, s.y)).squaredNorm();
-        if (sse < best) {
-          best = sse;
-          c.h = h;
-          c.h2 = h2;
-        }
+  for (std::size_t i = 0; i < sel.first_round.size(); ++i) {
+    EffectResult r = sel.first_round[i];
+    const std::vector<RowSums> with = BlockSums(report, {sel.first_round_effect[i]},
+                                                sel.first_round_theta[i], st, dec, options.block_s);
+    r.heldout_relative_error_pct = Pool(with, -1).RelPct();
+    r.heldout_gain_pct = ReportGainPct(step_sums.front(), step_sums.front(), with, noise_var, -1);
+    out.ranking.push_back(std::move(r));
+  }
+  // The ranking's order is the selection rows': earning first, then by selection gain.
+  std::stable_sort(out.ranking.begin(), out.ranking.end(),
+                   [](const EffectResult& a, const EffectResult& b) {
+                     if (a.earns != b.earns) return a.earns;
+                     return a.selection_gain_pct > b.selection_gain_pct;
+                   });
+  const double floor = out.noise_floor_pct, allowed = options.adequate_ratio * floor;
+  out.verdict = diagnose::DecideVerdict(Excess(out.heldout_base_pct, floor) <= allowed, confirmed,
+                                        Excess(out.heldout_extended_pct, floor) <= allowed);
+  if (out.verdict == diagnose::Verdict::kExplained ||
+      out.verdict == diagnose::Verdict::kPartlyExplained)
+    for (const AxisCause& c : out.causes)
+      if (c.confirmed) {
+        out.cause = AxisEffectId(c.effect);
+        break;
       }
-    }
-    hyper.push_back(c);
-  }
+  if (out.verdict == diagnose::Verdict::kUnexplained ||
+      out.verdict == diagnose::Verdict::kPartlyExplained)
+    out.unexplained_evidence = UnexplainedEvidence(out, sel);
 
-  // Noise floor: the smoother estimate on the base residual, or on the residual of every
-  // candidate at once when that is lower (structure the smoother mistakes for noise, e.g. the
-  // sharp pulses of a delay at each acceleration switch, is then taken out first).
-  out.noise_floor_pct = NoiseFloorPct(held_res, held, dec);
+  // Report series for plots.
   {
-    const Stack tf = StackParts(train, hyper, st, dec);
-    const Stack hf = StackParts(held, hyper, st, dec);
-    const Eigen::VectorXd th = SolveOls(tf.x, tf.y);
-    std::vector<Eigen::VectorXd> full_res;
-    Eigen::Index at = 0;
-    for (const Part& p : held) {
-      full_res.push_back(hf.y.segment(at, p.Rows()) - hf.x.middleRows(at, p.Rows()) * th);
-      at += p.Rows();
-    }
-    out.noise_floor_pct = std::min(out.noise_floor_pct, NoiseFloorPct(full_res, held, dec));
-  }
-  const double floor = out.noise_floor_pct;
-  double current_bic = Bic(tr.x, tr.y, theta);
-  double current_held = out.heldout_base_pct;
-  const bool adequate = Excess(out.heldout_base_pct, floor) <= options.adequate_ratio * floor;
-
-  std::set<int> used;
-  bool first_round = true;
-  while (true) {
-    std::vector<EffectResult> round;
-    int best_index = -1;
-    double best_gain = -1e300, best_score = -1e300;
-    Eigen::VectorXd best_theta;
-    for (std::size_t i = 0; i < hyper.size(); ++i) {
-      if (used.count(static_cast<int>(i))) continue;
-      std::vector<Chosen> trial = current;
-      trial.push_back(hyper[i]);
-      const Stack t2 = StackParts(train, trial, st, dec);
-      const Stack h2 = StackParts(held, trial, st, dec);
-      const Eigen::VectorXd th = SolveOls(t2.x, t2.y);
-      EffectResult r;
-      r.effect = hyper[i].effect;
-      r.delta_bic = Bic(t2.x, t2.y, th, HyperCount(trial)) - current_bic;
-      r.train_relative_error_pct = RelPct(t2.x, t2.y, th);
-      r.heldout_relative_error_pct = RelPct(h2.x, h2.y, th);
-      // Gain: the share of the BASE model's held-out excess error that this effect removes on
-      // top of the effects already found (so later rounds need as much as the first).
-      const double ex_base = Excess(out.heldout_base_pct, floor);
-      const double ex0 = Excess(current_held, floor);
-      const double ex1 = Excess(r.heldout_relative_error_pct, floor);
-      r.heldout_gain = ex_base > 0.0 ? (ex0 - ex1) / ex_base : 0.0;
-      r.earns = !adequate && r.delta_bic < options.bic_threshold &&
-                r.heldout_gain >= options.min_heldout_gain;
-      r.parameters = NameParameters(trial, th);
-      r.evidence = Evidence(hyper[i].effect, train, train_res, hyper[i].h);
-      // Among the effects that earn, the most probable one (lowest training BIC, parameters
-      // and grid parameters counted): a delay and a compliant load both add lag, and the
-      // simpler explanation must win when both fit.
-      if (r.earns && -r.delta_bic > best_score) {
-        best_score = -r.delta_bic;
-        best_gain = r.heldout_gain;
-        best_index = static_cast<int>(i);
-        best_theta = th;
-      }
-      round.push_back(std::move(r));
-    }
-    if (first_round) {
-      std::sort(round.begin(), round.end(), [](const EffectResult& a, const EffectResult& b) {
-        if (a.earns != b.earns) return a.earns;
-        return a.heldout_gain > b.heldout_gain;
-      });
-      out.ranking = round;
-      first_round = false;
-    }
-    if (best_index < 0) break;
-
-    used.insert(best_index);
-    current.push_back(hyper[static_cast<std::size_t>(best_index)]);
-    out.causes.push_back({hyper[static_cast<std::size_t>(best_index)].effect, best_gain});
-    theta = best_theta;
-    const Stack t2 = StackParts(train, current, st, dec);
-    const Stack h2 = StackParts(held, current, st, dec);
-    current_bic = Bic(t2.x, t2.y, theta, HyperCount(current));
-    current_held = RelPct(h2.x, h2.y, theta);
-    // Explained: nothing above the noise is left to attribute to a further effect.
-    if (Excess(current_held, floor) <= options.adequate_ratio * floor) break;
-  }
-  out.extended_parameters = NameParameters(current, theta);
-  out.heldout_extended_pct = current_held;
-  if (adequate) {
-    out.verdict = "adequate";
-  } else if (out.causes.empty()) {
-    out.verdict = "unexplained";
-  } else {
-    out.cause = AxisEffectId(out.causes.front().first);
-    out.verdict = Excess(current_held, floor) <= options.adequate_ratio * floor
-                      ? "explained"
-                      : "partly_explained";
-  }
-  if (out.verdict == "unexplained" || out.verdict == "partly_explained") {
-    std::ostringstream o;
-    o.precision(3);
-    o << "held-out relative error " << current_held << " % against a noise floor of " << floor
-      << " %; no further effect of the table earns its parameters";
-    out.unexplained_evidence = o.str();
-  }
-
-  // Held-out series for plots.
-  {
-    const Stack h2 = StackParts(held, current, st, dec);
-    const Eigen::VectorXd ext = h2.x * theta, base = ho.x * base_theta;
-    for (const Part& p : held)
+    const Stack h2 = StackParts(report, sel.causes, st, dec);
+    const Stack h0 = StackParts(report, {}, st, dec);
+    const Eigen::VectorXd ext = h2.x * theta, base = h0.x * base_theta;
+    for (const Part& p : report)
       for (Eigen::Index i : p.keep) {
         out.heldout_t.push_back(p.tdec[static_cast<std::size_t>(i)]);
         out.heldout_qd.push_back(p.qddec(i));
       }
-    out.heldout_tau.assign(ho.y.data(), ho.y.data() + ho.y.size());
+    out.heldout_tau.assign(h0.y.data(), h0.y.data() + h0.y.size());
     out.heldout_base.assign(base.data(), base.data() + base.size());
     out.heldout_ext.assign(ext.data(), ext.data() + ext.size());
   }
 
-  // Closed loop on the held-out recordings.
-  if (options.simulate) {
-    const auto border = static_cast<std::size_t>(std::max(0, idim.border_samples));
-    for (const Part& p : held) {
-      ClosedLoopComparison c;
-      c.recording = p.name;
-      const AxisRecording& r = p.recording;
-      if (!r.loop || r.joints[0].reference.empty()) {
-        c.why_not = "the recording has no reference or no loop gains";
-        out.closed_loop.push_back(c);
-        continue;
-      }
-      AxisForwardModel base_model, ext_model;
-      ForwardFriction({}, base_theta, st, &base_model);
-      c.base = CompareClosedLoop(r, p.s.qd, border, SimulateClosedLoop(r, base_model));
-      if (ForwardFriction(current, theta, st, &ext_model)) {
-        c.extended = CompareClosedLoop(r, p.s.qd, border, SimulateClosedLoop(r, ext_model));
-      } else {
-        c.extended = c.base;
-        c.why_not = "the extended model's effect is not a force of (q, q') alone; base only";
-      }
-      c.available = true;
-      out.closed_loop.push_back(c);
-    }
-  }
+  // 7. Closed loop, compared on the report samples.
+  if (options.simulate)
+    out.closed_loop = CompareInClosedLoop(report, sel.causes, base_theta, theta, st,
+                                          static_cast<std::size_t>(std::max(0, idim.border_samples)));
   return out;
 }
 

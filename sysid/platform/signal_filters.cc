@@ -118,6 +118,36 @@ std::vector<double> SteadyStateInitial(const TransferFunction& tf) {
   return std::vector<double>(zi.data(), zi.data() + m);
 }
 
+std::vector<double> PolynomialSteadyState(const TransferFunction& tf, double c0, double c1,
+                                          double c2) {
+  const std::size_t n = std::max(tf.a.size(), tf.b.size());
+  if (n < 2) return {};
+  std::vector<double> b(n, 0.0), a(n, 0.0);
+  for (std::size_t i = 0; i < tf.b.size(); ++i) b[i] = tf.b[i] / tf.a[0];
+  for (std::size_t i = 0; i < tf.a.size(); ++i) a[i] = tf.a[i] / tf.a[0];
+  auto moment = [n](const std::vector<double>& c, int j) {
+    double s = 0.0;
+    for (std::size_t i = 0; i < n; ++i) s += std::pow(static_cast<double>(i), j) * c[i];
+    return s;
+  };
+  const double sa0 = moment(a, 0), sa1 = moment(a, 1), sa2 = moment(a, 2);
+  const double sb0 = moment(b, 0), sb1 = moment(b, 1), sb2 = moment(b, 2);
+  if (std::abs(sa0) < 1e-14)
+    throw std::invalid_argument("PolynomialSteadyState: the filter has a pole at z = 1");
+  const double d2 = c2 * sb0 / sa0;
+  const double d1 = (c1 * sb0 - 2.0 * c2 * sb1 + 2.0 * d2 * sa1) / sa0;
+  const double d0 = (c0 * sb0 - c1 * sb1 + c2 * sb2 + d1 * sa1 - d2 * sa2) / sa0;
+  auto x = [&](double k) { return c0 + c1 * k + c2 * k * k; };
+  auto y = [&](double k) { return d0 + d1 * k + d2 * k * k; };
+  std::vector<double> z(n - 1, 0.0);
+  for (std::size_t j = 0; j + 1 < n; ++j)
+    for (std::size_t i = j + 1; i < n; ++i) {
+      const double k = static_cast<double>(j) - static_cast<double>(i);
+      z[j] += b[i] * x(k) - a[i] * y(k);
+    }
+  return z;
+}
+
 namespace {
 
 // Normalised, equal-length coefficients (a[0] = 1).

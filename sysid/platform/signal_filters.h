@@ -35,6 +35,19 @@ void Filter(const TransferFunction& tf, const std::vector<double>& x, std::vecto
             std::vector<double>& z);
 /// Steady-state initial conditions for a unit step input (scipy lfilter_zi).
 std::vector<double> SteadyStateInitial(const TransferFunction& tf);
+/// The state from which Filter continues the quadratic input x_k = c0 + c1·k + c2·k²
+/// (k = 0, 1, ...) on its forced response, without a start transient: a filter started on a
+/// signal that is already moving (a block cut out of a recording). The forced response of
+/// A(q⁻¹)y = B(q⁻¹)x to a quadratic is a quadratic y_k = d0 + d1·k + d2·k²; matching powers of
+/// k with S_j(c) = Σ_i i^j c_i:
+///   d2·S0(a) = c2·S0(b),
+///   d1·S0(a) − 2d2·S1(a) = c1·S0(b) − 2c2·S1(b),
+///   d0·S0(a) − d1·S1(a) + d2·S2(a) = c0·S0(b) − c1·S1(b) + c2·S2(b);
+/// the state is what the past x_k, y_k (k < 0) of the same polynomials leave in the direct form
+/// II transposed: z_j = Σ_{i>j} (b_i·x_{j−i} − a_i·y_{j−i}).
+/// @throws std::invalid_argument when A(1) = 0 (a pole at z = 1: no steady state).
+std::vector<double> PolynomialSteadyState(const TransferFunction& tf, double c0, double c1,
+                                          double c2);
 /// Zero-phase filtering with MATLAB's edge handling. @throws std::invalid_argument when x is
 /// not longer than 3·(nfilt − 1) samples.
 std::vector<double> FiltFilt(const TransferFunction& tf, const std::vector<double>& x);

@@ -71,5 +71,40 @@ TEST(SignalFilters, RejectsBadArguments) {
   EXPECT_THROW(DiffCentral({1.0}, 0.1), std::invalid_argument);
 }
 
+// A filter started from PolynomialSteadyState on a quadratic continues without a transient:
+// the reference is the same filter run from 20 000 samples earlier (from rest), whose
+// transient has died out long before sample 0 (poles of radius ≤ 0.95: 0.95^20000 ≈ 0).
+TEST(SignalFilters, PolynomialSteadyStateLeavesNoTransient) {
+  TransferFunction tf;  // a resonant 2nd-order section, poles 0.95·e^{±0.3j}, gain 1 at DC
+  const double r = 0.95, th = 0.3;
+  tf.a = {1.0, -2.0 * r * std::cos(th), r * r};
+  const double dc = 1.0 - 2.0 * r * std::cos(th) + r * r;
+  tf.b = {0.2 * dc, 0.5 * dc, 0.3 * dc};
+  const double c0 = 0.7, c1 = -0.013, c2 = 2.5e-5;
+  auto x = [&](double k) { return c0 + c1 * k + c2 * k * k; };
+  const int lead = 20000, n = 200;
+  std::vector<double> long_in(lead + n), long_out;
+  for (int k = -lead; k < n; ++k) long_in[static_cast<std::size_t>(k + lead)] = x(k);
+  std::vector<double> z0;
+  Filter(tf, long_in, long_out, z0);
+  std::vector<double> in(n), out;
+  for (int k = 0; k < n; ++k) in[static_cast<std::size_t>(k)] = x(k);
+  std::vector<double> z = PolynomialSteadyState(tf, c0, c1, c2);
+  Filter(tf, in, out, z);
+  for (int k = 0; k < n; ++k)
+    EXPECT_NEAR(out[static_cast<std::size_t>(k)], long_out[static_cast<std::size_t>(k + lead)], 1e-9)
+        << "sample " << k;
+  // The plain step state (the first sample held) leaves a transient on the same input.
+  std::vector<double> zs = SteadyStateInitial(tf), step_out;
+  for (double& v : zs) v *= c0;
+  Filter(tf, in, step_out, zs);
+  EXPECT_GT(std::abs(step_out[5] - long_out[static_cast<std::size_t>(5 + lead)]), 1e-3);
+}
+
+TEST(SignalFilters, PolynomialSteadyStateRejectsAPoleAtOne) {
+  TransferFunction integrator{{1.0}, {1.0, -1.0}};
+  EXPECT_THROW(PolynomialSteadyState(integrator, 1.0, 0.0, 0.0), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace pwsim::sysid::platform
