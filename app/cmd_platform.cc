@@ -45,12 +45,19 @@ void PrintWritten(const std::string& verb, const std::vector<std::filesystem::pa
 sp::IdimOptions IdimFromArgs(const ParsedArgs& args) {
   sp::IdimOptions o;
   o.lowpass_cutoff_hz = args.GetDouble("cutoff-hz");
-  o.decimation = static_cast<int>(args.GetInt("decimation"));
-  o.end_border_samples = static_cast<int>(args.GetInt("end-border"));
-  if (o.end_border_samples < 0) throw UsageError("option --end-border: expected >= 0");
-  if (!(o.lowpass_cutoff_hz > 0.0)) throw UsageError("option --cutoff-hz: expected > 0 Hz");
-  if (o.decimation < 1 || o.decimation > 100)
-    throw UsageError("option --decimation: expected 1..100");
+  if (!(o.lowpass_cutoff_hz > 0.0))
+    throw UsageError("option --cutoff-hz: expected a frequency > 0 Hz, got " + args.Get("cutoff-hz"));
+  o.decimation = static_cast<int>(args.GetInt("decimation", 1, 100));
+  o.end_border_samples = static_cast<int>(args.GetInt("end-border", 0, 1000000));
+  return o;
+}
+
+sp::AxisDiagnoseOptions DiagnoseFromArgs(const ParsedArgs& args) {
+  sp::AxisDiagnoseOptions o;
+  o.idim = IdimFromArgs(args);
+  o.holdout_fraction = args.GetDouble("holdout", 0.05, 0.95);
+  o.selection_fraction = args.GetDouble("selection", 0.05, 0.95);
+  o.block_s = args.GetDouble("block-s", 0.05, 3600.0);
   return o;
 }
 
@@ -70,7 +77,13 @@ const CommandSpec& PlatformSpec() {
           {"order", "N", "-", "0", "frequency-response: fit only this order (2 or 3; 0 = both)"},
           {"sweeps", "N", "-", "0", "frequency-response: equal sweeps per recording (0 = auto)"},
           {"holdout", "F", "-", "0.3",
-           "diagnose without --validate: fraction held out at the end of each recording"},
+           "diagnose without --validate: report share of each recording (0.05..0.95), read "
+           "only to report"},
+          {"selection", "F", "-", "0.3",
+           "diagnose: selection share of what is not reported (0.05..0.95), which takes every "
+           "decision; the rest is fitted"},
+          {"block-s", "S", "s", "1",
+           "diagnose: length of the contiguous blocks dealt to training, selection and report"},
           {"cutoff-hz", "HZ", "Hz", "100", "zero-phase low-pass on position"},
           {"decimation", "N", "-", "10", "parallel decimation factor"},
           {"end-border", "N", "samples", "0",
@@ -109,11 +122,7 @@ int PlatformCommand(const ParsedArgs& args) {
   }
   if (verb == "diagnose") {
     RemoveOld(report::PlatformDiagnoseOutputs(out));
-    sp::AxisDiagnoseOptions o;
-    o.idim = IdimFromArgs(args);
-    o.holdout_fraction = args.GetDouble("holdout");
-    if (!(o.holdout_fraction > 0.05 && o.holdout_fraction < 0.95))
-      throw UsageError("option --holdout: expected a fraction in (0.05, 0.95)");
+    const sp::AxisDiagnoseOptions o = DiagnoseFromArgs(args);
     const sp::AxisDiagnosis d = sp::DiagnoseAxis(ReadAll(files), ReadAll(validate), o);
     std::filesystem::create_directories(out);
     PrintWritten(verb, report::WritePlatformDiagnosisReport(d, out));
@@ -130,10 +139,10 @@ int PlatformCommand(const ParsedArgs& args) {
   if (verb == "frequency-response") {
     RemoveOld(report::PlatformFrequencyOutputs(out));
     sp::FrequencyResponseOptions o;
-    o.sweeps = static_cast<int>(args.GetInt("sweeps"));
+    o.sweeps = static_cast<int>(args.GetInt("sweeps", 0, 10000));
     const long long order = args.GetInt("order");
     if (order != 0 && order != 2 && order != 3)
-      throw UsageError("option --order: expected 2 or 3");
+      throw UsageError("option --order: expected 2, 3 or 0 (both), got " + args.Get("order"));
     if (order != 0) o.orders = {static_cast<int>(order)};
     const auto joints = sp::EstimateFrequencyResponse(ReadAll(files), o);
     std::filesystem::create_directories(out);

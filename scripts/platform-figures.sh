@@ -21,7 +21,6 @@ pwsim="$build/pwsim"
 mat="$emps/DATA_EMPS.mat"
 "$pwsim" platform identify "$mat" --out "$work/id" > /dev/null
 "$pwsim" platform identify "$mat" --model axis-asymmetric --out "$work/asym" > /dev/null
-"$pwsim" platform diagnose "$mat" --out "$work/dg" > /dev/null
 "$pwsim" platform-sim --chirp "$work/chirp/rail.yaml" > /dev/null
 "$pwsim" platform frequency-response "$work/chirp/rail.yaml" --sweeps 3 --out "$work/fr" > /dev/null
 /usr/bin/python3 - "$work" <<'PY'
@@ -47,24 +46,14 @@ print("| parameter | pwsim | published |\n|---|---|---|")
 for k, v in apub.items():
     print(f"| {k} | {a[k]['value']:.4f} | {v:.4f} |")
 print(f"| relative error | {asym['relative_error_pct']:.4f} % | 3.1117 % |\n")
-d = json.load(open(f"{w}/dg/diagnosis.json"))
-print("### EMPS diagnosis (last 30 % held out)\n")
-print(f"verdict **{d['verdict']}**, cause `{d['cause']}`; held-out relative error "
-      f"{d['heldout_relative_error_pct']['base']:.3f} % → {d['heldout_relative_error_pct']['extended']:.3f} % "
-      f"(noise floor {d['noise_floor_relative_error_pct']:.3f} %); causes in order: "
-      + ", ".join(f"`{c['effect']}` ({c['heldout_gain_pct']:.1f} %)" for c in d["causes"]) + "\n")
-for c in d["closed_loop"]:
-    if c["available"]:
-        b, e = c["base"], c["extended"]
-        print(f"closed loop on {c['recording']}: base position {b['position_pct']:.4f} %, velocity "
-              f"{b['velocity_pct']:.3f} %, effort {b['effort_pct']:.2f} %; extended {e['position_pct']:.4f} %, "
-              f"{e['velocity_pct']:.3f} %, {e['effort_pct']:.2f} %\n")
 fr = json.load(open(f"{w}/fr/frequency-response.json"))
 for j in fr["joints"]:
     print(f"### platform-sim chirp, joint {j['joint']} (same-model generated)\n")
     print(f"bandwidth {j['bandwidth_rad_s']:.2f} rad/s (fit), {j['bandwidth_nonparametric_rad_s']:.2f} rad/s (H1); fits: "
           + ", ".join(f"order {f['order']} {f['fit_pct']:.2f} %" for f in j["fits"]) + "\n")
 PY
+PWSIM_EMPS_DIR="$emps" PWSIM_DIAGNOSE_OUT="$work/dg" "$root/scripts/platform-diagnose-emps.sh" "$build"
+echo
 mkdir -p "$root/docs/images"
 cp "$work/id/identify-effort.png" "$root/docs/images/platform-emps-identify.png"
 cp "$work/dg/diagnosis-velocity.png" "$root/docs/images/platform-emps-diagnosis-velocity.png"

@@ -4,6 +4,9 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "sysid/platform/idim.h"
 #include "tests/sysid/platform/emps_data.h"
@@ -69,6 +72,30 @@ TEST(PlatformCommand, IdentifiesEmpsFromTheCommandLine) {
   EXPECT_NE(json.find("\"relative_error_pct\": 4.0833"), std::string::npos) << json;
   EXPECT_NE(json.find("\"rows\": 2480"), std::string::npos);
   EXPECT_NE(json.find("\"recording\": \"DATA_EMPS.mat\""), std::string::npos);
+}
+
+// Bad option values of `platform diagnose` are usage errors (exit 2) that name the option and
+// the expected form, checked before any recording is read.
+TEST(PlatformCommand, BadDiagnoseOptionsNameTheExpectedForm) {
+  const fs::path dir = fs::path(PWSIM_BINARY_DIR) / "test-platform-cli-options";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string base = "platform diagnose " + (dir / "absent.yaml").string() + " --out " +
+                           (dir / "out").string() + " ";
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"--block-s abc", "option --block-s: expected a number, got \"abc\""},
+      {"--holdout 1.5", "option --holdout: expected 0.05..0.95"},
+      {"--selection 0", "option --selection: expected 0.05..0.95"},
+      {"--decimation 0", "option --decimation: expected an integer in 1..100, got 0"},
+      {"--cutoff-hz -3", "option --cutoff-hz: expected a frequency > 0 Hz, got -3"},
+  };
+  for (const auto& [option, expected] : cases) {
+    const fs::path log = dir / "log.txt";
+    EXPECT_EQ(RunPwsim(base + option, log), 2) << option;
+    std::ifstream in(log);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find(expected), std::string::npos) << option << ": " << text;
+  }
 }
 
 }  // namespace
