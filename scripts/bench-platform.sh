@@ -5,13 +5,7 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$root/build}
-emps=${PWSIM_EMPS_DIR:-}
-if [ -z "$emps" ]; then
-  for c in "$root/../shared/data/emps" "$root/../../shared/data/emps"; do
-    [ -f "$c/DATA_EMPS.mat" ] && emps=$c && break
-  done
-fi
-[ -n "$emps" ] || { echo "EMPS data absent: set PWSIM_EMPS_DIR" >&2; exit 1; }
+source "$root/scripts/emps-dir.sh"
 cpp=$(PWSIM_EMPS_DIR=$emps "$build/bench/platform_identify_bench" --benchmark_filter=BM_EmpsReadAndIdentify \
       --benchmark_min_time=2 --benchmark_format=json)
 py=$(/usr/bin/python3 "$root/bench/platform_identify_scipy.py" "$emps/DATA_EMPS.mat" --repeat 30)

@@ -6,13 +6,7 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$root/build}
-emps=${PWSIM_EMPS_DIR:-}
-if [ -z "$emps" ]; then
-  for c in "$root/../shared/data/emps" "$root/../../shared/data/emps"; do
-    [ -f "$c/DATA_EMPS.mat" ] && emps=$c && break
-  done
-fi
-[ -n "$emps" ] || { echo "EMPS data absent: set PWSIM_EMPS_DIR" >&2; exit 1; }
+source "$root/scripts/emps-dir.sh"
 out=${PWSIM_DIAGNOSE_OUT:-$(mktemp -d)}
 "$build/pwsim" platform diagnose "$emps/DATA_EMPS.mat" --out "$out" > /dev/null
 /usr/bin/python3 - "$out/diagnosis.json" <<'PY'

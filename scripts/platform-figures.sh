@@ -8,13 +8,7 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$root/build}
 seeds=${2:-5}
-emps=${PWSIM_EMPS_DIR:-}
-if [ -z "$emps" ]; then
-  for c in "$root/../shared/data/emps" "$root/../../shared/data/emps"; do
-    [ -f "$c/DATA_EMPS.mat" ] && emps=$c && break
-  done
-fi
-[ -n "$emps" ] || { echo "EMPS data absent: set PWSIM_EMPS_DIR" >&2; exit 1; }
+source "$root/scripts/emps-dir.sh"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 pwsim="$build/pwsim"
