@@ -628,6 +628,47 @@ Split MakeSplit(const std::vector<AxisRecording>& recordings,
   return split;
 }
 
+// The stroke and the peak speed of the training rows (they map positions and define rest).
+Stroke StrokeOf(const std::vector<Part>& train) {
+  Stroke st;
+  st.q_min = 1e300;
+  st.q_max = -1e300;
+  st.v_peak = 0.0;
+  for (const Part& p : train) {
+    st.q_min = std::min(st.q_min, *std::min_element(p.s.q.begin(), p.s.q.end()));
+    st.q_max = std::max(st.q_max, *std::max_element(p.s.q.begin(), p.s.q.end()));
+    for (double v : p.s.qd) st.v_peak = std::max(st.v_peak, std::abs(v));
+  }
+  if (!(st.q_max > st.q_min)) st.q_max = st.q_min + 1.0;
+  return st;
+}
+
+// Rows at rest carry static friction, which no inverse model can predict (any force up to
+// breakaway holds the axis): every role keeps its rows with |q̇| ≥ v_min.
+void KeepMovingRows(double v_min, Split* split) {
+  for (auto* parts : {&split->train, &split->select, &split->report})
+    for (Part& p : *parts)
+      for (Eigen::Index i = 0; i < p.qddec.size(); ++i)
+        if (std::abs(p.qddec(i)) >= v_min) p.keep.push_back(i);
+}
+
+// The report rows' series for the figures: time, velocity, measured, base and extended effort.
+void FillReportSeries(const std::vector<Part>& report, const std::vector<Chosen>& causes,
+                      const Eigen::VectorXd& base_theta, const Eigen::VectorXd& theta,
+                      const Stroke& st, int dec, AxisDiagnosis* out) {
+  const Stack h2 = StackParts(report, causes, st, dec);
+  const Stack h0 = StackParts(report, {}, st, dec);
+  const Eigen::VectorXd ext = h2.x * theta, base = h0.x * base_theta;
+  for (const Part& p : report)
+    for (Eigen::Index i : p.keep) {
+      out->heldout_t.push_back(p.tdec[static_cast<std::size_t>(i)]);
+      out->heldout_qd.push_back(p.qddec(i));
+    }
+  out->heldout_tau.assign(h0.y.data(), h0.y.data() + h0.y.size());
+  out->heldout_base.assign(base.data(), base.data() + base.size());
+  out->heldout_ext.assign(ext.data(), ext.data() + ext.size());
+}
+
 // ---- Fits and errors ----
 
 Eigen::VectorXd FitOn(const std::vector<Part>& train, const std::vector<Chosen>& effects,
@@ -854,6 +895,70 @@ std::string UnexplainedEvidence(const AxisDiagnosis& d, const Selection& sel) {
   return o.str();
 }
 
+// Step 6: the report rows' errors, each cause's gain with its jackknife bound and
+// confirmation, the ranking's report figures, the verdict and its evidence. Reads nothing that
+// a choice depends on, and decides nothing that a fit or a choice reads.
+void ReportOnReportRows(const std::vector<Part>& report, const Selection& sel, double noise_var,
+                        const Stroke& st, int dec, const AxisDiagnoseOptions& options,
+                        AxisDiagnosis* d) {
+  AxisDiagnosis& out = *d;
+  std::vector<std::vector<RowSums>> step_sums;  // base, base + first cause, ...
+  for (std::size_t k = 0; k < sel.theta.size(); ++k)
+    step_sums.push_back(BlockSums(
+        report, std::vector<Chosen>(sel.causes.begin(), sel.causes.begin() + static_cast<std::ptrdiff_t>(k)),
+        sel.theta[k], st, dec, options.block_s));
+  out.report_blocks = static_cast<int>(step_sums.front().size());
+  const RowSums base_all = Pool(step_sums.front(), -1);
+  out.heldout_base_pct = base_all.RelPct();
+  out.heldout_extended_pct = Pool(step_sums.back(), -1).RelPct();
+  out.noise_floor_pct = base_all.FloorPct(noise_var);
+  std::size_t confirmed = 0;
+  for (std::size_t k = 0; k < sel.causes.size(); ++k) {
+    const JackknifeBound g = BlockJackknife(
+        out.report_blocks,
+        [&](int excluded) {
+          return ReportGainPct(step_sums.front(), step_sums[k], step_sums[k + 1], noise_var, excluded);
+        },
+        options.confirm_level);
+    AxisCause c;
+    c.effect = sel.causes[k].effect;
+    c.selection_gain_pct = sel.selection_gain_pct[k];
+    c.heldout_gain_pct = g.estimate;
+    c.heldout_gain_se_pct = g.se;
+    c.heldout_gain_lower_pct = g.lower;
+    c.confirmed = g.lower > 0.0;
+    confirmed += c.confirmed ? 1 : 0;
+    out.causes.push_back(c);
+  }
+  for (std::size_t i = 0; i < sel.first_round.size(); ++i) {
+    EffectResult r = sel.first_round[i];
+    const std::vector<RowSums> with = BlockSums(report, {sel.first_round_effect[i]},
+                                                sel.first_round_theta[i], st, dec, options.block_s);
+    r.heldout_relative_error_pct = Pool(with, -1).RelPct();
+    r.heldout_gain_pct = ReportGainPct(step_sums.front(), step_sums.front(), with, noise_var, -1);
+    out.ranking.push_back(std::move(r));
+  }
+  // The ranking's order is the selection rows': earning first, then by selection gain.
+  std::stable_sort(out.ranking.begin(), out.ranking.end(),
+                   [](const EffectResult& a, const EffectResult& b) {
+                     if (a.earns != b.earns) return a.earns;
+                     return a.selection_gain_pct > b.selection_gain_pct;
+                   });
+  const double floor = out.noise_floor_pct, allowed = options.adequate_ratio * floor;
+  out.verdict = diagnose::DecideVerdict(Excess(out.heldout_base_pct, floor) <= allowed, confirmed,
+                                        Excess(out.heldout_extended_pct, floor) <= allowed);
+  if (out.verdict == diagnose::Verdict::kExplained ||
+      out.verdict == diagnose::Verdict::kPartlyExplained)
+    for (const AxisCause& c : out.causes)
+      if (c.confirmed) {
+        out.cause = AxisEffectId(c.effect);
+        break;
+      }
+  if (out.verdict == diagnose::Verdict::kUnexplained ||
+      out.verdict == diagnose::Verdict::kPartlyExplained)
+    out.unexplained_evidence = UnexplainedEvidence(out, sel);
+}
+
 // ---- 7. Closed loop ----
 
 std::vector<ClosedLoopComparison> CompareInClosedLoop(const std::vector<Part>& report,
@@ -952,23 +1057,8 @@ AxisDiagnosis DiagnoseAxis(const std::vector<AxisRecording>& recordings,
   for (const Part& p : select) out.selection_recordings.push_back(p.name);
   for (const Part& p : split.report) out.heldout_recordings.push_back(p.name);
 
-  // The stroke and the peak speed of the training rows map positions and define rest.
-  Stroke st;
-  st.q_min = 1e300;
-  st.q_max = -1e300;
-  st.v_peak = 0.0;
-  for (const Part& p : train) {
-    st.q_min = std::min(st.q_min, *std::min_element(p.s.q.begin(), p.s.q.end()));
-    st.q_max = std::max(st.q_max, *std::max_element(p.s.q.begin(), p.s.q.end()));
-    for (double v : p.s.qd) st.v_peak = std::max(st.v_peak, std::abs(v));
-  }
-  if (!(st.q_max > st.q_min)) st.q_max = st.q_min + 1.0;
-  // Rows at rest carry static friction, which no inverse model can predict (any force up to
-  // breakaway holds the axis): the diagnosis uses the moving rows.
-  for (auto* parts : {&split.train, &split.select, &split.report})
-    for (Part& p : *parts)
-      for (Eigen::Index i = 0; i < p.qddec.size(); ++i)
-        if (std::abs(p.qddec(i)) >= options.rest_speed_fraction * st.v_peak) p.keep.push_back(i);
+  const Stroke st = StrokeOf(train);
+  KeepMovingRows(options.rest_speed_fraction * st.v_peak, &split);
 
   // 2. Base, 3. grid parameters (training rows).
   const Eigen::VectorXd base_theta = FitOn(train, {}, st, dec);
@@ -999,76 +1089,9 @@ AxisDiagnosis DiagnoseAxis(const std::vector<AxisRecording>& recordings,
 
   // 6. The report rows, read from here on only to report.
   const std::vector<Part>& report = split.report;
-  std::vector<std::vector<RowSums>> step_sums;  // base, base + first cause, ...
-  for (std::size_t k = 0; k < sel.theta.size(); ++k)
-    step_sums.push_back(BlockSums(
-        report, std::vector<Chosen>(sel.causes.begin(), sel.causes.begin() + static_cast<std::ptrdiff_t>(k)),
-        sel.theta[k], st, dec, options.block_s));
-  out.report_blocks = static_cast<int>(step_sums.front().size());
-  const RowSums base_all = Pool(step_sums.front(), -1);
-  out.heldout_base_pct = base_all.RelPct();
-  out.heldout_extended_pct = Pool(step_sums.back(), -1).RelPct();
-  out.noise_floor_pct = base_all.FloorPct(noise_var);
-  std::size_t confirmed = 0;
-  for (std::size_t k = 0; k < sel.causes.size(); ++k) {
-    const JackknifeBound g = BlockJackknife(
-        out.report_blocks,
-        [&](int excluded) {
-          return ReportGainPct(step_sums.front(), step_sums[k], step_sums[k + 1], noise_var, excluded);
-        },
-        options.confirm_level);
-    AxisCause c;
-    c.effect = sel.causes[k].effect;
-    c.selection_gain_pct = sel.selection_gain_pct[k];
-    c.heldout_gain_pct = g.estimate;
-    c.heldout_gain_se_pct = g.se;
-    c.heldout_gain_lower_pct = g.lower;
-    c.confirmed = g.lower > 0.0;
-    confirmed += c.confirmed ? 1 : 0;
-    out.causes.push_back(c);
-  }
-  for (std::size_t i = 0; i < sel.first_round.size(); ++i) {
-    EffectResult r = sel.first_round[i];
-    const std::vector<RowSums> with = BlockSums(report, {sel.first_round_effect[i]},
-                                                sel.first_round_theta[i], st, dec, options.block_s);
-    r.heldout_relative_error_pct = Pool(with, -1).RelPct();
-    r.heldout_gain_pct = ReportGainPct(step_sums.front(), step_sums.front(), with, noise_var, -1);
-    out.ranking.push_back(std::move(r));
-  }
-  // The ranking's order is the selection rows': earning first, then by selection gain.
-  std::stable_sort(out.ranking.begin(), out.ranking.end(),
-                   [](const EffectResult& a, const EffectResult& b) {
-                     if (a.earns != b.earns) return a.earns;
-                     return a.selection_gain_pct > b.selection_gain_pct;
-                   });
-  const double floor = out.noise_floor_pct, allowed = options.adequate_ratio * floor;
-  out.verdict = diagnose::DecideVerdict(Excess(out.heldout_base_pct, floor) <= allowed, confirmed,
-                                        Excess(out.heldout_extended_pct, floor) <= allowed);
-  if (out.verdict == diagnose::Verdict::kExplained ||
-      out.verdict == diagnose::Verdict::kPartlyExplained)
-    for (const AxisCause& c : out.causes)
-      if (c.confirmed) {
-        out.cause = AxisEffectId(c.effect);
-        break;
-      }
-  if (out.verdict == diagnose::Verdict::kUnexplained ||
-      out.verdict == diagnose::Verdict::kPartlyExplained)
-    out.unexplained_evidence = UnexplainedEvidence(out, sel);
+  ReportOnReportRows(report, sel, noise_var, st, dec, options, &out);
 
-  // Report series for plots.
-  {
-    const Stack h2 = StackParts(report, sel.causes, st, dec);
-    const Stack h0 = StackParts(report, {}, st, dec);
-    const Eigen::VectorXd ext = h2.x * theta, base = h0.x * base_theta;
-    for (const Part& p : report)
-      for (Eigen::Index i : p.keep) {
-        out.heldout_t.push_back(p.tdec[static_cast<std::size_t>(i)]);
-        out.heldout_qd.push_back(p.qddec(i));
-      }
-    out.heldout_tau.assign(h0.y.data(), h0.y.data() + h0.y.size());
-    out.heldout_base.assign(base.data(), base.data() + base.size());
-    out.heldout_ext.assign(ext.data(), ext.data() + ext.size());
-  }
+  FillReportSeries(report, sel.causes, base_theta, theta, st, dec, &out);
 
   // 7. Closed loop, compared on the report samples.
   if (options.simulate)

@@ -41,7 +41,8 @@
 //                                    acts at t + d, τ_rec(t) = τ(t + d) (d on a grid of 0.25 .. 3
 //                                    samples, no extra coefficient); the EMPS loop has a
 //                                    one-sample computation delay
-//  3b. Rows at rest (|q̇| < rest_speed_fraction · peak) are left out of every fit and error.
+//  3b. Rows at rest (|q̇| < rest_speed_fraction · the training rows' peak) are left out of
+//     every fit and error.
 //  4. Noise model, on the selection rows: the white part of the residual,
 //     σ² = mean((e_k − (e_k−1 + e_k+1)/2)²)/c (a local smoother's residual; c makes it unbiased
 //     for noise that is white up to the decimation filter's cut-off β = 0.8 of the decimated
