@@ -2,6 +2,7 @@
 // response of platform axes from recordings (shared/spec/platform-data.md). Wiring only: the
 // methods are in sysid/platform/, the reports in report/platform_report.*.
 
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -107,6 +108,13 @@ int PlatformCommand(const ParsedArgs& args) {
   const std::vector<std::string> validate = SplitList(args.Get("validate"));
 
   if (verb == "identify") {
+    const std::string model = args.Get("model");
+    const auto& names = sp::ModelNames();
+    if (!model.empty() && std::find(names.begin(), names.end(), model) == names.end()) {
+      std::string list;
+      for (const std::string& n : names) list += (list.empty() ? "" : " | ") + n;
+      throw UsageError("option --model: expected " + list + ", got " + model);
+    }
     RemoveOld(report::PlatformIdentifyOutputs(out));
     const sp::PlatformFit fit =
         sp::IdentifyPlatform(ReadAll(files), ReadAll(validate), args.Get("model"), IdimFromArgs(args));

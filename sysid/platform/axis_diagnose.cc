@@ -595,11 +595,21 @@ void DealRecording(const AxisRecording& r, const std::array<double, 3>& share,
   for (double f : share) roles_needed += f > 0.0 ? 1 : 0;
   const std::size_t blocks = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(
                                                           static_cast<double>(n) / static_cast<double>(len))));
-  if (blocks < roles_needed || n / blocks < min_len)
+  if (n < roles_needed * min_len)
     throw std::invalid_argument(
         r.file.string() + ": " + std::to_string(n) + " samples, too few for the diagnosis' split into " +
-        std::to_string(roles_needed) + " roles; expected at least " + std::to_string(roles_needed * min_len) +
-        " samples (blocks of " + std::to_string(len) + " samples, --block-s)");
+        std::to_string(roles_needed) + " roles; expected at least " +
+        std::to_string(roles_needed * min_len) + " (blocks of at least " + std::to_string(min_len) +
+        " samples: the filter borders and 20 decimated rows)");
+  if (blocks < roles_needed) {
+    std::ostringstream o;
+    o.precision(3);
+    o << r.file.string() << ": " << static_cast<double>(n) * r.dt << " s cut into blocks of "
+      << static_cast<double>(len) * r.dt << " s gives " << blocks << " block(s), expected at least "
+      << roles_needed << " (one per role); expected a block length (--block-s) of at most "
+      << static_cast<double>(n) * r.dt / static_cast<double>(roles_needed) << " s";
+    throw std::invalid_argument(o.str());
+  }
   const std::vector<AxisRole> roles = DealRoles(blocks, share);
   for (std::size_t b = 0; b < blocks; ++b) {
     const std::size_t begin = b * n / blocks, end = (b + 1) * n / blocks;

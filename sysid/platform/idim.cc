@@ -215,8 +215,15 @@ LinearModel ModelByName(const std::string& name, const ProcessedRecording& recor
     if (joints != 1) throw std::invalid_argument("model friction: expected one joint");
     return FrictionModel(joint, options, kind);
   }
-  throw std::invalid_argument("unknown model '" + name +
-                              "' (expected axis-base, axis-asymmetric, friction or rail-yaw)");
+  std::string names;
+  for (const std::string& n : ModelNames()) names += (names.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("unknown model '" + name + "' (expected one of " + names + ")");
+}
+
+const std::vector<std::string>& ModelNames() {
+  static const std::vector<std::string> names{"axis-base", "axis-asymmetric", "friction",
+                                              "rail-yaw"};
+  return names;
 }
 
 Regression BuildRegression(const ProcessedRecording& recording, const LinearModel& model,

@@ -86,6 +86,8 @@ LinearModel FrictionModel(const std::string& joint, const IdimOptions& options,
                           JointKind kind = JointKind::kPrismatic);
 /// @throws std::invalid_argument unless `recording` has one revolute and one prismatic joint.
 LinearModel RailYawModel(const ProcessedRecording& recording);
+/// The names ModelByName knows: "axis-base", "axis-asymmetric", "friction", "rail-yaw".
+const std::vector<std::string>& ModelNames();
 /// "axis-base", "axis-asymmetric", "friction", "rail-yaw"; "" = default for the recording
 /// (one joint: axis-base, or friction for step/ramp experiments; two joints: rail-yaw).
 /// @throws std::invalid_argument for an unknown name or one that does not fit the joints.

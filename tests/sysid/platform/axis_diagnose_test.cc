@@ -204,6 +204,15 @@ TEST(AxisDiagnose, TooShortARecordingIsNamed) {
     EXPECT_NE(std::string(e.what()).find("too few for the diagnosis' split"), std::string::npos)
         << e.what();
   }
+  p.duration = 10.0;  // long enough, but blocks of 5 s give two blocks for three roles
+  AxisDiagnoseOptions o;
+  o.block_s = 5.0;
+  try {
+    DiagnoseAxis({test::SimulateTruthAxis(p)}, {}, o);
+    FAIL() << "expected an error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("of at most 3.33 s"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

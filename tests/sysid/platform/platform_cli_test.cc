@@ -98,5 +98,21 @@ TEST(PlatformCommand, BadDiagnoseOptionsNameTheExpectedForm) {
   }
 }
 
+TEST(PlatformCommand, UnknownModelIsAUsageError) {
+  const fs::path dir = fs::path(PWSIM_BINARY_DIR) / "test-platform-cli-model";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path log = dir / "log.txt";
+  EXPECT_EQ(RunPwsim("platform identify " + (dir / "absent.yaml").string() + " --out " +
+                         (dir / "out").string() + " --model foo",
+                     log),
+            2);
+  std::ifstream in(log);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("option --model: expected axis-base | axis-asymmetric | friction | rail-yaw, got foo"),
+            std::string::npos)
+      << text;
+}
+
 }  // namespace
 }  // namespace pwsim::sysid::platform
