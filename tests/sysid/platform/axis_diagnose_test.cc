@@ -6,6 +6,7 @@
 // chosen on the selection rows that the report rows do not confirm never makes the verdict.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "sysid/platform/axis_diagnose.h"
@@ -138,6 +139,14 @@ TEST(AxisDiagnose, ReportBlocksTakePartInNoChoice) {
   const AxisRecording r = test::SimulateTruthAxis(TwoEffects());
   const AxisDiagnosis d = DiagnoseAxis({r}, {});
   ASSERT_GE(d.causes.size(), 2u);  // the test covers more than one round
+  // Both hidden effects found and confirmed on the report blocks of the one recording.
+  for (AxisEffect hidden : {AxisEffect::kAsymmetricFriction, AxisEffect::kCogging}) {
+    const auto found = std::find_if(d.causes.begin(), d.causes.end(),
+                                    [&](const AxisCause& c) { return c.effect == hidden; });
+    ASSERT_NE(found, d.causes.end()) << AxisEffectId(hidden);
+    EXPECT_TRUE(found->confirmed) << AxisEffectId(hidden) << " " << found->heldout_gain_pct;
+  }
+  EXPECT_EQ(d.verdict, diagnose::Verdict::kExplained) << diagnose::VerdictName(d.verdict);
   AxisRecording changed = r;
   std::size_t report_samples = 0;
   for (const AxisBlock& b : d.blocks) {
