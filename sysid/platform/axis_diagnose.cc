@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <numbers>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -715,6 +717,35 @@ std::vector<Chosen> With(std::vector<Chosen> effects, const Chosen& extra) {
 
 // ---- 3. Grid parameters, fitted on the training rows ----
 
+// The minimum of f on [lo, hi] by golden-section search (`steps` evaluations after the first
+// two; exact for a unimodal f, the bracket shrinking by 0.618 a step).
+std::pair<double, double> GoldenMinimum(const std::function<double(double)>& f, double lo,
+                                        double hi, int steps) {
+  const double g = (std::sqrt(5.0) - 1.0) / 2.0;
+  double a = lo, b = hi, x1 = b - g * (b - a), x2 = a + g * (b - a);
+  double f1 = f(x1), f2 = f(x2);
+  for (int i = 0; i < steps; ++i) {
+    if (f1 <= f2) {
+      b = x2;
+      x2 = x1;
+      f2 = f1;
+      x1 = b - g * (b - a);
+      f1 = f(x1);
+    } else {
+      a = x1;
+      x1 = x2;
+      f1 = f2;
+      x2 = a + g * (b - a);
+      f2 = f(x2);
+    }
+  }
+  return f1 <= f2 ? std::pair{x1, f1} : std::pair{x2, f2};
+}
+
+// Each candidate's nonlinear parameter(s) fitted on the training rows: the best point of the
+// grid (HyperGrid; the cogging periods screened on the base residual), then refined between
+// the grid's neighbours of that point by golden-section search (the load frequency, then its
+// damping ratio, on a log scale; the delay and the cogging frequency on a linear one).
 std::vector<Chosen> FitGridParameters(const std::vector<AxisEffect>& candidates,
                                       const std::vector<Part>& train,
                                       const std::vector<Eigen::VectorXd>& train_res,
@@ -722,23 +753,79 @@ std::vector<Chosen> FitGridParameters(const std::vector<AxisEffect>& candidates,
   std::vector<Chosen> out;
   for (AxisEffect e : candidates) {
     Chosen c{e, 0.0, 0.0};
-    std::vector<std::pair<double, double>> grid = HyperGrid(e, st, train, dec);
+    const std::vector<std::pair<double, double>> full = HyperGrid(e, st, train, dec);
+    std::vector<std::pair<double, double>> grid = full;
     if (e == AxisEffect::kCogging && !grid.empty()) {
       std::vector<double> periods;
       for (const auto& g : grid) periods.push_back(g.first);
       grid.clear();
       for (double pp : ScreenCogging(periods, train, train_res)) grid.push_back({pp, 0.0});
     }
-    double best = 1e300;
-    for (const auto& [h, h2] : grid) {
+    auto sse = [&](double h, double h2) {
       const std::vector<Chosen> trial{Chosen{e, h, h2}};
       const Stack s = StackParts(train, trial, st, dec);
-      const double sse = (s.y - s.x * SolveOls(s.x, s.y)).squaredNorm();
-      if (sse < best) {
-        best = sse;
+      return (s.y - s.x * SolveOls(s.x, s.y)).squaredNorm();
+    };
+    double best = 1e300;
+    for (const auto& [h, h2] : grid) {
+      const double v = sse(h, h2);
+      if (v < best) {
+        best = v;
         c.h = h;
         c.h2 = h2;
       }
+    }
+    if (grid.empty()) {
+      out.push_back(c);
+      continue;
+    }
+    constexpr int kSteps = 12;
+    // Golden-section search of sse over x in [lo, hi], the parameter being value(x); kept only
+    // when it beats the grid.
+    auto refine = [&](double lo, double hi, const std::function<double(double)>& value,
+                      const std::function<double(double)>& sse_at) {
+      const auto [x, v] = GoldenMinimum(sse_at, lo, hi, kSteps);
+      if (!(v < best)) return std::optional<double>();
+      best = v;
+      return std::optional<double>(value(x));
+    };
+    auto exp_of = [](double x) { return std::exp(x); };
+    auto same = [](double x) { return x; };
+    switch (e) {
+      case AxisEffect::kStribeckFriction:
+      case AxisEffect::kBacklash: {
+        // Geometric grids: the neighbours are a factor r away.
+        const double r = full.size() > 1 ? full[1].first / full[0].first : 2.0;
+        if (auto h = refine(std::log(c.h / r), std::log(c.h * r), exp_of,
+                            [&](double x) { return sse(std::exp(x), 0.0); }))
+          c.h = *h;
+        break;
+      }
+      case AxisEffect::kTransmissionCompliance: {
+        const double r = std::pow(50.0, 1.0 / 13.0);  // the grid's frequency ratio
+        if (auto w = refine(std::log(c.h / r), std::log(c.h * r), exp_of,
+                            [&](double x) { return sse(std::exp(x), c.h2); }))
+          c.h = *w;
+        if (auto z = refine(std::log(c.h2 / 3.0), std::log(std::min(1.0, c.h2 * 3.0)), exp_of,
+                            [&](double x) { return sse(c.h, std::exp(x)); }))
+          c.h2 = *z;
+        break;
+      }
+      case AxisEffect::kCommandDelay:
+        if (auto d = refine(std::max(0.0, c.h - 0.25), c.h + 0.25, same,
+                            [&](double x) { return sse(x, 0.0); }))
+          c.h = *d;
+        break;
+      case AxisEffect::kCogging: {
+        // Spatial frequency within half the screening grid's spacing, 0.25/stroke.
+        const double f = 1.0 / c.h, df = 0.125 / (st.q_max - st.q_min);
+        if (auto p = refine(f - df, f + df, [](double x) { return 1.0 / x; },
+                            [&](double x) { return sse(1.0 / x, 0.0); }))
+          c.h = *p;
+        break;
+      }
+      default:
+        break;
     }
     out.push_back(c);
   }
