@@ -1,8 +1,9 @@
 // Hidden-effect matrix of the axis diagnosis: for every case of tests/sysid/platform/
 // hidden_effects.h (one effect of the spec's table each, the command delay, and no effect)
-// and seeds 1..N, simulate a training and a held-out recording with the independent truth
-// (tests/sysid/platform/truth_axis.*), diagnose, and tabulate the cause found (rows: truth,
-// columns: cause) with the verdicts. Prints Markdown; with --cases, one line per case first
+// and seeds 1..N, simulate a recording dealt into training and selection blocks and a report
+// recording (`--validate`) with the independent truth (tests/sysid/platform/truth_axis.*),
+// diagnose, and tabulate the cause named, the first confirmed one (rows: truth, columns:
+// cause) with the verdicts. Prints Markdown; with --cases, one line per case first
 // (verdict, every cause with its report gain, uncertainty and confirmation).
 // usage: platform_diagnose_matrix [N] [--cases]
 #include <chrono>
@@ -52,8 +53,9 @@ int main(int argc, char** argv) {
     }
   }
   std::printf("Hidden-effect matrix: independent truth (tests/sysid/platform/truth_axis.*), %d "
-              "seeds, 20 s training + 12 s held-out recording each; rows = hidden effect, "
-              "columns = cause named.\n\n| truth → found |",
+              "seeds, a 20 s recording (training + selection blocks) and a 12 s report "
+              "recording each; rows = hidden effect, columns = the first confirmed cause.\n\n"
+              "| truth → found |",
               seeds);
   for (const auto& c : columns) std::printf(" %s |", c.c_str());
   std::printf(" verdicts |\n|---|");
