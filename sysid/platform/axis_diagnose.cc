@@ -3,12 +3,15 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <numbers>
 #include <optional>
 #include <set>
 #include <sstream>
 #include <stdexcept>
+
+#include <boost/math/tools/minima.hpp>
 
 #include "sysid/platform/block_jackknife.h"
 #include "sysid/platform/signal_filters.h"
@@ -717,34 +720,17 @@ std::vector<Chosen> With(std::vector<Chosen> effects, const Chosen& extra) {
 
 // ---- 3. Grid parameters, fitted on the training rows ----
 
-// The minimum of f on [lo, hi] by golden-section search (`steps` evaluations after the first
-// two; exact for a unimodal f, the bracket shrinking by 0.618 a step).
-std::pair<double, double> GoldenMinimum(const std::function<double(double)>& f, double lo,
-                                        double hi, int steps) {
-  const double g = (std::sqrt(5.0) - 1.0) / 2.0;
-  double a = lo, b = hi, x1 = b - g * (b - a), x2 = a + g * (b - a);
-  double f1 = f(x1), f2 = f(x2);
-  for (int i = 0; i < steps; ++i) {
-    if (f1 <= f2) {
-      b = x2;
-      x2 = x1;
-      f2 = f1;
-      x1 = b - g * (b - a);
-      f1 = f(x1);
-    } else {
-      a = x1;
-      x1 = x2;
-      f1 = f2;
-      x2 = a + g * (b - a);
-      f2 = f(x2);
-    }
-  }
-  return f1 <= f2 ? std::pair{x1, f1} : std::pair{x2, f2};
+// The minimum of f on [lo, hi] by Brent's method (Boost.Math: golden-section steps with
+// parabolic interpolation), at most `evaluations` evaluations, x to about 1e-4 relative.
+std::pair<double, double> BrentMinimum(const std::function<double(double)>& f, double lo,
+                                       double hi, int evaluations) {
+  std::uintmax_t iterations = static_cast<std::uintmax_t>(evaluations);
+  return boost::math::tools::brent_find_minima(f, lo, hi, 14, iterations);
 }
 
 // Each candidate's nonlinear parameter(s) fitted on the training rows: the best point of the
 // grid (HyperGrid; the cogging periods screened on the base residual), then refined between
-// the grid's neighbours of that point by golden-section search (the load frequency, then its
+// the grid's neighbours of that point by Brent's method (the load frequency, then its
 // damping ratio, on a log scale; the delay and the cogging frequency on a linear one).
 std::vector<Chosen> FitGridParameters(const std::vector<AxisEffect>& candidates,
                                       const std::vector<Part>& train,
@@ -779,12 +765,12 @@ std::vector<Chosen> FitGridParameters(const std::vector<AxisEffect>& candidates,
       out.push_back(c);
       continue;
     }
-    constexpr int kSteps = 12;
-    // Golden-section search of sse over x in [lo, hi], the parameter being value(x); kept only
+    constexpr int kEvaluations = 16;
+    // The minimum of sse over x in [lo, hi], the parameter being value(x); kept only
     // when it beats the grid.
     auto refine = [&](double lo, double hi, const std::function<double(double)>& value,
                       const std::function<double(double)>& sse_at) {
-      const auto [x, v] = GoldenMinimum(sse_at, lo, hi, kSteps);
+      const auto [x, v] = BrentMinimum(sse_at, lo, hi, kEvaluations);
       if (!(v < best)) return std::optional<double>();
       best = v;
       return std::optional<double>(value(x));

@@ -25,8 +25,8 @@
 //  2. Base: IDIM-LS (idim.h) on the training rows.
 //  3. Each effect of the spec's table becomes extra regressor columns, linear in their
 //     coefficients; a nonlinear parameter (Stribeck speed, cogging period, backlash gap, load
-//     frequency and damping, delay) is fitted by the training error: the best grid point, then a
-//     golden-section search between its neighbours:
+//     frequency and damping, delay) is fitted by the training error: the best grid point, then
+//     Brent's minimisation (Boost.Math) between its neighbours:
 //       asymmetric_friction          base with Fv, Fc split by direction (axis-asymmetric:
 //                                    [q̈, q̇⁺, [q̇>0], q̇⁻, −[q̇<0]]; the offset is their mean)
 //       stribeck_friction            + sign(q̇)·exp(−(q̇/v_s)²)
