@@ -32,13 +32,17 @@ double WheelDampingMean(const TruthChair& chair) {
   return sum / static_cast<double>(std::max<std::size_t>(1, chair.wheels.size()));
 }
 
-std::string DrawEffect(const std::string& name, const TruthChair& chair, Draw& d, TruthEffects& fx) {
+/// `others`: the set's other effects (massless tyres are not drawn beside friction, whose
+/// rate-dependent laws would make the hub balance implicit).
+std::string DrawEffect(const std::string& name, const std::vector<std::string>& others, const TruthChair& chair,
+                       Draw& d, TruthEffects& fx) {
   if (name == "wheel_radius") {
     fx.contact_radius_scale = d.In(0.6, 1.4);
     return "discs of " + Fmt(fx.contact_radius_scale) + " x the nominal radius";
   }
   if (name == "tyre_compliance") {
-    if (d.Coin()) {
+    const bool beside_friction = std::find(others.begin(), others.end(), "suspension_friction") != others.end();
+    if (d.Coin() || beside_friction) {
       fx.caster_tyre_hz = d.In(5.0, 12.0);
       fx.caster_unsprung_kg = d.In(2.0, 4.0);
       fx.drive_unsprung_kg = d.In(5.0, 10.0);
@@ -195,7 +199,7 @@ LawDraw DrawLaws(std::uint64_t seed, const std::vector<std::string>& effects, co
   // Its own stream: the effects' laws from one, the noise from another, so that forcing the noise
   // kind leaves the laws as drawn.
   Draw laws{std::mt19937_64(seed * 7919u + 17u)};
-  for (const std::string& name : effects) out.laws.push_back(name + ": " + DrawEffect(name, chair, laws, out.effects));
+  for (const std::string& name : effects) out.laws.push_back(name + ": " + DrawEffect(name, effects, chair, laws, out.effects));
   Draw noise{std::mt19937_64(seed * 104729u + 29u)};
   const std::vector<std::string> kinds = NoiseKinds();
   const int drawn = noise.Pick(static_cast<int>(kinds.size()));

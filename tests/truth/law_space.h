@@ -15,7 +15,7 @@
 //   tyre_compliance       unsprung mass on a tyre (casters 5-12 Hz, 2-4 kg; drive wheels
 //                         8-25 Hz on 5-10 kg or rigid; ζ 0.04-0.2) | massless series spring-
 //                         damper (k_t/k 0.4-3 log on casters, the drive wheels the same, 2-3 × or
-//                         rigid; τ_t 2-10 ms)
+//                         rigid; τ_t 2-10 ms; not beside suspension_friction)
 //   cushion_compliance    sinks under each wheel's load, (F/F_ref)^p, p 0.5-1.5, F_ref 500 N |
 //                         under the whole chair's weight, F_ref 1500 N | yields a fixed share;
 //                         yield a 0.08-0.25 at F_ref, foam τ 10-30 ms

@@ -140,6 +140,11 @@ TEST(LawSpace, MasslessTyresRefuseRateDependentFriction) {
   fx.dahl_force_n = 30.0;
   fx.friction_law = TruthEffects::FrictionLaw::kSmoothCoulomb;
   EXPECT_THROW(MotionDifference(fx), std::invalid_argument);
+  // The draw never pairs them: beside friction the tyres are unsprung masses.
+  std::mt19937_64 rng(2);
+  const TruthChair chair = RandomTruthChair(rng);
+  for (std::uint64_t seed = 1000; seed < 1040; ++seed)
+    EXPECT_FALSE(DrawLaws(seed, {"tyre_compliance", "suspension_friction"}, chair).effects.tyre_massless) << seed;
 }
 
 }  // namespace
