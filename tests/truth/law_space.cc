@@ -38,7 +38,7 @@ std::string DrawEffect(const std::string& name, const std::vector<std::string>& 
                        Draw& d, TruthEffects& fx) {
   if (name == "wheel_radius") {
     fx.contact_radius_scale = d.In(0.6, 1.4);
-    return "discs of " + Fmt(fx.contact_radius_scale) + " x the nominal radius";
+    return "rolling discs, radius " + Fmt(fx.contact_radius_scale) + " x nominal";
   }
   if (name == "tyre_compliance") {
     const bool beside_friction = std::find(others.begin(), others.end(), "suspension_friction") != others.end();
@@ -76,8 +76,8 @@ std::string DrawEffect(const std::string& name, const std::vector<std::string>& 
   if (name == "heave_pitch_coupling") {
     fx.stiffness_asymmetry = d.Sign() * d.In(0.15, 0.4);
     fx.damper_asymmetry = d.Coin();
-    return std::string("front springs x (1 + ") + Fmt(fx.stiffness_asymmetry) + "), rear x (1 - e), dampers " +
-           (fx.damper_asymmetry ? "too" : "not");
+    return std::string(fx.damper_asymmetry ? "asymmetric springs and dampers" : "asymmetric springs") +
+           ", front x (1 + e), rear x (1 - e), e " + Fmt(fx.stiffness_asymmetry);
   }
   if (name == "nonlinear_stiffness") {
     const int side = d.Pick(3);
@@ -115,19 +115,19 @@ std::string DrawEffect(const std::string& name, const std::vector<std::string>& 
   if (name == "inertial_pitch") {
     fx.chassis_cm_height_m = chair.cm_height_m * d.In(0.5, 1.5);
     fx.load_cm_height_m = d.In(0.35, 0.8);
-    return "chassis CM " + Fmt(fx.chassis_cm_height_m) + " m, load CM " + Fmt(fx.load_cm_height_m) + " m";
+    return "inertial torque, chassis CM " + Fmt(fx.chassis_cm_height_m) + " m, load CM " + Fmt(fx.load_cm_height_m) + " m";
   }
   if (name == "marker_offset") {
     fx.marker_x_m = d.Sign() * d.In(0.05, 0.2);
     fx.marker_z_m = d.In(0.2, 0.7);
-    return "lever (" + Fmt(fx.marker_x_m) + ", " + Fmt(fx.marker_z_m) + ") m";
+    return "marker lever, (" + Fmt(fx.marker_x_m) + ", " + Fmt(fx.marker_z_m) + ") m";
   }
   if (name == "occupant_seat") {
     fx.occupant_share = d.In(0.4, 0.9);
     fx.seat_hz = d.In(3.0, 6.0);
     fx.seat_zeta = d.In(0.15, 0.4);
     fx.seat_x_m = d.In(-0.1, 0.1);
-    return "share " + Fmt(fx.occupant_share) + " on a seat spring " + Fmt(fx.seat_hz) + " Hz, zeta " +
+    return "seat spring, occupant share " + Fmt(fx.occupant_share) + ", " + Fmt(fx.seat_hz) + " Hz, zeta " +
            Fmt(fx.seat_zeta) + " at x " + Fmt(fx.seat_x_m) + " m";
   }
   throw std::invalid_argument("unknown truth effect '" + name + "'");
