@@ -1,10 +1,11 @@
 // The truth's measurement noise against closed forms: the Butterworth design against scipy's
-// butter(2, 0.2) coefficients and the defining properties (unit DC gain, |H| = 1/√2 at the
+// butter() coefficients (orders 2-4) and the defining properties (unit DC gain, |H| = 1/√2 at the
 // cut-off, zero at Nyquist); the variance of filtered white noise against the noise-equivalent
 // bandwidth (2 f_c / f_s) Γ(1/m) Γ(r - 1/m) / (m Γ(r)), m = 2n; a random walk's variance σ² t;
 // the outliers' rate.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <numbers>
@@ -32,6 +33,33 @@ TEST(MeasurementNoise, ButterworthOrderTwoMatchesScipy) {
   EXPECT_NEAR(f[0].b2, 0.0674552738890719, 1e-13);
   EXPECT_NEAR(f[0].a1, -1.1429805025399009, 1e-13);
   EXPECT_NEAR(f[0].a2, 0.4128015980961885, 1e-13);
+}
+
+TEST(MeasurementNoise, ButterworthOrdersThreeAndFourMatchScipysSections) {
+  // scipy 1.10.1: butter(4, 12/50, output='sos') and butter(3, 7/50, output='sos'): the sections'
+  // denominators (a1, a2) and the cascade's overall gain (product of the b0).
+  struct Ref {
+    int order;
+    double fc;
+    std::vector<std::pair<double, double>> a;  // sorted by a2
+    double gain;
+  };
+  const std::vector<Ref> refs = {
+      {4, 12.0, {{-0.8931036327062872, 0.22516058868743402}, {-1.1552915050582222, 0.5848302129885163}},
+       0.00891445723946302},
+      {3, 7.0, {{-0.6346192975441481, 0.0}, {-1.4920187596823615, 0.648954632397437}}, 0.00716766742664455}};
+  for (const Ref& ref : refs) {
+    std::vector<Biquad> f = ButterworthLowPass(ref.order, ref.fc, 100.0);
+    std::sort(f.begin(), f.end(), [](const Biquad& x, const Biquad& y) { return x.a2 < y.a2; });
+    ASSERT_EQ(f.size(), ref.a.size());
+    double gain = 1.0;
+    for (std::size_t i = 0; i < f.size(); ++i) {
+      EXPECT_NEAR(f[i].a1, ref.a[i].first, 1e-13) << ref.order;
+      EXPECT_NEAR(f[i].a2, ref.a[i].second, 1e-13) << ref.order;
+      gain *= f[i].b0;
+    }
+    EXPECT_NEAR(gain / ref.gain, 1.0, 1e-12) << ref.order;
+  }
 }
 
 TEST(MeasurementNoise, ButterworthHasUnitDcGainAndHalfPowerAtTheCutoff) {
