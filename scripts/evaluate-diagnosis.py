@@ -193,7 +193,7 @@ def report(args, results):
              f"({len(dev)} development, {len(ev)} evaluation, {len(cal)} calibration, "
              f"{len(fa)} false-alarm sets; {results[0]['trials'] if results else 0} trials a set; "
              f"diagnosis {min(seconds, default=0):.0f}-{max(seconds, default=0):.0f} s a set under nice -n {args.nice}, "
-             f"{args.jobs} at a time). The figures hold for that commit only.\n\n")
+             f"{args.jobs} at a time). The figures hold for the diagnosis at these commits only.\n\n")
     md.write("| goal | target | development (seeds 1-999) | evaluation (seeds ≥ 1000) |\n|---|---|---|---|\n")
     for (goal, target, d), (_, _, e) in zip(goals(dev), goals(ev)):
         md.write(f"| {goal} | {target} | {d} | {e} |\n")
