@@ -1,4 +1,9 @@
 #!/usr/bin/env bash
+# DEVELOPMENT matrix: the diagnosis on the independent truth's fixed development variants
+# (seeds 101-103, variants 0-2), the sets the families and starts were changed against and that
+# tests/sysid/diagnose/independent_truth_diagnose_test.cc pins. Not an evaluation: for that,
+# scripts/evaluate-diagnosis.py draws each set's laws and noise from the law space by seed and
+# reports development (seeds 1-999) and evaluation (seeds >= 1000) side by side.
 # The diagnosis' confusion matrix on data pwsim did NOT write: trial sets simulated by the
 # independent truth (tests/truth/independent_truth.h: rigid chassis on per-wheel suspensions,
 # Dormand-Prince, each effect in a physical form of its own, one effect outside the catalogue),

@@ -8,6 +8,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "tests/truth/law_space.h"
+
 namespace pwsim::truth {
 namespace {
 
@@ -87,6 +89,19 @@ struct System {
   std::vector<double> k, cdamp, f0, radius, mu, kt, ct, t0;
   double mc{0}, jc{0}, m_occ{0}, k_seat{0}, c_seat{0}, torque_per_accel{0};
   double whole_weight{0};
+  double friction_lever_m{0};  ///< L of chair-level friction
+
+  /// Rate-dependent friction force (smooth Coulomb or Stribeck) at relative rate v; 0 for Dahl.
+  double RateFriction(double v) const {
+    const TruthEffects& fx = c->effects;
+    if (fx.dahl_force_n <= 0.0 || fx.friction_law == TruthEffects::FrictionLaw::kDahl) return 0.0;
+    double level = fx.dahl_force_n;
+    if (fx.friction_law == TruthEffects::FrictionLaw::kStribeck) {
+      const double r = v / fx.friction_stribeck_mps;
+      level += (fx.friction_breakaway_ratio - 1.0) * fx.dahl_force_n * std::exp(-r * r);
+    }
+    return level * std::tanh(v / fx.friction_smooth_mps);
+  }
 
   double Ground(int i, double xi) const {
     return radius[i] > 0.0 ? DiscGround(c->terrain, xi, radius[i]) : c->terrain.HeightAt(xi);
@@ -114,47 +129,72 @@ struct System {
         // Target deflection from the load (dynamic wheel force or the whole chair's weight).
         const double h = c->terrain.HeightAt(xi);
         double load = whole_weight;
-        if (!fx.cushion_whole_chair) {
+        if (!fx.cushion_whole_chair && !fx.cushion_proportional) {
           const double susp = f0[i] + k[i] * ((lay.tyre >= 0 ? s[static_cast<std::size_t>(lay.tyre + 2 * i)] : g) -
                                               (z + w.x_m * st_));
           load = std::max(0.0, susp);
         }
-        const double y = std::min(0.8, fx.cushion_yield * std::pow(load / fx.cushion_ref_n, fx.cushion_exponent));
+        const double y = fx.cushion_proportional
+                             ? std::min(0.8, fx.cushion_yield)
+                             : std::min(0.8, fx.cushion_yield * std::pow(load / fx.cushion_ref_n, fx.cushion_exponent));
         const double dd = (h * y - d) / fx.cushion_tau_s;
         ds[static_cast<std::size_t>(lay.foam + i)] = dd;
         g_rate -= dd;
       }
-      double u = g, u_rate = g_rate;
-      if (lay.tyre >= 0 && kt[i] > 0.0) {
-        u = s[static_cast<std::size_t>(lay.tyre + 2 * i)];
-        u_rate = s[static_cast<std::size_t>(lay.tyre + 2 * i + 1)];
-      }
+      const bool has_tyre = lay.tyre >= 0 && kt[i] > 0.0;
+      const std::size_t tyre_j = static_cast<std::size_t>(lay.tyre + 2 * i);
+      double u = has_tyre ? s[tyre_j] : g;
       const double anchor = z + w.x_m * st_, anchor_rate = zr + w.x_m * ct_ * thr;
-      const double delta = u - anchor, delta_rate = u_rate - anchor_rate;
-      double susp = f0[i] + k[i] * delta + cdamp[i] * delta_rate;
+      const double delta = u - anchor;
+      // Rate-independent extra forces: bump stops B(δ) = bump_on - bump_off and the Dahl state F_d.
+      double bump_on = 0.0, bump_off = 0.0, fd = 0.0;
       if (fx.bump_gain > 0.0) {
         const double over = delta - fx.bump_gap_m;
-        if (over > 0.0) susp += k[i] * fx.bump_gain * over * over / fx.bump_gap_m;
+        const bool compression = !fx.bump_rebound_only, rebound = fx.bump_symmetric || fx.bump_rebound_only;
+        if (compression && over > 0.0) bump_on = k[i] * fx.bump_gain * over * over / fx.bump_gap_m;
         const double under = -delta - fx.bump_gap_m;
-        if (fx.bump_symmetric && under > 0.0) susp -= k[i] * fx.bump_gain * under * under / fx.bump_gap_m;
+        if (rebound && under > 0.0) bump_off = k[i] * fx.bump_gain * under * under / fx.bump_gap_m;
+      }
+      if (lay.dahl >= 0) fd = s[static_cast<std::size_t>(lay.dahl + i)];
+      const double extra = bump_on - bump_off + fd;
+      double u_rate = g_rate;
+      if (has_tyre && fx.tyre_massless) {
+        // k_t (g - u) + c_t (ġ - u̇) = k δ + c (u̇ - Ȧ) + extra, solved for u̇.
+        u_rate = (kt[i] * (g - u) + ct[i] * g_rate - k[i] * delta + cdamp[i] * anchor_rate - extra) /
+                 (ct[i] + cdamp[i]);
+      } else if (has_tyre) {
+        u_rate = s[tyre_j + 1];
+      }
+      const double delta_rate = u_rate - anchor_rate;
+      double susp = f0[i] + k[i] * delta + cdamp[i] * delta_rate;
+      susp += bump_on;  // added one by one, in the order the development sets were made with
+      susp -= bump_off;
+      susp += fd;
+      if (fx.dahl_force_n > 0.0) {
+        susp += fx.friction_viscous_nspm * delta_rate;
+        if (!fx.friction_chair_level) susp += RateFriction(delta_rate);
       }
       if (lay.dahl >= 0) {
-        const double fd = s[static_cast<std::size_t>(lay.dahl + i)];
         const double sigma = fx.dahl_force_n / fx.dahl_presliding_m;
         const double sgn = delta_rate > 0 ? 1.0 : (delta_rate < 0 ? -1.0 : 0.0);
         ds[static_cast<std::size_t>(lay.dahl + i)] = sigma * delta_rate * (1.0 - sgn * fd / fx.dahl_force_n);
-        susp += fd;
       }
-      if (lay.tyre >= 0 && kt[i] > 0.0) {
+      if (has_tyre && fx.tyre_massless) {
+        ds[tyre_j] = u_rate;
+      } else if (has_tyre) {
         const double tyre = std::max(0.0, t0[i] + kt[i] * (g - u) + ct[i] * (g_rate - u_rate));
-        const std::size_t j = static_cast<std::size_t>(lay.tyre + 2 * i);
-        ds[j] = u_rate;
-        ds[j + 1] = ((tyre - t0[i]) - (susp - f0[i])) / mu[i];
+        ds[tyre_j] = u_rate;
+        ds[tyre_j + 1] = ((tyre - t0[i]) - (susp - f0[i])) / mu[i];
       } else if (fx.unilateral_contact) {
         susp = std::max(0.0, susp);  // a wheel can leave the ground, not pull on it
       }
       force += susp - f0[i];
       moment += (susp - f0[i]) * w.x_m * ct_;
+    }
+    if (fx.dahl_force_n > 0.0 && fx.friction_chair_level) {
+      const double lever = friction_lever_m;
+      force -= RateFriction(zr);
+      moment -= lever * RateFriction(lever * thr);
     }
     if (lay.occ >= 0) {
       const std::size_t j = static_cast<std::size_t>(lay.occ);
@@ -189,9 +229,16 @@ TruthTrial SimulateTruthTrial(const TruthTrialConfig& c) {
   const int n = static_cast<int>(c.chair.wheels.size());
   Layout& lay = sys.lay;
   lay.n = n;
-  const bool tyres = fx.caster_tyre_hz > 0.0 || fx.drive_tyre_hz > 0.0;
-  if (tyres) { lay.tyre = lay.size; lay.size += 2 * n; }
-  if (fx.dahl_force_n > 0.0) { lay.dahl = lay.size; lay.size += n; }
+  const bool tyres = fx.tyre_massless ? (fx.caster_tyre_ratio > 0.0 || fx.drive_tyre_ratio > 0.0)
+                                      : (fx.caster_tyre_hz > 0.0 || fx.drive_tyre_hz > 0.0);
+  if (tyres && fx.tyre_massless && fx.dahl_force_n > 0.0 &&
+      (fx.friction_law != TruthEffects::FrictionLaw::kDahl || fx.friction_viscous_nspm > 0.0))
+    throw std::invalid_argument("massless tyres with rate-dependent friction: the hub balance would be implicit");
+  if (tyres) { lay.tyre = lay.size; lay.size += 2 * n; }  // massless tyres use the first of the two
+  if (fx.dahl_force_n > 0.0 && fx.friction_law == TruthEffects::FrictionLaw::kDahl) {
+    lay.dahl = lay.size;
+    lay.size += n;
+  }
   if (fx.cushion_yield > 0.0) { lay.foam = lay.size; lay.size += n; }
   const double f = Clamp(fx.occupant_share, 0.0, 1.0);
   if (f > 0.0 && c.load_kg > 0.0) { lay.occ = lay.size; lay.size += 2; }
@@ -220,6 +267,14 @@ TruthTrial SimulateTruthTrial(const TruthTrialConfig& c) {
     sys.cdamp.push_back(ci);
     ksum += ki;
     sys.radius.push_back(fx.contact_radius_scale * w.radius_m);
+    sys.friction_lever_m = std::max(sys.friction_lever_m, std::abs(w.x_m));
+    if (fx.tyre_massless) {
+      const double ratio = w.caster ? fx.caster_tyre_ratio : fx.drive_tyre_ratio;
+      sys.mu.push_back(0.0);
+      sys.kt.push_back(ratio * ki);
+      sys.ct.push_back(ratio * ki * fx.tyre_tau_s);
+      continue;
+    }
     const double m_u = w.caster ? fx.caster_unsprung_kg : fx.drive_unsprung_kg;
     const double hz = w.caster ? fx.caster_tyre_hz : fx.drive_tyre_hz;
     const double om = 2.0 * std::numbers::pi * hz;
@@ -246,17 +301,31 @@ TruthTrial SimulateTruthTrial(const TruthTrialConfig& c) {
                        [&](const State& st, double) { states.push_back(st); });
   std::mt19937_64 rng(c.seed);
   std::normal_distribution<double> gauss(0.0, 1.0);
-  for (std::size_t k = 0; k < times.size() && k < states.size(); ++k) {
+  const std::size_t n_out = std::min(times.size(), states.size());
+  std::vector<double> ex, ez, ep;  // the general noise model's sequences, one generator per trial
+  if (!c.noise.white_only) {
+    ex = ChannelNoiseSequence(c.noise, c.noise.x, n_out, c.rate_hz, rng);
+    ez = ChannelNoiseSequence(c.noise, c.noise.z, n_out, c.rate_hz, rng);
+    ep = ChannelNoiseSequence(c.noise, c.noise.pitch, n_out, c.rate_hz, rng);
+  }
+  for (std::size_t k = 0; k < n_out; ++k) {
     const State& st = states[k];
     const double th = st[4];
     out.t.push_back(times[k]);
     out.true_x.push_back(st[0]);
     out.true_z.push_back(st[2]);
     out.true_pitch.push_back(th);
-    out.x.push_back(st[0] + fx.marker_x_m * std::cos(th) - fx.marker_z_m * std::sin(th) + c.noise_x_m * gauss(rng));
-    out.z.push_back(c.z_offset_m + st[2] + fx.marker_x_m * std::sin(th) + fx.marker_z_m * std::cos(th) +
-                    c.noise_z_m * gauss(rng));
-    out.pitch.push_back(th + c.noise_pitch_rad * gauss(rng));
+    const double mx = st[0] + fx.marker_x_m * std::cos(th) - fx.marker_z_m * std::sin(th);
+    const double mz = c.z_offset_m + st[2] + fx.marker_x_m * std::sin(th) + fx.marker_z_m * std::cos(th);
+    if (c.noise.white_only) {  // the historical draw order: x, z, pitch per sample
+      out.x.push_back(mx + c.noise_x_m * gauss(rng));
+      out.z.push_back(mz + c.noise_z_m * gauss(rng));
+      out.pitch.push_back(th + c.noise_pitch_rad * gauss(rng));
+    } else {
+      out.x.push_back(mx + ex[k]);
+      out.z.push_back(mz + ez[k]);
+      out.pitch.push_back(th + ep[k]);
+    }
   }
   return out;
 }
@@ -345,7 +414,14 @@ TruthSet SimulateTruthSet(const TruthSetConfig& config) {
   std::mt19937_64 rng(config.seed);
   set.chair = RandomTruthChair(rng);
   set.terrain = RandomCushion(rng);
-  for (const std::string& e : config.effects) AddEffect(e, config.strength, config.form, set.chair, set.effects);
+  if (config.draw_laws) {
+    LawDraw draw = DrawLaws(config.seed, config.effects, set.chair, config.noise_kind);
+    set.effects = draw.effects;
+    set.noise = draw.noise;
+    set.laws = std::move(draw.laws);
+  } else {
+    for (const std::string& e : config.effects) AddEffect(e, config.strength, config.form, set.chair, set.effects);
+  }
   const double end_x = set.terrain.x_m[4] - set.chair.wheels.back().x_m + 1.0;
   int index = 0;
   for (double speed : config.speeds) {
@@ -353,6 +429,7 @@ TruthSet SimulateTruthSet(const TruthSetConfig& config) {
       TruthTrialConfig c;
       c.chair = set.chair;
       c.effects = set.effects;
+      c.noise = set.noise;
       c.terrain = set.terrain;
       c.load_kg = load;
       c.drive.speed_mps = speed;
@@ -435,6 +512,10 @@ void WriteTruthSet(const TruthSet& set, const std::filesystem::path& dir) {
            ", marker_z_m: " + Num(fx.marker_z_m) + ", occupant_share: " + Num(fx.occupant_share) + "}\n";
   const bool small_angle = !set.configs.empty() && set.configs.front().small_angle;
   truth += std::string("kinematics: ") + (small_angle ? "small_angle" : "exact") + "\n";
+  if (!set.laws.empty()) {
+    truth += "laws:\n";
+    for (const std::string& law : set.laws) truth += "  - \"" + law + "\"\n";
+  }
   std::filesystem::path beside = dir;
   if (beside.filename().empty()) beside = beside.parent_path();
   WriteText(beside.string() + ".truth.yaml", truth);

@@ -19,7 +19,9 @@
 //   obstacle, decelerate). Integration: Dormand-Prince 5(4) with step-size control and dense
 //   output (Boost.Odeint), tolerances 1e-9 abs / 1e-7 rel, steps ≤ 2 ms, sampled at the frame times.
 //   Mocap: a marker at lever (r_x, r_z) in the chair frame measures x + r_x cos θ - r_z sin θ and
-//   z + r_x sin θ + r_z cos θ; Gaussian noise on x, z, θ.
+//   z + r_x sin θ + r_z cos θ; Gaussian noise on x, z, θ, or the coloured, drifting and
+//   outlying noise of measurement_noise.h.
+// Each effect has several physical laws (docs in TruthEffects); law_space.h draws them by seed.
 // With every effect off and Σ k_i x_i = Σ c_i x_i = 0, the small-angle motion is the paper's
 // model with α_i = k_i / Σk, a single front-rear slope, K_Z = Σk, K_θ = Σ k x², C likewise.
 
@@ -29,6 +31,8 @@
 #include <random>
 #include <string>
 #include <vector>
+
+#include "tests/truth/measurement_noise.h"
 
 namespace pwsim::truth {
 
@@ -53,14 +57,22 @@ struct TruthChair {
 struct TruthEffects {
   // wheel_radius: wheels roll as discs of contact_radius_scale × nominal radius.
   double contact_radius_scale{0.0};
-  // tyre_compliance: unsprung wheels on unilateral tyre springs.
+  // tyre_compliance, law 1: unsprung wheels on unilateral tyre springs.
   double caster_tyre_hz{0.0}, drive_tyre_hz{0.0};  ///< wheel-hop frequency on the tyre (0 = rigid)
   double tyre_zeta{0.1};
   double caster_unsprung_kg{3.0}, drive_unsprung_kg{8.0};
+  // tyre_compliance, law 2: a massless tyre spring k_t = ratio × k_i with damper c_t = τ_t k_t in
+  // series with the suspension; the hub u follows from the force balance
+  //   k_t (g - u) + c_t (ġ - u̇) = k δ + c δ̇ + B(δ) + F_d,   δ = u - A.
+  // Not combined with rate-dependent friction (the balance would be implicit).
+  double caster_tyre_ratio{0.0}, drive_tyre_ratio{0.0};  ///< k_t / k_i (0 = rigid)
+  bool tyre_massless{false};
+  double tyre_tau_s{0.005};
   // cushion_compliance: foam deflection d → D(F) = H y(F), y = a (F / F_ref)^p ≤ 0.8, relaxing with tau.
   double cushion_yield{0.0};     ///< a [-] at F = F_ref
   double cushion_exponent{1.0};  ///< p
   bool cushion_whole_chair{false};  ///< F = whole-chair weight (static) instead of the wheel's dynamic force
+  bool cushion_proportional{false};  ///< y = a whatever the load: the foam yields a fixed share of its height
   double cushion_ref_n{500.0};
   double cushion_tau_s{0.015};
   // heave_pitch_coupling: front springs × (1 + e), rear × (1 - e) (dampers too when damper_asym).
@@ -70,9 +82,22 @@ struct TruthEffects {
   double bump_gain{0.0};
   double bump_gap_m{0.004};
   bool bump_symmetric{false};
-  // suspension_friction: per-wheel Dahl friction (presliding deflection fc/sigma).
+  bool bump_rebound_only{false};  ///< stops in rebound (δ < -g) only
+  // suspension_friction: a friction force of Coulomb level F_c = dahl_force_n in the law
+  //   Dahl (per wheel):    Ḟ = σ δ̇ (1 - sgn(δ̇) F / F_c), σ = F_c / presliding deflection;
+  //   smooth Coulomb:      F = F_c tanh(δ̇ / v_s);
+  //   Stribeck/breakaway:  F = (F_c + (F_s - F_c) exp(-(δ̇ / v_St)²)) tanh(δ̇ / v_s);
+  // per wheel (on δ̇_i) or at chair level (force -F(ż) on heave, torque -L F(L θ̇) on pitch,
+  // L the largest wheel lever), plus a viscous share c_v δ̇ per wheel.
+  enum class FrictionLaw { kDahl, kSmoothCoulomb, kStribeck };
+  FrictionLaw friction_law{FrictionLaw::kDahl};
   double dahl_force_n{0.0};
   double dahl_presliding_m{5e-4};
+  bool friction_chair_level{false};
+  double friction_smooth_mps{0.005};      ///< v_s
+  double friction_breakaway_ratio{1.0};   ///< F_s / F_c
+  double friction_stribeck_mps{0.01};     ///< v_St
+  double friction_viscous_nspm{0.0};      ///< c_v
   // inertial_pitch: pitch torque a_x (M_chassis h_c + M_u h_u).
   double chassis_cm_height_m{0.0}, load_cm_height_m{0.0};
   // marker_offset: lever of the tracked origin in the chair frame.
@@ -106,7 +131,8 @@ struct TruthTrialConfig {
   DriveProfile drive;
   double load_kg{0.0};
   double rate_hz{100.0};
-  double noise_x_m{3e-4}, noise_z_m{3e-4}, noise_pitch_rad{5e-4};
+  double noise_x_m{3e-4}, noise_z_m{3e-4}, noise_pitch_rad{5e-4};  ///< white σ when noise.white_only
+  MeasurementNoise noise;  ///< white_only (default): the σ above; otherwise this model
   double z_offset_m{0.4};  ///< altitude of the lab's origin at rest
   std::uint64_t seed{1};
   /// Chassis kinematics linearised as the paper's model has them (cos θ -> 1, sin θ -> θ for
@@ -144,6 +170,10 @@ struct TruthSetConfig {
   std::uint64_t seed{1};
   double rate_hz{100.0};
   bool small_angle{false};  ///< TruthTrialConfig::small_angle for every trial
+  /// Draw each effect's law, parameters and strength and the noise model from the law space by
+  /// `seed` (law_space.h) instead of AddEffect's variant `form` at `strength` (both ignored).
+  bool draw_laws{false};
+  std::string noise_kind;  ///< with draw_laws: force the noise kind (NoiseKinds()); empty: drawn
 };
 
 struct TruthSet {
@@ -153,6 +183,8 @@ struct TruthSet {
   std::vector<std::string> names;  ///< trial folder names
   std::vector<TruthTrialConfig> configs;
   std::vector<TruthTrial> trials;
+  std::vector<std::string> laws;  ///< with draw_laws: each effect's law and parameters, and the noise
+  MeasurementNoise noise;
 };
 
 TruthSet SimulateTruthSet(const TruthSetConfig& config);

@@ -1,0 +1,278 @@
+#!/usr/bin/env python3
+"""The diagnosis' evaluation on the independent truth's law space, as a new user runs it.
+
+Each set is drawn by seed from the law space of tests/truth/law_space.h (the effect's law,
+parameters and strength, and the measurement noise: white, low-pass filtered, drifting,
+outlying or mixed), written by `independent_truth_set --draw --seed N --effects ROW`, and
+diagnosed by the real CLI: `pwsim diagnose SET/*/ --out ...`. Nothing here or in the truth is
+tuned on the evaluation seeds.
+
+Splits (seed = base + 100 j + row index, j = 0, 1, ... the set's number in its row):
+  development   base 1     (seeds 1-999; tests and tuning may use them; at most 9 sets a row)
+  evaluation    base 1000  (seeds >= 1000; never tuned on)
+  calibration   no-effect seeds 900 + j     (development; noise kinds in turn: white, lowpass,
+                drift, outliers, mix), for calibrating the verdict
+  false alarm   no-effect seeds 90000 + j   (evaluation; kinds in turn as above)
+
+Sets run in parallel with a bounded number of jobs, each under `nice`; a set already diagnosed
+(WORK/results/NAME.json) is skipped, so an interrupted run resumes. Every file is written to a
+temporary name and renamed. The table (Markdown) and one CSV line per set are written at the
+end, with the commit they were measured at.
+
+  scripts/evaluate-diagnosis.py [--build build] [--work out/diagnosis-eval]
+      [--dev-sets N] [--eval-sets N] [--calibration N] [--false-alarm N] [--rows a,b+c,...]
+      [--jobs 2] [--nice 15] [--speeds 0.5,0.9,1.3,1.7] [--loads 0,50,100]
+      [--diagnose-arg=--threads=1 ...] [--md FILE] [--csv FILE] [--report-only]
+"""
+import argparse
+import concurrent.futures as futures
+import csv
+import glob
+import io
+import json
+import os
+import shutil
+import subprocess
+import sys
+import time
+
+ROWS = ["none", "wheel_radius", "tyre_compliance", "cushion_compliance", "heave_pitch_coupling",
+        "nonlinear_stiffness", "suspension_friction", "inertial_pitch", "marker_offset",
+        "occupant_seat", "inertial_pitch+marker_offset", "cushion_compliance+suspension_friction",
+        "tyre_compliance+inertial_pitch", "heave_pitch_coupling+nonlinear_stiffness"]
+OUTSIDE = {"occupant_seat"}
+NOISE_KINDS = ["white", "lowpass", "drift", "outliers", "mix"]
+VERDICTS = ["adequate", "explained", "partly_explained", "unexplained", "failed"]
+
+
+def write_atomic(path, text):
+    tmp = path + ".tmp"
+    with open(tmp, "w") as f:
+        f.write(text)
+    os.replace(tmp, path)
+
+
+def plan(args):
+    """(split, name, seed, row, forced noise kind) for every set asked for."""
+    rows = args.rows.split(",") if args.rows else ROWS
+    for row in rows:
+        if row not in ROWS:
+            sys.exit(f"--rows: unknown row '{row}' (one of {', '.join(ROWS)})")
+    if args.dev_sets > 9:
+        sys.exit("--dev-sets: at most 9 (development seeds stay below 1000)")
+    tasks = []
+    for split, base, count in (("evaluation", 1000, args.eval_sets), ("development", 1, args.dev_sets)):
+        for j in range(count):
+            for row in rows:
+                seed = base + 100 * j + ROWS.index(row)
+                tasks.append((split, f"{seed:05d}_{row.replace('+', '_')}", seed, row, ""))
+    for split, base, count in (("calibration", 900, args.calibration), ("false_alarm", 90000, args.false_alarm)):
+        for j in range(count):
+            kind = NOISE_KINDS[j % len(NOISE_KINDS)]
+            tasks.append((split, f"{base + j:05d}_none_{kind}", base + j, "none", kind))
+    return tasks
+
+
+def run_set(args, task, commit):
+    split, name, seed, row, kind = task
+    result_path = os.path.join(args.work, "results", name + ".json")
+    if os.path.exists(result_path):
+        return json.load(open(result_path)), True
+    sets = os.path.join(args.work, "sets")
+    set_dir = os.path.join(sets, name)
+    nice = ["nice", "-n", str(args.nice)]
+    if not os.path.isdir(set_dir):  # generate in a scratch folder, then rename (set and truth)
+        tmp = os.path.join(sets, ".partial", name)
+        shutil.rmtree(tmp, ignore_errors=True)
+        os.makedirs(os.path.dirname(tmp), exist_ok=True)
+        cmd = nice + [os.path.join(args.build, "tests/truth/independent_truth_set"), "--draw",
+                      "--seed", str(seed), "--effects", row.replace("+", ","), "--out", tmp,
+                      "--speeds", args.speeds, "--loads", args.loads]
+        if kind:
+            cmd += ["--noise", kind]
+        subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+        os.replace(tmp + ".truth.yaml", set_dir + ".truth.yaml")
+        os.replace(tmp, set_dir)
+    trials = sorted(glob.glob(os.path.join(set_dir, "*", "")))
+    dx_dir = os.path.join(args.work, "dx", name)
+    tmp = dx_dir + ".tmp"
+    shutil.rmtree(tmp, ignore_errors=True)
+    shutil.rmtree(dx_dir, ignore_errors=True)
+    start = time.monotonic()
+    proc = subprocess.run(nice + [os.path.join(args.build, "pwsim"), "diagnose"] + trials +
+                          ["--out", tmp] + args.diagnose_arg, capture_output=True, text=True)
+    seconds = time.monotonic() - start
+    laws = [line.strip()[3:-1] for line in open(set_dir + ".truth.yaml") if line.startswith("  - \"")]
+    result = {"split": split, "name": name, "seed": seed, "row": row, "trials": len(trials), "commit": commit,
+              "laws": laws, "seconds": round(seconds, 1), "rc": proc.returncode}
+    dx_json = os.path.join(tmp, "diagnosis.json")
+    if proc.returncode == 0 and os.path.exists(dx_json):
+        d = json.load(open(dx_json))
+        os.replace(tmp, dx_dir)
+        result.update({"verdict": d["verdict"], "cause": d.get("cause", "none"),
+                       "causes": [{"effect": c["effect"], "gain_pct": c.get("heldout_gain_pct"),
+                                   "confirmed": c.get("confirmed")} for c in d.get("causes", [])],
+                       "heldout_fit_pct": d.get("heldout_fit_pct")})
+    else:
+        result.update({"verdict": "failed", "cause": "none", "causes": [],
+                       "error": (proc.stderr or proc.stdout)[-400:]})
+    write_atomic(result_path, json.dumps(result, indent=1) + "\n")
+    return result, False
+
+
+def effects_of(row):
+    return [] if row == "none" else row.split("+")
+
+
+def named_first_with_gain(r):
+    c = r["causes"]
+    return bool(c) and c[0]["effect"] == r["row"] and (c[0]["gain_pct"] or 0) > 0
+
+
+def both_found(r):
+    found = {c["effect"] for c in r["causes"]}
+    return all(e in found for e in effects_of(r["row"]))
+
+
+def rate(hits, n):
+    return f"{hits}/{n} ({100.0 * hits / n:.0f} %)" if n else "–"
+
+
+def short_law(line):
+    """'effect: law, parameters' -> 'law' (noise: its kind)."""
+    if line.startswith("noise "):
+        return line[6:].split(":")[0]
+    return line.split(": ", 1)[1].split(",")[0].split(":")[0]
+
+
+def row_cell(results):
+    """Verdict counts, then per set: seed, law(s) / noise, verdict, causes with held-out gains."""
+    if not results:
+        return "–"
+    counts = {v: sum(r["verdict"] == v for r in results) for v in VERDICTS}
+    cells = [", ".join(f"{v} ×{n}" for v, n in counts.items() if n)]
+    for r in results:
+        laws = "; ".join(short_law(line) for line in r["laws"][:-1])
+        causes = " + ".join(f"{c['effect']} {c['gain_pct']:.0f} %" if c["gain_pct"] is not None else c["effect"]
+                            for c in r["causes"]) or "no cause"
+        cells.append(f"{r['seed']} ({laws + ' / ' if laws else ''}{short_law(r['laws'][-1])}): "
+                     f"{r['verdict']}, {causes}")
+    return "<br>".join(cells)
+
+
+def goals(results):
+    """(goal, target, figure) for one split's results."""
+    singles = [r for r in results if len(effects_of(r["row"])) == 1 and r["row"] not in OUTSIDE]
+    pairs = [r for r in results if len(effects_of(r["row"])) == 2]
+    none = [r for r in results if r["row"] == "none"]
+    outside = [r for r in results if r["row"] in OUTSIDE]
+    return [("single effects named first with a positive held-out gain", "≥ 90 %",
+             rate(sum(map(named_first_with_gain, singles)), len(singles))),
+            ("both causes of a pair found", "≥ 80 %", rate(sum(map(both_found, pairs)), len(pairs))),
+            ("no-effect sets `adequate`", "≥ 95 %", rate(sum(r["verdict"] == "adequate" for r in none), len(none))),
+            ("outside the catalogue called `adequate`", "never",
+             rate(sum(r["verdict"] == "adequate" for r in outside), len(outside)))]
+
+
+def report(args, results):
+    by = lambda split: [r for r in results if r["split"] == split]
+    dev, ev, cal, fa = by("development"), by("evaluation"), by("calibration"), by("false_alarm")
+    rows = [row for row in ROWS if any(r["row"] == row for r in dev + ev)]
+    md = io.StringIO()
+    md.write("# The diagnosis on the independent truth's law space\n\n"
+             "Written by `scripts/evaluate-diagnosis.py`; do not edit. Each set's effect law, parameters, "
+             "strength and measurement noise are drawn by seed (`tests/truth/law_space.h`); a set is "
+             "regenerated by `build/tests/truth/independent_truth_set --draw --seed SEED --effects ROW "
+             "--out DIR` (rows `a+b`: `--effects a,b`; calibration and false-alarm sets add "
+             "`--noise KIND`) and diagnosed by `build/pwsim diagnose DIR/*/ --out OUT`. Development "
+             "seeds 1-999 may be tuned on; evaluation seeds >= 1000 are not. Per set (laws, noise, "
+             "verdict, causes, gains, seconds): the CSV beside this file.\n\n")
+    seconds = [r["seconds"] for r in results if r["verdict"] != "failed"]
+    commits = ", ".join(f"`{c}`" for c in sorted({r.get("commit", "unknown") for r in results}))
+    md.write(f"Measured at commit {commits} by `scripts/evaluate-diagnosis.py` "
+             f"({len(dev)} development, {len(ev)} evaluation, {len(cal)} calibration, "
+             f"{len(fa)} false-alarm sets; {results[0]['trials'] if results else 0} trials a set; "
+             f"diagnosis {min(seconds, default=0):.0f}-{max(seconds, default=0):.0f} s a set under nice -n {args.nice}, "
+             f"{args.jobs} at a time). The figures hold for the diagnosis at these commits only.\n\n")
+    md.write("| goal | target | development (seeds 1-999) | evaluation (seeds ≥ 1000) |\n|---|---|---|---|\n")
+    for (goal, target, d), (_, _, e) in zip(goals(dev), goals(ev)):
+        md.write(f"| {goal} | {target} | {d} | {e} |\n")
+    cal_ok = sum(r["verdict"] == "adequate" for r in cal)
+    fa_bad = sum(r["verdict"] != "adequate" for r in fa)
+    md.write(f"| calibration set (no effect, development seeds 900+): `adequate` | – | {rate(cal_ok, len(cal))} | |\n")
+    md.write(f"| false-alarm set (no effect, evaluation seeds 90000+): not `adequate` | ≤ 5 % | | {rate(fa_bad, len(fa))} |\n\n")
+    md.write("| hidden effect | development: seed (law / noise): verdict, causes with held-out gain "
+             "| evaluation: the same |\n|---|---|---|\n")
+    for row in rows:
+        md.write(f"| {row} | {row_cell([r for r in dev if r['row'] == row])} | "
+                 f"{row_cell([r for r in ev if r['row'] == row])} |\n")
+    if cal or fa:
+        md.write(f"| no effect, calibration (development) / false alarm (evaluation) | {row_cell(cal)} | "
+                 f"{row_cell(fa)} |\n")
+    write_atomic(args.md, md.getvalue())
+    out = io.StringIO()
+    w = csv.writer(out)
+    w.writerow(["split", "seed", "row", "trials", "verdict", "first_cause", "causes", "gains_pct", "confirmed",
+                "named_first_with_gain", "seconds", "laws"])
+    for r in sorted(results, key=lambda r: (r["split"], r["seed"])):
+        w.writerow([r["split"], r["seed"], r["row"], r["trials"], r["verdict"],
+                    r["causes"][0]["effect"] if r["causes"] else "none",
+                    "+".join(c["effect"] for c in r["causes"]),
+                    "+".join("" if c["gain_pct"] is None else f"{c['gain_pct']:.1f}" for c in r["causes"]),
+                    "+".join(str(c["confirmed"]) for c in r["causes"]),
+                    int(named_first_with_gain(r)), r["seconds"], " | ".join(r["laws"])])
+    write_atomic(args.csv, out.getvalue())
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--build", default="build")
+    p.add_argument("--work", default="out/diagnosis-eval")
+    p.add_argument("--dev-sets", type=int, default=1, help="sets per row on development seeds (<= 9)")
+    p.add_argument("--eval-sets", type=int, default=1, help="sets per row on evaluation seeds")
+    p.add_argument("--calibration", type=int, default=20, help="no-effect calibration sets")
+    p.add_argument("--false-alarm", type=int, default=20, help="no-effect false-alarm sets")
+    p.add_argument("--rows", default="", help="comma-separated rows (default: all)")
+    p.add_argument("--jobs", type=int, default=2)
+    p.add_argument("--nice", type=int, default=15)
+    p.add_argument("--speeds", default="0.5,0.9,1.3,1.7")
+    p.add_argument("--loads", default="0,50,100")
+    p.add_argument("--diagnose-arg", action="append", default=[],
+                   help="passed to pwsim diagnose, e.g. --diagnose-arg=--threads=1 (repeatable)")
+    p.add_argument("--report-only", action="store_true",
+                   help="no new runs: the table of every set in WORK/results")
+    p.add_argument("--md", default="", help="table (default WORK/evaluation.md)")
+    p.add_argument("--csv", default="", help="one line per set (default WORK/evaluation.csv)")
+    args = p.parse_args()
+    if args.jobs < 1:
+        sys.exit("--jobs: expected >= 1")
+    args.diagnose_arg = [a for arg in args.diagnose_arg for a in arg.split("=", 1)]
+    args.md = args.md or os.path.join(args.work, "evaluation.md")
+    args.csv = args.csv or os.path.join(args.work, "evaluation.csv")
+    for sub in ("results", "sets", "dx"):
+        os.makedirs(os.path.join(args.work, sub), exist_ok=True)
+    if args.report_only:
+        results = [json.load(open(f)) for f in sorted(glob.glob(os.path.join(args.work, "results", "*.json")))]
+        report(args, results)
+        print(f"table: {args.md}\nper set: {args.csv}")
+        return
+    subprocess.run(["cmake", "--build", args.build, "--target", "pwsim", "independent_truth_set", "-j1"],
+                   check=True, stdout=subprocess.DEVNULL)
+    tasks = plan(args)
+    commit = subprocess.run(["git", "describe", "--always", "--dirty"], capture_output=True,
+                            text=True).stdout.strip() or "unknown"
+    results = []
+    with futures.ThreadPoolExecutor(max_workers=args.jobs) as pool:
+        pending = {pool.submit(run_set, args, t, commit): t for t in tasks}
+        for done, fut in enumerate(futures.as_completed(pending), 1):
+            r, skipped = fut.result()
+            results.append(r)
+            causes = "+".join(c["effect"] for c in r["causes"]) or "no cause"
+            when = " (already diagnosed)" if skipped else ", %s s" % r["seconds"]
+            print(f"[{done}/{len(tasks)}] {r['name']}: {r['verdict']}, {causes}{when}", flush=True)
+    report(args, results)
+    print(f"table: {args.md}\nper set: {args.csv}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,89 @@
+#!/usr/bin/env python3
+"""scripts/evaluate-diagnosis.py's bookkeeping: the seeds of each split stay in their ranges and
+apart, the goals count what they say, a diagnosed set is not run again, and the report is
+written whole (no temporary left)."""
+import argparse
+import importlib.util
+import json
+import os
+import sys
+import tempfile
+import unittest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SCRIPT = os.path.join(HERE, "..", "..", "scripts", "evaluate-diagnosis.py")
+spec = importlib.util.spec_from_file_location("evaluate_diagnosis", SCRIPT)
+ev = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(ev)
+
+
+def args(**kw):
+    base = dict(rows="", dev_sets=9, eval_sets=12, calibration=20, false_alarm=20, work="", build="/nonexistent",
+                nice=15, jobs=2, speeds="1", loads="0", diagnose_arg=[], md="", csv="")
+    base.update(kw)
+    return argparse.Namespace(**base)
+
+
+def result(row, verdict, causes, split="evaluation", seed=1000):
+    return {"split": split, "name": f"{seed:05d}_{row}", "seed": seed, "row": row, "trials": 12, "commit": "abc",
+            "laws": ["noise white: sigma"], "seconds": 1.0, "rc": 0, "verdict": verdict,
+            "causes": [{"effect": e, "gain_pct": g, "confirmed": None} for e, g in causes]}
+
+
+class Plan(unittest.TestCase):
+    def test_splits_keep_their_seed_ranges_and_never_share_a_seed(self):
+        tasks = ev.plan(args())
+        seeds = {}
+        for split, name, seed, row, kind in tasks:
+            seeds.setdefault(split, []).append(seed)
+        self.assertTrue(all(1 <= s <= 999 for s in seeds["development"] + seeds["calibration"]))
+        self.assertTrue(all(s >= 1000 for s in seeds["evaluation"] + seeds["false_alarm"]))
+        every = [t[2] for t in tasks]
+        self.assertEqual(len(every), len(set(every)))
+        self.assertEqual(len(seeds["evaluation"]), 12 * len(ev.ROWS))
+        kinds = [t[4] for t in tasks if t[0] == "false_alarm"]
+        self.assertEqual(kinds[:5], ev.NOISE_KINDS)
+
+    def test_refuses_development_sets_that_would_reach_evaluation_seeds(self):
+        with self.assertRaises(SystemExit):
+            ev.plan(args(dev_sets=10))
+        with self.assertRaises(SystemExit):
+            ev.plan(args(rows="warp_drive"))
+
+
+class Goals(unittest.TestCase):
+    def test_goals_count_what_they_say(self):
+        rs = [result("wheel_radius", "explained", [("wheel_radius", 80.0)]),
+              result("inertial_pitch", "partly_explained", [("inertial_pitch", -5.0)]),   # negative gain: no
+              result("marker_offset", "partly_explained", [("tyre_compliance", 50.0), ("marker_offset", 40.0)]),
+              result("inertial_pitch+marker_offset", "partly_explained", [("marker_offset", 80.0), ("inertial_pitch", 10.0)]),
+              result("cushion_compliance+suspension_friction", "partly_explained", [("suspension_friction", 50.0)]),
+              result("none", "adequate", []), result("none", "unexplained", []),
+              result("occupant_seat", "adequate", [])]
+        figures = {goal: figure for goal, _, figure in ev.goals(rs)}
+        self.assertEqual(figures["single effects named first with a positive held-out gain"], "1/3 (33 %)")
+        self.assertEqual(figures["both causes of a pair found"], "1/2 (50 %)")
+        self.assertEqual(figures["no-effect sets `adequate`"], "1/2 (50 %)")
+        self.assertEqual(figures["outside the catalogue called `adequate`"], "1/1 (100 %)")
+
+
+class Resume(unittest.TestCase):
+    def test_a_diagnosed_set_is_not_run_again_and_the_report_is_written_whole(self):
+        with tempfile.TemporaryDirectory() as work:
+            os.makedirs(os.path.join(work, "results"))
+            done = result("none", "adequate", [])
+            with open(os.path.join(work, "results", done["name"] + ".json"), "w") as f:
+                json.dump(done, f)
+            # The build folder does not exist: running anything would raise.
+            r, skipped = ev.run_set(args(work=work), ("evaluation", done["name"], 1000, "none", ""), "abc")
+            self.assertTrue(skipped)
+            self.assertEqual(r["verdict"], "adequate")
+            a = args(work=work, md=os.path.join(work, "t.md"), csv=os.path.join(work, "t.csv"), nice=15, jobs=2)
+            ev.report(a, [r])
+            self.assertIn("| no-effect sets `adequate` | ≥ 95 % | – | 1/1 (100 %) |", open(a.md).read())
+            self.assertEqual(len(open(a.csv).read().splitlines()), 2)
+            self.assertFalse([f for f in os.listdir(work) if f.endswith(".tmp")])
+
+
+if __name__ == "__main__":
+    unittest.main()
