@@ -137,7 +137,9 @@ const CommandSpec& SessionSpec() {
       "Run an immersive session: MCA -> safety -> CiA 402 over CAN, camera poses to the HMD.",
       {
           {"can", "SPEC", "-", "udp:127.0.0.1:29536", "CAN link: udp:HOST:PORT (cannelloni) or socketcan:IFACE"},
+          {"can-local", "HOST:PORT", "-", "", "address the CAN link sends from and listens on (default: any free port, on 127.0.0.1 for a loopback peer); give it to platform-sim --peer"},
           {"hmd", "SPEC", "-", "udp:127.0.0.1:29537", "HMD bridge peer: udp:HOST:PORT, or none"},
+          {"hmd-local", "HOST:PORT", "-", "", "address the HMD link sends from and listens on (default: any free port); give it to hmd-peer --peer"},
           {"duration", "S", "s", "", "motion time before the soft stop (default: the scene's)"},
           {"drive-cycle-ms", "MS", "ms", "4", "CAN SYNC period"},
           {"frame-ms", "MS", "ms", "10", "visual frame period (HMD rate)"},
@@ -211,9 +213,15 @@ int SessionCommand(const ParsedArgs& args) {
   const std::string can_spec = args.Get("can");
   hw::BusOpenResult bus;
   if (can_spec.rfind("udp:", 0) == 0) {
-    bus = hw::UdpCanBus::Open("127.0.0.1:0", can_spec.substr(4));
-    if (bus.bus && hw::ParseUdpAddress(can_spec.substr(4))->ip != hw::ParseUdpAddress("127.0.0.1:0")->ip)
-      bus = hw::UdpCanBus::Open("0.0.0.0:0", can_spec.substr(4));
+    // Frames are taken from the peer only (address and port); others are counted in report.json.
+    std::string local = args.Get("can-local");
+    if (local.empty()) {
+      const auto remote = hw::ParseUdpAddress(can_spec.substr(4));
+      local = remote && remote->ip == hw::ParseUdpAddress("127.0.0.1:0")->ip ? "127.0.0.1:0" : "0.0.0.0:0";
+    } else if (!hw::ParseUdpAddress(local)) {
+      throw UsageError("option --can-local: expected HOST:PORT, got '" + local + "'");
+    }
+    bus = hw::UdpCanBus::Open(local, can_spec.substr(4));
   } else if (can_spec.rfind("socketcan:", 0) == 0) {
     bus = hw::OpenSocketCan(can_spec.substr(10));
   } else {
@@ -230,11 +238,14 @@ int SessionCommand(const ParsedArgs& args) {
     if (hmd_spec.rfind("udp:", 0) != 0 || !hw::ParseUdpAddress(hmd_spec.substr(4)))
       throw UsageError("option --hmd: expected udp:HOST:PORT or none");
     hmd_peer = *hw::ParseUdpAddress(hmd_spec.substr(4));
-    const std::string error = hmd.Bind(*hw::ParseUdpAddress("0.0.0.0:0"));
+    const std::string local = args.Get("hmd-local").empty() ? "0.0.0.0:0" : args.Get("hmd-local");
+    if (!hw::ParseUdpAddress(local)) throw UsageError("option --hmd-local: expected HOST:PORT, got '" + local + "'");
+    const std::string error = hmd.Bind(*hw::ParseUdpAddress(local));
     if (!error.empty()) {
       std::cerr << "pwsim session: HMD link: " << error << "\n";
       return 1;
     }
+    hmd.AcceptOnlyFrom(hmd_peer);  // head poses from the headset only; others counted, never logged
   }
 
   std::string source;
@@ -247,7 +258,8 @@ int SessionCommand(const ParsedArgs& args) {
   AtomicFileWriter can_log(out_dir / "can.log");
   InstallStopSignalHandlers();
   std::cout << "pwsim session: scene '" << scene_name << "', " << source << "\n"
-            << "  CAN " << bus.bus->name() << ", HMD " << (config.hmd_required ? hmd_peer.ToString() : "none")
+            << "  CAN " << bus.bus->name() << ", HMD "
+            << (config.hmd_required ? std::to_string(hmd.local_port()) + "->" + hmd_peer.ToString() : "none")
             << ", drive cycle " << config.drive_cycle_ticks << " ticks, frame " << config.frame_ticks
             << " ticks, motion for " << duration << " s\n" << std::flush;
 
@@ -280,6 +292,8 @@ int SessionCommand(const ParsedArgs& args) {
             << report.schedule_slips << " schedule slips (" << report.schedule_slip_ms << " ms)\n"
             << "  visual-platform skew p50 " << report.skew_ms.p50 << " ms, p99 " << report.skew_ms.p99
             << " ms, jitter (sd) " << report.skew_ms.stddev << " ms over " << report.skew_ms.n << " frames\n"
+            << "  refused datagrams from senders other than the peers: CAN " << report.can_rx_refused
+            << ", HMD " << report.hmd_rx_refused << "\n"
             << "  limits " << (report.limits_ok ? "respected" : "EXCEEDED") << "; "
             << (out_dir / "session.log").string() << ", " << (out_dir / "report.json").string() << "\n";
   // 0: parked at neutral; 4: a latched fault (at rest, drives disabled); 3: anything else

@@ -29,6 +29,7 @@ struct BusStats {
   std::uint64_t rx_malformed{0};  ///< datagrams/records that failed to decode
   std::uint64_t error_frames{0};  ///< error frames received
   std::uint64_t rx_lost{0};       ///< gaps in a sequence number (UDP backend)
+  std::uint64_t rx_refused{0};    ///< datagrams from a sender other than the peer (UDP backend)
 };
 
 class ICanBus {

@@ -28,6 +28,10 @@ struct SessionReport {
   /// the runner; 0 in a replay.
   std::int64_t schedule_slips{0};
   double schedule_slip_ms{0.0};
+  /// Datagrams read and dropped because they came from a sender other than the link's peer
+  /// (udp_socket.h), per link. Filled in by the runner (they never reach the log); 0 in a replay.
+  std::uint64_t can_rx_refused{0};
+  std::uint64_t hmd_rx_refused{0};
   Percentiles skew_ms;             ///< visual frame shown minus platform moved (signed)
   Percentiles abs_skew_ms;
   std::int64_t clock_offset_ns{0};

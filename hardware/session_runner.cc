@@ -181,6 +181,8 @@ SessionReport RunSession(const SessionConfig& config, const SessionStreams& stre
   SessionReport report = core.Report();
   report.schedule_slips = slips;
   report.schedule_slip_ms = static_cast<double>(slip_ns) / 1e6;
+  report.can_rx_refused = io.bus->stats().rx_refused;
+  report.hmd_rx_refused = io.hmd != nullptr ? io.hmd->refused() : 0;
   return report;
 }
 

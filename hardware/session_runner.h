@@ -30,7 +30,8 @@ struct SessionStreams {
 
 struct RunnerIo {
   ICanBus* bus{nullptr};
-  UdpSocket* hmd{nullptr};      ///< may be null when the HMD is not required
+  UdpSocket* hmd{nullptr};      ///< may be null when the HMD is not required; set
+                                ///< AcceptOnlyFrom(hmd_peer) so that no one else reaches the log
   UdpAddress hmd_peer;
   std::ostream* log{nullptr};   ///< session log (replayable); may be null
   std::ostream* candump{nullptr};  ///< candump -l style log of all bus traffic; may be null
