@@ -88,19 +88,24 @@ std::string RnetJoystick::name() const { return "R-Net joystick on " + listener_
 
 RnetLogJoystick::RnetLogJoystick(std::vector<CandumpRecord> records, int rate_hz, RnetJoystickParams params,
                                  std::string name)
-    : records_(std::move(records)), params_(params), name_(std::move(name)) {
+    : records_(std::move(records)), rate_hz_(rate_hz), params_(params), name_(std::move(name)) {
   record_tick_.reserve(records_.size());
+  record_us_.reserve(records_.size());
   const std::int64_t t0 = records_.empty() ? 0 : records_.front().time_us;
   for (const CandumpRecord& r : records_) {
     // floor((t - t0) * rate / 1e6); a log that runs backwards holds its records at tick 0+
     const std::int64_t dt = std::max<std::int64_t>(0, r.time_us - t0);
     record_tick_.push_back(dt * rate_hz / 1'000'000);
+    record_us_.push_back(dt);
   }
 }
 
 JoystickSample RnetLogJoystick::Poll(std::int64_t tick, std::int64_t now_ns) {
-  for (; next_ < records_.size() && record_tick_[next_] <= tick; ++next_)
-    RnetOnFrame(params_, &state_, records_[next_].frame, record_tick_[next_], now_ns);  // its own tick
+  const std::int64_t tick_us = tick * 1'000'000 / rate_hz_;
+  for (; next_ < records_.size() && record_tick_[next_] <= tick; ++next_) {
+    const std::int64_t arrived_ns = now_ns - std::max<std::int64_t>(0, tick_us - record_us_[next_]) * 1000;
+    RnetOnFrame(params_, &state_, records_[next_].frame, record_tick_[next_], arrived_ns);  // its own tick
+  }
   return RnetSample(params_, &state_, tick);
 }
 

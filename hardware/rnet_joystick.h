@@ -101,7 +101,8 @@ class RnetJoystick final : public JoystickSource {
 
 /// The R-Net joystick replayed from a candump log: a record at log time t (microseconds after
 /// the log's first record) is taken at tick floor(t * rate_hz / 1e6), so a replay is the same
-/// on every machine and at any speed.
+/// on every machine and at any speed. For latency, a record counts as arrived at its log time
+/// on the caller's clock: input_ns = now_ns - (tick time - t), as a live bus would deliver it.
 class RnetLogJoystick final : public JoystickSource {
  public:
   RnetLogJoystick(std::vector<CandumpRecord> records, int rate_hz, RnetJoystickParams params, std::string name);
@@ -114,6 +115,8 @@ class RnetLogJoystick final : public JoystickSource {
  private:
   std::vector<CandumpRecord> records_;
   std::vector<std::int64_t> record_tick_;
+  std::vector<std::int64_t> record_us_;  ///< log time after the first record [us]
+  int rate_hz_;
   std::size_t next_{0};
   RnetJoystickParams params_;
   RnetJoystickState state_;

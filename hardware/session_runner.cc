@@ -93,9 +93,26 @@ std::string EnterRealtime(int priority) {
   return "";
 }
 
+void StreamsSource::Fill(std::int64_t tick, bool drive, bool frame, std::int64_t /*now_ns*/, SessionInputs* in) {
+  if (drive && !streams_.setpoints.empty()) {
+    const auto i = static_cast<std::size_t>(tick / config_.drive_cycle_ticks);
+    in->setpoint = streams_.setpoints[std::min(i, streams_.setpoints.size() - 1)];
+  }
+  if (frame && !streams_.cameras.empty()) {
+    const auto i = static_cast<std::size_t>(tick / config_.frame_ticks);
+    in->camera = streams_.cameras[std::min(i, streams_.cameras.size() - 1)];
+  }
+}
+
 SessionReport RunSession(const SessionConfig& config, const SessionStreams& streams,
                          const RunnerIo& io) {
+  StreamsSource source(config, streams);
+  return RunSession(config, source, io);
+}
+
+SessionReport RunSession(const SessionConfig& config, SessionSource& source, const RunnerIo& io) {
   SessionCore core(config);
+  InputLatency to_platform, to_hmd;
   std::optional<CandumpWriter> dump;
   if (io.candump != nullptr) dump.emplace(*io.candump, "can0");
   if (io.log != nullptr) *io.log << "# pwsim-session-log/1 " << config.ToHeader() << "\n";
@@ -139,21 +156,14 @@ SessionReport RunSession(const SessionConfig& config, const SessionStreams& stre
       slip_ns += in.now_ns - in.scheduled_ns;
       ++slips;
     }
-    if (drive) {
-      const auto i = static_cast<std::size_t>(tick / config.drive_cycle_ticks);
-      if (!streams.setpoints.empty())
-        in.setpoint = streams.setpoints[std::min(i, streams.setpoints.size() - 1)];
-    }
-    if (frame) {
-      const auto i = static_cast<std::size_t>(tick / config.frame_ticks);
-      if (!streams.cameras.empty()) in.camera = streams.cameras[std::min(i, streams.cameras.size() - 1)];
-    }
+    source.Fill(tick, drive, frame, in.now_ns, &in);
     in.stop_request = io.stop != nullptr && io.stop->load();
     out.Clear();
     core.Step(tick, in, &out);
     for (const CanFrame& f : out.can) {
       if (io.bus->Send(f) == BusStatus::kOk && dump) dump->Write(MonotonicNs() / 1000, f);
     }
+    if (drive && !out.can.empty()) to_platform.OnOutput(source.input(), MonotonicNs());
     if (drive) {
       if (answers.all()) drives_answering = true;
       answers.NewSync();
@@ -162,6 +172,7 @@ SessionReport RunSession(const SessionConfig& config, const SessionStreams& stre
     if (io.hmd != nullptr) {
       // A refused datagram is a lost frame: the headset's staleness rules cover it.
       for (const HmdDatagram& d : out.hmd) (void)io.hmd->SendTo(io.hmd_peer, d.bytes());
+      if (frame && !out.hmd.empty()) to_hmd.OnOutput(source.input(), MonotonicNs());
     }
     if (io.log != nullptr) {
       lines.clear();
@@ -182,6 +193,11 @@ SessionReport RunSession(const SessionConfig& config, const SessionStreams& stre
   report.schedule_slips = slips;
   report.schedule_slip_ms = static_cast<double>(slip_ns) / 1e6;
   report.can_rx_refused = io.bus->stats().rx_refused;
+  if (source.has_live_input()) {
+    report.has_live_input = true;
+    report.input_to_platform_ms = to_platform.Summary();
+    report.input_to_hmd_ms = to_hmd.Summary();
+  }
   report.hmd_rx_refused = io.hmd != nullptr ? io.hmd->refused() : 0;
   return report;
 }

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "hardware/can_bus.h"
+#include "hardware/input_latency.h"
 #include "hardware/session.h"
 #include "hardware/udp_socket.h"
 
@@ -26,6 +27,33 @@ struct SessionStreams {
   std::vector<std::array<double, kPlatformAxes>> setpoints;
   /// Camera pose per frame tick (index tick / frame_ticks); held after the end.
   std::vector<Pose> cameras;
+};
+
+/// Where each step's setpoint and camera pose come from: precomputed streams (a scene, a
+/// measured trial), or a live drive (a joystick through a vehicle model, stepped up to the
+/// tick when the step runs: car_drive_source.h). Whatever it is, the core logs the setpoint
+/// and the camera pose as inputs, so a live session replays bit for bit like any other.
+class SessionSource {
+ public:
+  virtual ~SessionSource() = default;
+  /// Sets in->setpoint on drive ticks and in->camera on frame ticks for `tick`, at `now_ns`.
+  virtual void Fill(std::int64_t tick, bool drive, bool frame, std::int64_t now_ns, SessionInputs* in) = 0;
+  /// The live input reading the last Fill used (seq 0: none, e.g. precomputed streams). The
+  /// runner measures input -> platform command and input -> HMD frame latency from it.
+  virtual InputStamp input() const { return {}; }
+  /// True when the source has a live input (the report then carries the latencies).
+  virtual bool has_live_input() const { return false; }
+};
+
+/// Precomputed streams as a source.
+class StreamsSource final : public SessionSource {
+ public:
+  StreamsSource(const SessionConfig& config, const SessionStreams& streams) : config_(config), streams_(streams) {}
+  void Fill(std::int64_t tick, bool drive, bool frame, std::int64_t now_ns, SessionInputs* in) override;
+
+ private:
+  const SessionConfig& config_;
+  const SessionStreams& streams_;
 };
 
 struct RunnerIo {
@@ -51,5 +79,8 @@ std::string EnterRealtime(int priority);
 /// Runs until the core is done. Returns the report.
 SessionReport RunSession(const SessionConfig& config, const SessionStreams& streams,
                          const RunnerIo& io);
+/// The same with any source; with a live input the report carries joystick -> platform and
+/// joystick -> HMD latencies (input_latency.h).
+SessionReport RunSession(const SessionConfig& config, SessionSource& source, const RunnerIo& io);
 
 }  // namespace pwsim::hw
