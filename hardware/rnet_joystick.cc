@@ -93,9 +93,10 @@ RnetLogJoystick::RnetLogJoystick(std::vector<CandumpRecord> records, int rate_hz
   record_us_.reserve(records_.size());
   const std::int64_t t0 = records_.empty() ? 0 : records_.front().time_us;
   for (const CandumpRecord& r : records_) {
-    // floor((t - t0) * rate / 1e6); a log that runs backwards holds its records at tick 0+
+    // ceil((t - t0) * rate / 1e6): the first tick at or after the record's time (never before
+    // it arrived); a log that runs backwards holds its records at tick 0+
     const std::int64_t dt = std::max<std::int64_t>(0, r.time_us - t0);
-    record_tick_.push_back(dt * rate_hz / 1'000'000);
+    record_tick_.push_back((dt * rate_hz + 999'999) / 1'000'000);
     record_us_.push_back(dt);
   }
 }

@@ -100,7 +100,7 @@ class RnetJoystick final : public JoystickSource {
 };
 
 /// The R-Net joystick replayed from a candump log: a record at log time t (microseconds after
-/// the log's first record) is taken at tick floor(t * rate_hz / 1e6), so a replay is the same
+/// the log's first record) is taken at tick ceil(t * rate_hz / 1e6), so a replay is the same
 /// on every machine and at any speed. For latency, a record counts as arrived at its log time
 /// on the caller's clock: input_ns = now_ns - (tick time - t), as a live bus would deliver it.
 class RnetLogJoystick final : public JoystickSource {

@@ -99,7 +99,9 @@ TEST(RnetLogJoystick, ReplaysTheShippedSyntheticLogOnTicks) {
   EXPECT_DOUBLE_EQ(s[1500].y, 0.30);                 // ramp: 60 % x 0.5 s / 1 s
   EXPECT_DOUBLE_EQ(s[2500].x, 0.30);
   EXPECT_DOUBLE_EQ(s[2500].y, 0.60);
-  // Last frame before the loss at 2.990 s: valid through tick 3089, zero from 3090 on.
+  // Records are taken at the first tick at or after their log time (the log starts at its
+  // first record, 0.25 ms into the joystick's 10 ms period). Last frame before the loss at
+  // 2.990 s after the first: tick 2990, valid through tick 3089, zero from 3090 on.
   EXPECT_TRUE(s[3089].valid);
   EXPECT_DOUBLE_EQ(s[3089].y, 0.60);
   EXPECT_FALSE(s[3090].valid);
@@ -107,6 +109,12 @@ TEST(RnetLogJoystick, ReplaysTheShippedSyntheticLogOnTicks) {
   EXPECT_EQ(s[3299].x, 0.0);
   EXPECT_TRUE(s[3300].valid);                        // frames again at 3.300 s, centred
   EXPECT_EQ(s[3300].y, 0.0);
+  // the heartbeat 4.75 ms after the first record is taken at tick 5, not 4
+  RnetLogJoystick early(records, 1000, {-1, 100}, "log");
+  early.Poll(4, 0);
+  EXPECT_EQ(early.counters().other, 0U);
+  early.Poll(5, 0);
+  EXPECT_EQ(early.counters().other, 1U);
   const RnetJoystickCounters& c = joystick.counters();
   EXPECT_EQ(c.valid, 370U);
   EXPECT_EQ(c.garbage, 3U);
