@@ -1,5 +1,7 @@
 #include "hardware/sdl/sdl_joystick.h"
 
+#include "hardware/sdl/sdl_input.h"
+
 #include <SDL.h>
 
 #include <algorithm>
@@ -19,22 +21,7 @@ double AxisDeflection(int raw, bool invert, double dead_zone) {
 SdlJoystick::SdlJoystick(JoystickAxes axes) : axes_(std::move(axes)) {
   if (!(axes_.dead_zone >= 0.0 && axes_.dead_zone <= 0.5))
     throw std::runtime_error("joystick dead zone: expected 0..0.5, got " + std::to_string(axes_.dead_zone));
-  if (SDL_WasInit(SDL_INIT_JOYSTICK) == 0 && SDL_InitSubSystem(SDL_INIT_JOYSTICK) != 0)
-    throw std::runtime_error(std::string("SDL joystick subsystem: ") + SDL_GetError());
-  for (int i = 0; i < SDL_NumJoysticks(); ++i) {
-    const char* name = SDL_JoystickNameForIndex(i);
-    const std::string n = name != nullptr ? name : "";
-    if (axes_.device.empty() || n.find(axes_.device) != std::string::npos) {
-      joystick_ = SDL_JoystickOpen(i);
-      if (joystick_ == nullptr) throw std::runtime_error("SDL_JoystickOpen(" + n + "): " + SDL_GetError());
-      name_ = n;
-      break;
-    }
-  }
-  if (joystick_ == nullptr) {
-    throw std::runtime_error("no joystick" + (axes_.device.empty() ? std::string() : " named like '" + axes_.device + "'") +
-                             " attached (" + std::to_string(SDL_NumJoysticks()) + " seen)");
-  }
+  joystick_ = OpenSdlJoystick(axes_.device, &name_);
   const int n_axes = SDL_JoystickNumAxes(joystick_);
   if (axes_.x_axis < 0 || axes_.x_axis >= n_axes || axes_.y_axis < 0 || axes_.y_axis >= n_axes) {
     SDL_JoystickClose(joystick_);
