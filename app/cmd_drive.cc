@@ -39,7 +39,7 @@ const CommandSpec& DriveSpec() {
       "Drive a car scene live (real steering wheel and pedals with --wheel), car + MCA per tick.",
       {
           {"wheel", "", "-", "", "read the controls from an SDL2 joystick (wheel, pedals, shifter)"},
-          {"joystick", "SPEC", "-", "", "drive with a chair joystick: rnet:IFACE (R-Net bus, listen-only SocketCAN), rnet-log:FILE (a candump log of one), sdl or sdl:NAME (an SDL joystick)"},
+          {"joystick", "SPEC", "-", "", "drive with a chair joystick: rnet:IFACE (R-Net bus, listen-only SocketCAN), rnet-log:FILE (a candump log of one), sdl or sdl:NAME (an SDL joystick), sdl-script:FILE.yaml (a pwsim-joystick-script/1 played on an SDL virtual joystick)"},
           {"joystick-timeout-ms", "MS", "ms", "100", "R-Net watchdog: zero deflection this long after the last valid joystick frame"},
           {"device", "NAME", "-", "", "part of the joystick's name (default: session.controls.device or the first)"},
           {"duration", "S", "s", "", "drive time (default: the scene's duration_s)"},
@@ -71,12 +71,17 @@ std::unique_ptr<hw::JoystickSource> OpenJoystick(const std::string& spec, int ra
     if (!opened.listener) throw std::runtime_error("R-Net joystick '" + spec + "': " + opened.message);
     return std::make_unique<hw::RnetJoystick>(std::move(opened.listener), rnet);
   }
+  if (spec.rfind("sdl-script:", 0) == 0) {
+    const std::string file = spec.substr(11);
+    return std::make_unique<hw::SdlScriptedJoystick>(hw::ReadJoystickScript(file), rate_hz, "script " + file);
+  }
   if (spec == "sdl" || spec.rfind("sdl:", 0) == 0) {
     hw::JoystickAxes axes;
     if (spec.size() > 4) axes.device = spec.substr(4);
     return std::make_unique<hw::SdlJoystick>(axes);
   }
-  throw UsageError("option --joystick: expected rnet:IFACE, rnet-log:FILE, sdl or sdl:NAME, got '" + spec + "'");
+  throw UsageError("option --joystick: expected rnet:IFACE, rnet-log:FILE, sdl, sdl:NAME or sdl-script:FILE, got '" +
+                   spec + "'");
 }
 
 /// The drive as a live session: joystick -> car -> MCA -> supervisor -> CAN, eye pose -> HMD.

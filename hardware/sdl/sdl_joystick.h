@@ -11,7 +11,10 @@
 // joystick that is unplugged (SDL_JoystickGetAttached false) reads (0, 0), invalid. Each change
 // of the raw axes counts as a new input (JoystickSample::input_seq, input_ns = when Poll saw it).
 
+#include <filesystem>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include "hardware/joystick_source.h"
 
@@ -51,6 +54,40 @@ class SdlJoystick final : public JoystickSource {
   bool seen_{false};
   std::int64_t input_ns_{-1};
   std::uint64_t input_seq_{0};
+};
+
+/// A scripted joystick: deflections held from each knot's time (stepwise), read from
+///   format: pwsim-joystick-script/1
+///   t_s: [0, 1.0, 2.5]      # rising
+///   x:   [0, 0, 0.3]        # right, [-1, 1]
+///   y:   [0, 0.6, 0.6]      # forward, [-1, 1]
+struct JoystickScript {
+  std::vector<double> t_s, x, y;
+  /// The knot in force at time t (the first before the first knot).
+  std::size_t KnotAt(double t) const;
+};
+/// @throws InputError naming file, line and field.
+JoystickScript ReadJoystickScript(const std::filesystem::path& file);
+
+/// The script played on an SDL virtual joystick (SDL_JoystickAttachVirtualEx) and read back
+/// through SdlJoystick, so the whole SDL path runs without a device: Poll(tick) sets the virtual
+/// axes to the script at tick / rate_hz, then polls the device like any joystick.
+class SdlScriptedJoystick final : public JoystickSource {
+ public:
+  SdlScriptedJoystick(JoystickScript script, int rate_hz, std::string name);
+  ~SdlScriptedJoystick() override;
+  SdlScriptedJoystick(const SdlScriptedJoystick&) = delete;
+  SdlScriptedJoystick& operator=(const SdlScriptedJoystick&) = delete;
+  JoystickSample Poll(std::int64_t tick, std::int64_t now_ns) override;
+  std::string name() const override { return name_ + " on " + reader_->name(); }
+
+ private:
+  JoystickScript script_;
+  int rate_hz_;
+  std::string name_;
+  int device_{-1};
+  std::unique_ptr<SdlJoystick> reader_;
+  _SDL_Joystick* handle_{nullptr};
 };
 
 }  // namespace pwsim::hw

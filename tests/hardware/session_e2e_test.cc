@@ -515,6 +515,27 @@ TEST(SessionEndToEnd, RnetJoystickLogDrivesTheCarLiveWithLatenciesInTheReport) {
   EXPECT_EQ(replay.Wait(kGuardS), 0) << replay.Output();
 }
 
+// The same with SDL: a scripted joystick played on SDL's virtual joystick inside `pwsim drive`.
+TEST(SessionEndToEnd, SdlScriptedJoystickDrivesTheCarLive) {
+  if (!fs::exists(kPwsim)) GTEST_SKIP() << kPwsim << " not built";
+  ::setenv("SDL_VIDEODRIVER", "dummy", 1);  // inherited by the children
+  E2e e("drive_sdl");
+  const E2e::Result r =
+      e.Run({}, {}, 4.0, nullptr,
+            {kPwsim, "drive", std::string(PWSIM_SOURCE_DIR) + "/scenes/car_launch.yaml", "--joystick",
+             "sdl-script:" + std::string(PWSIM_SOURCE_DIR) + "/assets/joystick/scripted_drive.yaml"});
+  ASSERT_EQ(r.session, 0) << e.Outputs();
+  ExpectWithinLimits(r);
+  EXPECT_EQ(r.report["final_state"], "parked");
+  EXPECT_GT(r.report["peak_abs_command"][1].get<double>(), 0.05) << "the joystick should move the platform";
+  EXPECT_GT(r.report["peak_abs_command"][0].get<double>(), 0.001) << "and turn it";
+  // six changes of the scripted deflection after the first reading: 7 readings
+  EXPECT_EQ(r.report["joystick_to_platform_command_ms"]["n"].get<int>(), 7) << e.Outputs();
+  EXPECT_EQ(r.report["joystick_to_hmd_frame_ms"]["n"].get<int>(), 7) << e.Outputs();
+  Child replay({kPwsim, "replay", (e.dir / "out" / "session.log").string()});
+  EXPECT_EQ(replay.Wait(kGuardS), 0) << replay.Output();
+}
+
 TEST(SessionEndToEnd, SocketCanOnAKernelWithoutCanFailsWithAClearMessage) {
   if (!fs::exists(kPwsim)) GTEST_SKIP() << kPwsim << " not built";
   E2e e("socketcan");

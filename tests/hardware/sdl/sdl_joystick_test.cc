@@ -6,7 +6,14 @@
 #include <SDL.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include <unistd.h>
+
+#include "engine/input_error.h"
 #include <stdexcept>
 
 namespace pwsim::hw {
@@ -92,6 +99,44 @@ TEST_F(VirtualChairJoystick, AMissingDeviceOrAxisIsAClearError) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("2 axes"), std::string::npos) << e.what();
   }
+}
+
+TEST(SdlScriptedJoystick, PlaysTheShippedScriptThroughTheSdlPath) {
+  setenv("SDL_VIDEODRIVER", "dummy", 1);
+  const JoystickScript script =
+      ReadJoystickScript(std::filesystem::path(PWSIM_SOURCE_DIR) / "assets/joystick/scripted_drive.yaml");
+  ASSERT_EQ(script.t_s.size(), 7U);
+  SdlScriptedJoystick joystick(script, 1000, "script");
+  const double d = JoystickAxes{}.dead_zone;
+  auto through = [&](double u) { return AxisDeflection(static_cast<int>(std::lround(u * 32767.0)), false, d); };
+  JoystickSample s = joystick.Poll(0, 0);
+  EXPECT_TRUE(s.valid);
+  EXPECT_EQ(s.y, 0.0);
+  s = joystick.Poll(1200, 5);  // the knot of 1.0 s: y = 0.6
+  EXPECT_NEAR(s.y, through(0.6), 1e-12);
+  EXPECT_EQ(s.input_ns, 5);
+  s = joystick.Poll(3000, 6);  // 2.5 s: x = 0.4, y = 0.8
+  EXPECT_NEAR(s.x, through(0.4), 1e-12);
+  EXPECT_NEAR(s.y, through(0.8), 1e-12);
+  s = joystick.Poll(3600, 7);  // 3.5 s: reverse
+  EXPECT_LT(s.y, -0.4);
+  SDL_QuitSubSystem(SDL_INIT_JOYSTICK);
+}
+
+TEST(JoystickScript, BadScriptsNameFileLineAndField) {
+  const auto file = std::filesystem::temp_directory_path() / ("bad_script_" + std::to_string(::getpid()) + ".yaml");
+  {
+    std::ofstream out(file);
+    out << "format: pwsim-joystick-script/1\nt_s: [0, 1]\nx: [0, 2]\ny: [0, 0]\n";
+  }
+  try {
+    ReadJoystickScript(file);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_EQ(e.field(), "x[1]");
+  }
+  std::filesystem::remove(file);
 }
 
 }  // namespace
