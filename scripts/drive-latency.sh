@@ -4,19 +4,23 @@
 # and `pwsim hmd-peer` on loopback (each accepting the drive's own ports only). Runs N drives
 # and prints the latencies of each from its report.json (docs/hardware.md quotes them).
 #
-# Usage: scripts/drive-latency.sh [N=3] [BUILD_DIR=build] [EXTRA drive options, e.g. --rt-priority 50]
+# Usage: [JOYSTICK=SPEC] scripts/drive-latency.sh [N=3] [BUILD_DIR=build] [EXTRA drive options, e.g. --rt-priority 50]
+# JOYSTICK defaults to rnet-log:assets/rnet/joystick_synthetic.log; sdl-script:assets/joystick/scripted_drive.yaml
+# plays the scripted drive on SDL's virtual joystick.
 set -eu
 n=${1:-3}
 build=${2:-build}
 shift 2 2>/dev/null || shift $#
 pwsim="$build/pwsim"
+joystick=${JOYSTICK:-rnet-log:assets/rnet/joystick_synthetic.log}
+export SDL_VIDEODRIVER=${SDL_VIDEODRIVER:-dummy}
 [ -x "$pwsim" ] || { echo "drive-latency: $pwsim not built" >&2; exit 2; }
 work=$(mktemp -d "${TMPDIR:-/tmp}/pwsim_drive_latency.XXXXXX")
 pids=""
 cleanup() { for p in $pids; do kill "$p" 2>/dev/null || true; done; rm -rf "$work"; }
 trap cleanup EXIT INT TERM
 free_port() { python3 -c 'import socket; s=socket.socket(socket.AF_INET, socket.SOCK_DGRAM); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
-echo "drive-latency: $n drives of scenes/car_launch.yaml by assets/rnet/joystick_synthetic.log (4.5 s), $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "drive-latency: $n drives of scenes/car_launch.yaml by $joystick (4.5 s), $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg)"
 i=1
 while [ "$i" -le "$n" ]; do
   can_local=$(free_port); hmd_local=$(free_port)
@@ -30,7 +34,7 @@ while [ "$i" -le "$n" ]; do
   while read -r line <&3; do case $line in *"listening on "*) can_at=${line##* }; break ;; esac; done
   while read -r line <&4; do case $line in *"listening on "*) hmd_at=${line##* }; break ;; esac; done
   cat <&3 >/dev/null & cat <&4 >/dev/null &
-  "$pwsim" drive scenes/car_launch.yaml --joystick rnet-log:assets/rnet/joystick_synthetic.log --duration 4.5 \
+  "$pwsim" drive scenes/car_launch.yaml --joystick "$joystick" --duration 4.5 \
     --can "udp:$can_at" --can-local "127.0.0.1:$can_local" --hmd "udp:$hmd_at" --hmd-local "127.0.0.1:$hmd_local" \
     --drive-wait-ms 1000 --out "$work/out$i" "$@" >"$work/drive$i.log" 2>&1 || { cat "$work/drive$i.log"; exit 1; }
   wait
