@@ -112,7 +112,11 @@ SessionReport RunSession(const SessionConfig& config, const SessionStreams& stre
 
 SessionReport RunSession(const SessionConfig& config, SessionSource& source, const RunnerIo& io) {
   SessionCore core(config);
-  InputLatency to_platform, to_hmd;
+  // At most one latency sample per output step (the last steps park and disable the drives:
+  // margin): reserved up front, nothing allocated later; beyond it, InputLatency counts overflow.
+  const std::int64_t last_tick = config.run_ticks + config.max_stop_ticks;
+  InputLatency to_platform(static_cast<std::size_t>(last_tick / config.drive_cycle_ticks + 1000));
+  InputLatency to_hmd(static_cast<std::size_t>(last_tick / config.frame_ticks + 1000));
   std::optional<CandumpWriter> dump;
   if (io.candump != nullptr) dump.emplace(*io.candump, "can0");
   if (io.log != nullptr) *io.log << "# pwsim-session-log/1 " << config.ToHeader() << "\n";
