@@ -17,11 +17,14 @@
 #include <stdexcept>
 #include <thread>
 
+#include <nlohmann/json.hpp>
+
 #include "app/commands.h"
 #include "app/stop_signal.h"
 #include "engine/trial_table.h"
 #include "engine/vehicle/car_scene.h"
 #include "app/session_setup.h"
+#include "engine/atomic_file.h"
 #include "hardware/car_drive_source.h"
 #include "hardware/car_live.h"
 #include "hardware/rnet_joystick.h"
@@ -36,7 +39,7 @@ const CommandSpec& DriveSpec() {
     CommandSpec c{
       "drive",
       "pwsim drive SCENE [options]",
-      "Drive a car scene live (real steering wheel and pedals with --wheel), car + MCA per tick.",
+      "Drive a car scene live (a wheel and pedals with --wheel, a chair joystick with --joystick), car + MCA per tick; with --can a live session to the platform and the headset.",
       {
           {"wheel", "", "-", "", "read the controls from an SDL2 joystick (wheel, pedals, shifter)"},
           {"joystick", "SPEC", "-", "", "drive with a chair joystick: rnet:IFACE (R-Net bus, listen-only SocketCAN), rnet-log:FILE (a candump log of one), sdl or sdl:NAME (an SDL joystick), sdl-script:FILE.yaml (a pwsim-joystick-script/1 played on an SDL virtual joystick)"},
@@ -44,7 +47,7 @@ const CommandSpec& DriveSpec() {
           {"device", "NAME", "-", "", "part of the joystick's name (default: session.controls.device or the first)"},
           {"duration", "S", "s", "", "drive time (default: the scene's duration_s)"},
           {"no-realtime", "", "-", "", "step as fast as possible instead of at the clock rate"},
-          {"out", "DIR", "-", "out/drive", "output folder (drive.csv; with --can: session.log, can.log, report.json)"},
+          {"out", "DIR", "-", "out/drive", "output folder (drive.csv; with --can: session.log, can.log, report.json, joystick.json)"},
       },
       "SCENE  a pwsim-scene/1 YAML file with kind: car"};
     // With --can (given explicitly) the drive runs as a live session on these links.
@@ -101,12 +104,22 @@ int DriveSession(const ParsedArgs& args, const vehicle::CarScene& scene, hw::Joy
   hw::CarDriveSource source(scene, mca_config, joystick);
   std::cout << "pwsim drive: car '" << scene.car.name << "' driven live by " << joystick.name() << "\n";
   const int status = RunAndReport("pwsim drive", args, setup, source, out);
+  // What the joystick delivered: OUT/joystick.json and a line.
+  nlohmann::ordered_json j;
+  j["format"] = "pwsim-drive-joystick/1";
+  j["joystick"] = joystick.name();
+  j["invalid_polls"] = source.invalid_polls();
   std::cout << "  joystick invalid (lost or unplugged) on " << source.invalid_polls() << " polls\n";
-  if (const auto* rnet = dynamic_cast<const hw::RnetLogJoystick*>(&joystick)) {
-    const hw::RnetJoystickCounters& c = rnet->counters();
-    std::cout << "  R-Net frames: " << c.valid << " joystick, " << c.garbage << " garbage, " << c.other_device
-              << " other slot, " << c.other << " other; " << c.timeouts << " watchdog timeouts\n";
+  const hw::RnetJoystickCounters* c = nullptr;
+  if (const auto* log = dynamic_cast<const hw::RnetLogJoystick*>(&joystick)) c = &log->counters();
+  if (const auto* bus = dynamic_cast<const hw::RnetJoystick*>(&joystick)) c = &bus->counters();
+  if (c != nullptr) {
+    j["rnet_frames"] = {{"joystick", c->valid}, {"garbage", c->garbage}, {"other_slot", c->other_device},
+                        {"other", c->other}, {"watchdog_timeouts", c->timeouts}};
+    std::cout << "  R-Net frames: " << c->valid << " joystick, " << c->garbage << " garbage, " << c->other_device
+              << " other slot, " << c->other << " other; " << c->timeouts << " watchdog timeouts\n";
   }
+  WriteFileAtomically(out / "joystick.json", j.dump(2) + "\n");
   return status;
 }
 

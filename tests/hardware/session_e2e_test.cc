@@ -510,7 +510,12 @@ TEST(SessionEndToEnd, RnetJoystickLogDrivesTheCarLiveWithLatenciesInTheReport) {
   // The drive's frames reach the headset every 10 ms: joystick -> HMD is at most one frame
   // period plus the host's lateness; the median is asserted, not the tail (host scheduling).
   EXPECT_LT(r.report["joystick_to_hmd_frame_ms"]["p50"].get<double>(), 10.0 + 5.0);
-  EXPECT_NE(e.Outputs().find("370 joystick, 3 garbage, 1 other slot"), std::string::npos) << e.Outputs();
+  const nlohmann::json joystick = ReadJson(e.dir / "out" / "joystick.json");
+  ASSERT_TRUE(joystick.is_object()) << e.Outputs();
+  EXPECT_EQ(joystick["rnet_frames"]["joystick"].get<int>(), 370);
+  EXPECT_EQ(joystick["rnet_frames"]["garbage"].get<int>(), 3);
+  EXPECT_EQ(joystick["rnet_frames"]["other_slot"].get<int>(), 1);
+  EXPECT_EQ(joystick["rnet_frames"]["watchdog_timeouts"].get<int>(), 2);  // the loss and the log's end
   Child replay({kPwsim, "replay", (e.dir / "out" / "session.log").string()});
   EXPECT_EQ(replay.Wait(kGuardS), 0) << replay.Output();
 }
