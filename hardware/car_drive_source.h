@@ -43,6 +43,8 @@ class CarDriveSource final : public SessionSource {
   void Fill(std::int64_t tick, bool drive, bool frame, std::int64_t now_ns, SessionInputs* in) override;
   InputStamp input() const override { return {last_.input_seq, last_.input_ns}; }
   bool has_live_input() const override { return true; }
+  int input_fd() const override { return joystick_.fd(); }
+  void TakeInput(std::int64_t next_tick, std::int64_t now_ns) override { joystick_.Take(next_tick, now_ns); }
   const CarLiveTick& last_tick() const { return loop_.last(); }
   const JoystickSample& last_joystick() const { return last_; }
   std::uint64_t invalid_polls() const { return invalid_polls_; }

@@ -31,6 +31,11 @@ class JoystickSource {
   virtual ~JoystickSource() = default;
   /// The reading for engine tick `tick` at monotonic time `now_ns`. Never blocks or throws.
   virtual JoystickSample Poll(std::int64_t tick, std::int64_t now_ns) = 0;
+  /// A source of frames (a live bus) may expose a file descriptor that polls readable when
+  /// input waits, and take it between ticks: Take stamps what waits with `now_ns` (its
+  /// arrival, for latency) and counts it for the coming tick `tick`. Default: none.
+  virtual int fd() const { return -1; }
+  virtual void Take(std::int64_t /*tick*/, std::int64_t /*now_ns*/) {}
   virtual std::string name() const = 0;
 };
 

@@ -78,9 +78,13 @@ JoystickSample RnetSample(const RnetJoystickParams& params, RnetJoystickState* s
 RnetJoystick::RnetJoystick(std::unique_ptr<CanListener> listener, RnetJoystickParams params)
     : listener_(std::move(listener)), params_(params) {}
 
-JoystickSample RnetJoystick::Poll(std::int64_t tick, std::int64_t now_ns) {
+void RnetJoystick::Take(std::int64_t tick, std::int64_t now_ns) {
   CanFrame f;
   while (listener_->Receive(&f) == BusStatus::kOk) RnetOnFrame(params_, &state_, f, tick, now_ns);
+}
+
+JoystickSample RnetJoystick::Poll(std::int64_t tick, std::int64_t now_ns) {
+  Take(tick, now_ns);
   return RnetSample(params_, &state_, tick);
 }
 

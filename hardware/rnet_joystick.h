@@ -90,6 +90,9 @@ class RnetJoystick final : public JoystickSource {
  public:
   RnetJoystick(std::unique_ptr<CanListener> listener, RnetJoystickParams params);
   JoystickSample Poll(std::int64_t tick, std::int64_t now_ns) override;
+  int fd() const override { return listener_->fd(); }
+  /// Takes the frames waiting now (arrival = now_ns), counted at `tick`.
+  void Take(std::int64_t tick, std::int64_t now_ns) override;
   std::string name() const override;
   const RnetJoystickCounters& counters() const { return state_.counters; }
 

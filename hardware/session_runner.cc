@@ -39,18 +39,21 @@ void Drain(ICanBus& bus, UdpSocket* hmd, SessionInputs* in, CandumpWriter* dump)
   }
 }
 
-/// Waits until `deadline_ns`, collecting whatever arrives meanwhile; with `until`, returns
-/// as soon as it holds.
+/// Waits until `deadline_ns`, collecting whatever arrives meanwhile (the source's live input
+/// too, for step `tick`); with `until`, returns as soon as it holds.
 void WaitUntil(std::int64_t deadline_ns, ICanBus& bus, UdpSocket* hmd, SessionInputs* in,
-               CandumpWriter* dump, const std::function<bool()>& until = nullptr) {
+               CandumpWriter* dump, SessionSource& source, std::int64_t tick,
+               const std::function<bool()>& until = nullptr) {
   for (;;) {
     Drain(bus, hmd, in, dump);
+    if (source.input_fd() >= 0) source.TakeInput(tick, MonotonicNs());
     const std::int64_t now = MonotonicNs();
     if (now >= deadline_ns || (until && until())) return;
-    std::array<pollfd, 2> fds{};
+    std::array<pollfd, 3> fds{};
     nfds_t n = 0;
     if (bus.fd() >= 0) fds[n++] = {bus.fd(), POLLIN, 0};
     if (hmd != nullptr && hmd->fd() >= 0) fds[n++] = {hmd->fd(), POLLIN, 0};
+    if (source.input_fd() >= 0) fds[n++] = {source.input_fd(), POLLIN, 0};
     const std::int64_t wait = deadline_ns - now;
     timespec ts{static_cast<time_t>(wait / 1'000'000'000), static_cast<long>(wait % 1'000'000'000)};
     ::ppoll(fds.data(), n, &ts, nullptr);
@@ -143,12 +146,12 @@ SessionReport RunSession(const SessionConfig& config, SessionSource& source, con
     const bool frame = core.is_frame_tick(tick);
     if (!drive && !frame) continue;
     in.scheduled_ns = start + slip_ns + tick * ns_per_tick;
-    WaitUntil(in.scheduled_ns, *io.bus, io.hmd, &in, dump ? &*dump : nullptr);
+    WaitUntil(in.scheduled_ns, *io.bus, io.hmd, &in, dump ? &*dump : nullptr, source, tick);
     answers.Scan(in.can);
     if (drive && io.drive_answer_wait_ns > 0 && drives_answering && !answers.all()) {
       // Lockstep: the next SYNC goes out once the drives answered the last one (an event),
       // or, when they do not within the bound, as usual (then the TPDO watchdog sees it).
-      WaitUntil(last_sync_ns + io.drive_answer_wait_ns, *io.bus, io.hmd, &in, dump ? &*dump : nullptr,
+      WaitUntil(last_sync_ns + io.drive_answer_wait_ns, *io.bus, io.hmd, &in, dump ? &*dump : nullptr, source, tick,
                 [&] {
                   answers.Scan(in.can);
                   return answers.all();

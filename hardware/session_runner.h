@@ -43,6 +43,12 @@ class SessionSource {
   virtual InputStamp input() const { return {}; }
   /// True when the source has a live input (the report then carries the latencies).
   virtual bool has_live_input() const { return false; }
+  /// A live input that arrives as a stream (a bus) may expose a file descriptor: the runner
+  /// then waits on it between steps too and calls TakeInput as it becomes readable, so each
+  /// reading is stamped when it arrived rather than at the next step (`next_tick`: the step
+  /// the runner is waiting for). Default: none.
+  virtual int input_fd() const { return -1; }
+  virtual void TakeInput(std::int64_t /*next_tick*/, std::int64_t /*now_ns*/) {}
 };
 
 /// Precomputed streams as a source.

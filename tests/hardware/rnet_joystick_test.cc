@@ -189,6 +189,21 @@ TEST(RnetJoystick, OnTheInProcessBusWithLostAndGarbageFrames) {
   EXPECT_EQ(seen, static_cast<std::uint64_t>(sent - 10 + 1));
 }
 
+TEST(RnetJoystick, TakesFramesBetweenTicksStampedWithTheirArrival) {
+  // A socket pair stands in for the CAN socket: it has a file descriptor to wait on.
+  auto [writer, reader_end] = MakeSocketPairBus();
+  ASSERT_TRUE(writer && reader_end);
+  RnetJoystick reader(ListenOnly(std::move(reader_end)), {-1, 100});
+  ASSERT_GE(reader.fd(), 0);
+  ASSERT_EQ(writer->Send(EncodeRnetJoystick(0, 0, 30)), BusStatus::kOk);
+  reader.Take(7, 1'000);  // the runner, between steps, waiting for tick 7
+  const JoystickSample s = reader.Poll(7, 5'000);
+  EXPECT_TRUE(s.valid);
+  EXPECT_DOUBLE_EQ(s.y, 0.3);
+  EXPECT_EQ(s.input_ns, 1'000);  // when it was taken, not when the step polled
+  EXPECT_EQ(s.input_seq, 1U);
+}
+
 TEST(RnetJoystick, SocketCanListenOnlyWhereTheKernelHasCan) {
   ListenerOpenResult opened = OpenSocketCanListenOnly("vcan0", kRnetJoystickId, kRnetJoystickMask);
   if (!opened.listener) {
