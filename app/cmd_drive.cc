@@ -1,40 +1,129 @@
-// pwsim drive SCENE [--wheel] [--device NAME] [--duration S] [--out DIR] [--no-realtime]:
+// pwsim drive SCENE [--wheel | --joystick SPEC] [--device NAME] [--duration S] [--out DIR]
+// [--no-realtime] [--can udp:HOST:PORT --hmd udp:HOST:PORT|none ...]:
 // drives a car scene live at its clock rate: the controls come from a real steering wheel and
-// pedals (SDL2, --wheel; mapping from the scene's session.controls) or from the scene itself;
-// each tick steps the car and the MCA (hardware/car_live.h) and logs the platform command.
-// Writes DIR/drive.csv. Wiring only.
+// pedals (SDL2, --wheel; mapping from the scene's session.controls), from a chair joystick
+// (--joystick: the chair's R-Net bus listen-only, a recorded R-Net candump log, or an SDL
+// joystick; hardware/car_drive_source.h maps it to a two-pedal car), or from the scene itself;
+// each tick steps the car and the MCA (hardware/car_live.h) and logs the platform command
+// (DIR/drive.csv). With --can the drive is a live session instead: joystick -> car -> MCA ->
+// safety supervisor -> CiA 402 over CAN, camera pose to the HMD, the replayable session log,
+// and the joystick -> platform command / HMD frame latencies in DIR/report.json. Wiring only.
 
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <stdexcept>
 #include <thread>
+
+#include <nlohmann/json.hpp>
 
 #include "app/commands.h"
 #include "app/stop_signal.h"
 #include "engine/trial_table.h"
 #include "engine/vehicle/car_scene.h"
+#include "app/session_setup.h"
+#include "engine/atomic_file.h"
+#include "hardware/car_drive_source.h"
 #include "hardware/car_live.h"
+#include "hardware/rnet_joystick.h"
 #include "hardware/sdl/sdl_input.h"
+#include "hardware/sdl/sdl_joystick.h"
+#include "hardware/udp_socket.h"
 
 namespace pwsim::app {
 
 const CommandSpec& DriveSpec() {
-  static const CommandSpec spec{
+  static const CommandSpec spec = [] {
+    CommandSpec c{
       "drive",
       "pwsim drive SCENE [options]",
-      "Drive a car scene live (real steering wheel and pedals with --wheel), car + MCA per tick.",
+      "Drive a car scene live (a wheel and pedals with --wheel, a chair joystick with --joystick), car + MCA per tick; with --can a live session to the platform and the headset.",
       {
           {"wheel", "", "-", "", "read the controls from an SDL2 joystick (wheel, pedals, shifter)"},
+          {"joystick", "SPEC", "-", "", "drive with a chair joystick: rnet:IFACE (R-Net bus, listen-only SocketCAN), rnet-log:FILE (a candump log of one), sdl or sdl:NAME (an SDL joystick), sdl-script:FILE.yaml (a pwsim-joystick-script/1 played on an SDL virtual joystick)"},
+          {"joystick-timeout-ms", "MS", "ms", "100", "R-Net watchdog: zero deflection this long after the last valid joystick frame"},
           {"device", "NAME", "-", "", "part of the joystick's name (default: session.controls.device or the first)"},
           {"duration", "S", "s", "", "drive time (default: the scene's duration_s)"},
           {"no-realtime", "", "-", "", "step as fast as possible instead of at the clock rate"},
-          {"out", "DIR", "-", "out/drive", "output folder (drive.csv)"},
+          {"out", "DIR", "-", "out/drive", "output folder (drive.csv; with --can: session.log, can.log, report.json, joystick.json)"},
       },
       "SCENE  a pwsim-scene/1 YAML file with kind: car"};
+    // With --can (given explicitly) the drive runs as a live session on these links.
+    const std::vector<OptionSpec> links = SessionLinkOptions();
+    c.options.insert(c.options.end(), links.begin(), links.end());
+    return c;
+  }();
   return spec;
 }
+
+namespace {
+
+/// The joystick named by `spec` (see the --joystick option).
+std::unique_ptr<hw::JoystickSource> OpenJoystick(const std::string& spec, int rate_hz, double timeout_ms) {
+  hw::RnetJoystickParams rnet;
+  rnet.timeout_ticks = hw::WatchdogTicks(timeout_ms, rate_hz);
+  if (spec.rfind("rnet-log:", 0) == 0) {
+    const std::string file = spec.substr(9);
+    return std::make_unique<hw::RnetLogJoystick>(hw::ReadCandumpFile(file), rate_hz, rnet, "R-Net log " + file);
+  }
+  if (spec.rfind("rnet:", 0) == 0) {
+    hw::ListenerOpenResult opened =
+        hw::OpenSocketCanListenOnly(spec.substr(5), hw::kRnetJoystickId, hw::kRnetJoystickMask);
+    if (!opened.listener) throw std::runtime_error("R-Net joystick '" + spec + "': " + opened.message);
+    return std::make_unique<hw::RnetJoystick>(std::move(opened.listener), rnet);
+  }
+  if (spec.rfind("sdl-script:", 0) == 0) {
+    const std::string file = spec.substr(11);
+    return std::make_unique<hw::SdlScriptedJoystick>(hw::ReadJoystickScript(file), rate_hz, "script " + file);
+  }
+  if (spec == "sdl" || spec.rfind("sdl:", 0) == 0) {
+    hw::JoystickAxes axes;
+    if (spec.size() > 4) axes.device = spec.substr(4);
+    return std::make_unique<hw::SdlJoystick>(axes);
+  }
+  throw UsageError("option --joystick: expected rnet:IFACE, rnet-log:FILE, sdl, sdl:NAME or sdl-script:FILE, got '" +
+                   spec + "'");
+}
+
+/// The drive as a live session: joystick -> car -> MCA -> supervisor -> CAN, eye pose -> HMD.
+int DriveSession(const ParsedArgs& args, const vehicle::CarScene& scene, hw::JoystickSource& joystick,
+                 double duration) {
+  const mca::McaConfig mca_config = hw::LoadCarMca(scene);
+  if (!mca_config.platform.Has(mca::Dof::kSurge) || !mca_config.platform.Has(mca::Dof::kYaw))
+    throw UsageError("car scene platform '" + mca_config.platform.name + "' lacks surge or yaw");
+  SessionSetup setup;
+  const std::string link_error = SetUpSession(args, scene.clock, duration, &setup);
+  if (!link_error.empty()) {
+    std::cerr << "pwsim drive: " << link_error << "\n";
+    return 1;
+  }
+  const std::filesystem::path out = args.Get("out");
+  std::filesystem::create_directories(out);
+  hw::CarDriveSource source(scene, mca_config, joystick);
+  std::cout << "pwsim drive: car '" << scene.car.name << "' driven live by " << joystick.name() << "\n";
+  const int status = RunAndReport("pwsim drive", args, setup, source, out);
+  // What the joystick delivered: OUT/joystick.json and a line.
+  nlohmann::ordered_json j;
+  j["format"] = "pwsim-drive-joystick/1";
+  j["joystick"] = joystick.name();
+  j["invalid_polls"] = source.invalid_polls();
+  std::cout << "  joystick invalid (lost or unplugged) on " << source.invalid_polls() << " polls\n";
+  const hw::RnetJoystickCounters* c = nullptr;
+  if (const auto* log = dynamic_cast<const hw::RnetLogJoystick*>(&joystick)) c = &log->counters();
+  if (const auto* bus = dynamic_cast<const hw::RnetJoystick*>(&joystick)) c = &bus->counters();
+  if (c != nullptr) {
+    j["rnet_frames"] = {{"joystick", c->valid}, {"garbage", c->garbage}, {"other_slot", c->other_device},
+                        {"other", c->other}, {"watchdog_timeouts", c->timeouts}};
+    std::cout << "  R-Net frames: " << c->valid << " joystick, " << c->garbage << " garbage, " << c->other_device
+              << " other slot, " << c->other << " other; " << c->timeouts << " watchdog timeouts\n";
+  }
+  WriteFileAtomically(out / "joystick.json", j.dump(2) + "\n");
+  return status;
+}
+
+}  // namespace
 
 int DriveCommand(const ParsedArgs& args) {
   if (args.positional().size() != 1) throw UsageError("expected one SCENE (kind: car)");
@@ -56,9 +145,21 @@ int DriveCommand(const ParsedArgs& args) {
   if (!(duration > 0.0 && duration <= 3600.0)) throw UsageError("option --duration: expected (0, 3600] s");
   const std::int64_t ticks = scene.clock.TicksFor(duration);
 
+  std::unique_ptr<hw::JoystickSource> joystick;
+  if (args.Has("joystick")) {
+    if (args.Flag("wheel")) throw UsageError("options --wheel and --joystick: give one");
+    joystick = OpenJoystick(args.Get("joystick"), scene.clock.rate_hz, args.GetDouble("joystick-timeout-ms", 1.0, 10'000.0));
+  }
+  if (args.Has("can")) {
+    if (!joystick) throw UsageError("option --can (a live session) needs --joystick");
+    return DriveSession(args, scene, *joystick, duration);
+  }
+
   std::unique_ptr<hw::SdlWheel> wheel;
   std::vector<vehicle::CarSample> scripted;
-  if (args.Flag("wheel")) {
+  if (joystick) {
+    std::cout << "pwsim drive: " << joystick->name() << "\n";
+  } else if (args.Flag("wheel")) {
     wheel = std::make_unique<hw::SdlWheel>(mapping);
     std::cout << "pwsim drive: wheel '" << wheel->name() << "'\n";
   } else {
@@ -76,10 +177,16 @@ int DriveCommand(const ParsedArgs& args) {
     const auto due = start + k * period;
     if (!args.Flag("no-realtime")) std::this_thread::sleep_until(due);
     late[done] = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - due).count();
-    const hw::CarLiveTick& tick =
-        k == 0 ? loop.last()
-               : loop.Step(wheel ? wheel->Poll()
-                                 : scripted[std::min(static_cast<std::size_t>(k), scripted.size() - 1)].input);
+    vehicle::DriverInput input;
+    if (joystick) {
+      input = hw::CarControlsFromJoystick(joystick->Poll(k, hw::MonotonicNs()),
+                                          vehicle::Speed(loop.last().sample.state), hw::JoystickCarParams{});
+    } else if (wheel) {
+      input = wheel->Poll();
+    } else {
+      input = scripted[std::min(static_cast<std::size_t>(k), scripted.size() - 1)].input;
+    }
+    const hw::CarLiveTick& tick = k == 0 ? loop.last() : loop.Step(input);
     const vehicle::CarSample& s = tick.sample;
     t[done] = scene.clock.TimeAt(k);
     x[done] = s.state.x;

@@ -1,14 +1,19 @@
 // pwsim hmd-peer: plays a headset on the HMD bridge for tests and demos. Receives camera
 // poses, answers each frame with a tracked head pose (the head riding the platform, plus a
 // gentle scripted head motion), answers pings, and can run on an offset clock or vanish.
+// It takes datagrams from one peer only: the session's HMD address given with --peer, or the
+// first sender of a well-formed message when --adopt-first-peer says so; others are counted
+// and dropped (hardware/udp_socket.h).
 
 #include <csignal>
 #include <cmath>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 
 #include "app/commands.h"
 #include "app/stop_signal.h"
+#include "engine/atomic_file.h"
 #include "hardware/hmd_protocol.h"
 #include "hardware/udp_socket.h"
 
@@ -20,6 +25,8 @@ const CommandSpec& HmdPeerSpec() {
       "Play a headset on the HMD bridge (UDP): camera poses in, head poses out.",
       {
           {"listen", "HOST:PORT", "-", "127.0.0.1:29537", "UDP address the session sends frames to (port 0: any free port; the line 'listening on HOST:PORT' names it)"},
+          {"peer", "udp:HOST:PORT", "-", "", "the session's HMD address (pwsim session --hmd-local): the only sender whose messages are taken"},
+          {"adopt-first-peer", "", "-", "", "instead of --peer: the first sender of a well-formed message becomes the only peer (tests and demos on one machine)"},
           {"clock-offset-ms", "MS", "ms", "0", "run the headset clock this far ahead of ours"},
           {"head-yaw-deg", "DEG", "deg", "5", "amplitude of the scripted head yaw (0.5 Hz)"},
           {"duration", "S", "s", "0", "exit after this long (0 = until the session says bye)"},
@@ -38,12 +45,21 @@ int HmdPeerCommand(const ParsedArgs& args) {
   const double head_yaw = args.GetDouble("head-yaw-deg", 0.0, 90.0) * M_PI / 180.0;
   const double duration = args.GetDouble("duration", 0.0, 86400.0);
   const double exit_after = args.GetDouble("exit-after", 0.0, 86400.0);
+  const bool adopt = args.Flag("adopt-first-peer");
+  const std::string peer_spec = args.Get("peer");
+  if (adopt == !peer_spec.empty())
+    throw UsageError("give the session's HMD address with --peer udp:HOST:PORT, or --adopt-first-peer (not both)");
   hw::UdpSocket socket;
+  if (!peer_spec.empty()) {
+    if (peer_spec.rfind("udp:", 0) != 0 || !hw::ParseUdpAddress(peer_spec.substr(4)))
+      throw UsageError("option --peer: expected udp:HOST:PORT, got '" + peer_spec + "'");
+  }
   const std::string error = socket.Bind(*listen);
   if (!error.empty()) {
     std::cerr << "pwsim hmd-peer: " << error << "\n";
     return 1;
   }
+  if (!peer_spec.empty()) socket.AcceptOnlyFrom(*hw::ParseUdpAddress(peer_spec.substr(4)));
   InstallStopSignalHandlers();
   hw::UdpAddress bound = *listen;
   bound.port = socket.local_port();
@@ -56,6 +72,7 @@ int HmdPeerCommand(const ParsedArgs& args) {
   hw::HmdReceiveFilter filter(1'000'000'000);
   std::uint32_t seq = 0;
   std::uint64_t frames = 0;
+  std::uint64_t refused_said = 0;
   std::string why = "signal";
   std::array<std::uint8_t, 512> buffer{};
   std::array<std::uint8_t, hw::kHmdMaxSize> reply{};
@@ -86,12 +103,17 @@ int HmdPeerCommand(const ParsedArgs& args) {
         filter.CountMalformed();
         continue;
       }
+      if (!socket.peer()) socket.AcceptOnlyFrom(from);  // --adopt-first-peer: adopted once
       if (!filter.Accept(m, rx, no_offset)) continue;
       hw::HmdMessage r;
       r.header.session = m.header.session;
       if (const auto* cam = std::get_if<hw::CameraPoseMsg>(&m.body)) {
         ++frames;
-        if (first_frame_ns < 0) first_frame_ns = hw::MonotonicNs();
+        if (first_frame_ns < 0) {
+          first_frame_ns = hw::MonotonicNs();
+          std::cout << "pwsim hmd-peer: first camera pose from " << from.ToString() << "\n" << std::flush;
+        }
+        if (frames % 100 == 0) std::cout << "pwsim hmd-peer: " << frames << " frames\n" << std::flush;
         // Head in the rig: seated 1.2 m up, looking around gently; the tracker sees it in the
         // room, i.e. carried by the platform.
         const double ts = static_cast<double>(rx) / 1e9;
@@ -117,6 +139,11 @@ int HmdPeerCommand(const ParsedArgs& args) {
       const std::size_t size = hw::EncodeHmd(r, reply);
       socket.SendTo(from, std::span<const std::uint8_t>(reply.data(), size));
     }
+    if (socket.refused() != refused_said) {  // an event other processes can wait for
+      refused_said = socket.refused();
+      std::cout << "pwsim hmd-peer: refused " << refused_said << " datagrams from senders other than "
+                << (socket.peer() ? socket.peer()->ToString() : "the peer") << "\n" << std::flush;
+    }
     if (bye) {
       why = "session said bye";
       break;
@@ -124,12 +151,16 @@ int HmdPeerCommand(const ParsedArgs& args) {
   }
   const auto& c = filter.counters();
   std::cout << "pwsim hmd-peer: stopped (" << why << "), " << frames << " frames, dropped "
-            << c.out_of_order << " out-of-order, " << c.malformed << " malformed\n";
+            << c.out_of_order << " out-of-order, " << c.malformed << " malformed, refused "
+            << socket.refused() << " from other senders\n";
   if (!args.Get("report").empty()) {
-    std::ofstream r(args.Get("report"));
+    std::ostringstream r;
     r << "{\n  \"format\": \"pwsim-hmd-peer-report/1\",\n  \"frames\": " << frames
+      << ",\n  \"peer\": \"" << (socket.peer() ? socket.peer()->ToString() : "") << "\""
+      << ",\n  \"refused_datagrams\": " << socket.refused()
       << ",\n  \"out_of_order\": " << c.out_of_order << ",\n  \"malformed\": " << c.malformed
       << ",\n  \"stop\": \"" << why << "\"\n}\n";
+    WriteFileAtomically(args.Get("report"), r.str());
   }
   return 0;
 }

@@ -1,13 +1,18 @@
 // pwsim platform-sim: the platform's two CiA 402 servo drives, simulated (seed 001's 2-DoF
 // Lagrange model with dry + viscous friction and joint PID), behind CAN over UDP in cannelloni
-// framing. A session connects with --can udp:HOST:PORT. Wiring only: see hardware/.
+// framing. A session connects with --can udp:HOST:PORT. The drives take frames from one peer
+// only: the session's CAN address given with --peer, or (tests, demos) the first sender when
+// --adopt-first-peer says so; frames from anyone else are counted and dropped (udp_can_bus.h).
+// Wiring only: see hardware/.
 
 #include <csignal>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 
 #include "app/commands.h"
 #include "app/stop_signal.h"
+#include "engine/atomic_file.h"
 #include "engine/number_format.h"
 #include "hardware/candump_log.h"
 #include "hardware/platform_chirp.h"
@@ -23,6 +28,8 @@ const CommandSpec& PlatformSimSpec() {
       "Simulated CiA 402 drives of the 2-DoF rail+yaw platform (seed 001) on CAN over UDP.",
       {
           {"listen", "HOST:PORT", "-", "127.0.0.1:29536", "UDP address to serve the CAN link on (port 0: any free port; the line 'listening on HOST:PORT' names it)"},
+          {"peer", "udp:HOST:PORT", "-", "", "the session's CAN address (pwsim session --can-local): the only sender whose frames are taken"},
+          {"adopt-first-peer", "", "-", "", "instead of --peer: the first sender of a well-formed frame becomes the only peer (tests and demos on one machine)"},
           {"cycle-ms", "MS", "ms", "4", "SYNC period the drives interpolate over"},
           {"duration", "S", "s", "0", "exit after this long (0 = until idle or signal)"},
           {"idle-exit", "S", "s", "2", "exit when no frame arrived for this long after a master was seen"},
@@ -101,12 +108,22 @@ int PlatformSimCommand(const ParsedArgs& args) {
   const double exit_after = args.GetDouble("exit-after", 0.0, 86400.0);
   const double fault_at = args.GetDouble("fault-at", 0.0, 86400.0);
 
-  hw::BusOpenResult opened = hw::UdpCanBus::Open(args.Get("listen"), "");
+  const bool adopt = args.Flag("adopt-first-peer");
+  std::string peer = args.Get("peer");
+  if (adopt == !peer.empty())
+    throw UsageError("give the session's CAN address with --peer udp:HOST:PORT, or --adopt-first-peer (not both)");
+  if (!peer.empty()) {
+    if (peer.rfind("udp:", 0) != 0 || !hw::ParseUdpAddress(peer.substr(4)))
+      throw UsageError("option --peer: expected udp:HOST:PORT, got '" + peer + "'");
+    peer = peer.substr(4);
+  }
+  hw::BusOpenResult opened = hw::UdpCanBus::Open(
+      args.Get("listen"), peer, adopt ? hw::UdpCanBus::PeerPolicy::kAdoptFirst : hw::UdpCanBus::PeerPolicy::kConfigured);
   if (!opened.bus) {
     std::cerr << "pwsim platform-sim: " << opened.message << "\n";
     return 1;
   }
-  hw::ICanBus& bus = *opened.bus;
+  hw::UdpCanBus& bus = static_cast<hw::UdpCanBus&>(*opened.bus);
   std::ofstream dump_file;
   std::unique_ptr<hw::CandumpWriter> dump;
   if (!args.Get("candump").empty()) {
@@ -118,8 +135,9 @@ int PlatformSimCommand(const ParsedArgs& args) {
   hw::SimulatedDrives drives(config);
   InstallStopSignalHandlers();
   hw::UdpAddress bound = *hw::ParseUdpAddress(args.Get("listen"));  // Open parsed it already
-  if (const auto* udp = dynamic_cast<const hw::UdpCanBus*>(&bus)) bound.port = udp->local_port();
-  std::cout << "pwsim platform-sim: drives 1 (yaw) and 2 (rail) on " << bus.name() << "\n"
+  bound.port = bus.local_port();
+  std::cout << "pwsim platform-sim: drives 1 (yaw) and 2 (rail) on " << bus.name() << ", frames taken from "
+            << (adopt ? "the first sender" : peer) << " only\n"
             << "pwsim platform-sim: listening on " << bound.ToString() << "\n"
             << std::flush;
 
@@ -130,6 +148,8 @@ int PlatformSimCommand(const ParsedArgs& args) {
   std::int64_t last_rx = start;
   bool master_seen = false;
   bool faulted = false;
+  bool enabled_said = false;
+  std::uint64_t refused_said = 0;
   std::vector<hw::CanFrame> out;
   std::string why = "signal";
   for (;;) {
@@ -169,20 +189,36 @@ int PlatformSimCommand(const ParsedArgs& args) {
     for (const hw::CanFrame& x : out) {
       if (bus.Send(x) == hw::BusStatus::kOk && dump) dump->Write(hw::MonotonicNs() / 1000, x);
     }
+    // Events other processes can wait for (lines on stdout, never timing).
+    if (!enabled_said && drives.drive_state(0) == hw::canopen::DriveState::kOperationEnabled &&
+        drives.drive_state(1) == hw::canopen::DriveState::kOperationEnabled) {
+      enabled_said = true;
+      std::cout << "pwsim platform-sim: operation enabled, master " << bus.peer() << "\n" << std::flush;
+    }
+    if (bus.stats().rx_refused != refused_said) {
+      refused_said = bus.stats().rx_refused;
+      std::cout << "pwsim platform-sim: refused " << refused_said << " datagrams from senders other than "
+                << (bus.has_peer() ? bus.peer() : "the peer") << "\n" << std::flush;
+    }
   }
   const auto& peak = drives.peak_abs_position();
   const auto& s = drives.platform();
   std::cout << "pwsim platform-sim: stopped (" << why << "), " << drives.syncs() << " SYNCs, "
             << "peak |yaw| " << peak[0] << " rad, peak |rail| " << peak[1] << " m, final q = ("
-            << s.q[0] << ", " << s.q[1] << ")\n";
+            << s.q[0] << ", " << s.q[1] << "), refused " << bus.stats().rx_refused
+            << " datagrams from other senders\n";
   if (!args.Get("report").empty()) {
-    std::ofstream r(args.Get("report"));
+    std::ostringstream r;
     r << "{\n  \"format\": \"pwsim-platform-sim-report/1\",\n  \"syncs\": " << drives.syncs()
+      << ",\n  \"peer\": \"" << bus.peer() << "\",\n  \"frames_taken\": " << bus.stats().rx
+      << ",\n  \"refused_datagrams\": " << bus.stats().rx_refused
+      << ",\n  \"malformed_datagrams\": " << bus.stats().rx_malformed
       << ",\n  \"peak_abs_position\": [" << FormatDouble(peak[0]) << ", " << FormatDouble(peak[1])
       << "],\n  \"final_position\": [" << FormatDouble(s.q[0]) << ", " << FormatDouble(s.q[1])
       << "],\n  \"final_velocity\": [" << FormatDouble(s.qd[0]) << ", " << FormatDouble(s.qd[1])
       << "],\n  \"master_lost\": " << (drives.master_lost() ? "true" : "false")
       << ",\n  \"rail_state\": \"" << hw::canopen::DriveStateName(drives.drive_state(1)) << "\"\n}\n";
+    WriteFileAtomically(args.Get("report"), r.str());
   }
   return 0;
 }

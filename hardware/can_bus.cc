@@ -145,6 +145,49 @@ BusOpenResult OpenSocketCan(const std::string& iface) {
   return result;
 }
 
+namespace {
+
+class ListenOnlyBus final : public CanListener {
+ public:
+  explicit ListenOnlyBus(std::unique_ptr<ICanBus> bus) : bus_(std::move(bus)) {}
+  BusStatus Receive(CanFrame* frame) override { return bus_->Receive(frame); }
+  int fd() const override { return bus_->fd(); }
+  const BusStats& stats() const override { return bus_->stats(); }
+  std::string name() const override { return bus_->name() + " (listen-only)"; }
+
+ private:
+  std::unique_ptr<ICanBus> bus_;  // held, never sent on
+};
+
+}  // namespace
+
+std::unique_ptr<CanListener> ListenOnly(std::unique_ptr<ICanBus> bus) {
+  return std::make_unique<ListenOnlyBus>(std::move(bus));
+}
+
+ListenerOpenResult OpenSocketCanListenOnly(const std::string& iface, std::uint32_t want_id, std::uint32_t mask) {
+  ListenerOpenResult result;
+  BusOpenResult opened = OpenSocketCan(iface);
+  if (!opened.bus) {
+    result.error = opened.error;
+    result.message = opened.message;
+    return result;
+  }
+  const int fd = opened.bus->fd();
+  can_filter filter{};
+  filter.can_id = (want_id & mask) | CAN_EFF_FLAG;
+  filter.can_mask = mask | CAN_EFF_FLAG;  // remote frames pass: the reader counts them as garbage
+  const can_err_mask_t no_errors = 0;
+  if (::setsockopt(fd, SOL_CAN_RAW, CAN_RAW_FILTER, &filter, sizeof(filter)) != 0 ||
+      ::setsockopt(fd, SOL_CAN_RAW, CAN_RAW_ERR_FILTER, &no_errors, sizeof(no_errors)) != 0) {
+    result.error = errno;
+    result.message = "SocketCAN filter on '" + iface + "' refused: " + std::strerror(errno);
+    return result;
+  }
+  result.listener = ListenOnly(std::move(opened.bus));
+  return result;
+}
+
 std::pair<std::unique_ptr<ICanBus>, std::unique_ptr<ICanBus>> MakeSocketPairBus() {
   int sv[2] = {-1, -1};
   if (::socketpair(AF_UNIX, SOCK_SEQPACKET | SOCK_NONBLOCK | SOCK_CLOEXEC, 0, sv) != 0) {

@@ -29,6 +29,7 @@ struct BusStats {
   std::uint64_t rx_malformed{0};  ///< datagrams/records that failed to decode
   std::uint64_t error_frames{0};  ///< error frames received
   std::uint64_t rx_lost{0};       ///< gaps in a sequence number (UDP backend)
+  std::uint64_t rx_refused{0};    ///< datagrams from a sender other than the peer (UDP backend)
 };
 
 class ICanBus {
@@ -43,6 +44,36 @@ class ICanBus {
   virtual const BusStats& stats() const = 0;
   virtual std::string name() const = 0;
 };
+
+/// A receive-only view of a CAN bus: there is no write path in this type, so code that holds a
+/// CanListener cannot transmit (the R-Net joystick reader, rnet_joystick.h). On a real bus the
+/// guarantee that nothing leaves the machine is the controller's listen-only mode (no ACK, no
+/// error frames, no transmission; docs/hardware.md), which OpenSocketCanListenOnly asks for.
+class CanListener {
+ public:
+  virtual ~CanListener() = default;
+  /// Takes one received frame; kWouldBlock when none is waiting.
+  virtual BusStatus Receive(CanFrame* frame) = 0;
+  virtual int fd() const { return -1; }
+  virtual const BusStats& stats() const = 0;
+  virtual std::string name() const = 0;
+};
+
+/// Wraps `bus` so that only its receive side is reachable (e.g. an InProcessBus endpoint).
+std::unique_ptr<CanListener> ListenOnly(std::unique_ptr<ICanBus> bus);
+
+struct ListenerOpenResult {
+  std::unique_ptr<CanListener> listener;
+  int error{0};
+  std::string message;
+};
+
+/// A CAN_RAW socket on `iface` behind a CanListener, with a kernel receive filter that admits
+/// only identifiers with (id & mask) == (want & mask) (extended-frame bit included), error
+/// frames off. The caller never gets a send path. Put the interface in listen-only mode first
+/// (`ip link set IFACE type can bitrate 125000 listen-only on`): that is what keeps the
+/// controller itself silent.
+ListenerOpenResult OpenSocketCanListenOnly(const std::string& iface, std::uint32_t want_id, std::uint32_t mask);
 
 /// Waits until `bus` may have a frame (poll on its fd) or `timeout_ms` passes; buses without
 /// an fd return immediately. Returns false on timeout.

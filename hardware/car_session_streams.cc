@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "hardware/car_drive_source.h"
 #include "hardware/car_live.h"
 #include "mca/config.h"
 #include "mca/cueing.h"
@@ -58,14 +59,8 @@ SessionStreams BuildCarSessionStreams(const vehicle::CarScene& scene, const Sess
     streams.setpoints.push_back({pose[static_cast<std::size_t>(mca::Index(mca::Dof::kYaw))],
                                  pose[static_cast<std::size_t>(mca::Index(mca::Dof::kSurge))]});
   }
-  const double h = scene.car.chassis.cg_height;
-  for (std::size_t k = 0; k < samples.size(); k += static_cast<std::size_t>(config.frame_ticks)) {
-    const vehicle::VehicleState& s = samples[k].state;
-    const double c = std::cos(s.yaw), sn = std::sin(s.yaw);
-    const auto& o = scene.head_offset;
-    const std::array<double, 3> eye{s.x + c * o[0] - sn * o[1], s.y + sn * o[0] + c * o[1], h + o[2]};
-    streams.cameras.push_back(CarCameraPose(eye, s.yaw, s.pitch, s.roll));
-  }
+  for (std::size_t k = 0; k < samples.size(); k += static_cast<std::size_t>(config.frame_ticks))
+    streams.cameras.push_back(CarEyePose(scene, samples[k].state));
   if (description != nullptr) {
     *description = "car '" + scene.car.name + "' MCA (mca::RunRailYawCueing) on platform '" +
                    mca_config.platform.name + "' (" + mca_config.platform_source + "), " +

@@ -47,6 +47,12 @@ std::string SessionReport::ToJson() const {
     << "  \"cycle_period_jitter_us\": " << pct(cycle_period_jitter_us) << ",\n"
     << "  \"schedule_slips\": " << schedule_slips << ",\n"
     << "  \"schedule_slip_ms\": " << F(schedule_slip_ms) << ",\n"
+    << "  \"refused_datagrams\": {\"can\": " << can_rx_refused << ", \"hmd\": " << hmd_rx_refused << "},\n";
+  if (has_live_input) {
+    s << "  \"joystick_to_platform_command_ms\": " << pct(input_to_platform_ms) << ",\n"
+      << "  \"joystick_to_hmd_frame_ms\": " << pct(input_to_hmd_ms) << ",\n";
+  }
+  s
     << "  \"visual_platform_skew_ms\": " << pct(skew_ms) << ",\n"
     << "  \"abs_visual_platform_skew_ms\": " << pct(abs_skew_ms) << ",\n"
     << "  \"clock_offset_ns\": " << clock_offset_ns << ",\n  \"clock_rtt_ns\": " << clock_rtt_ns << ",\n"

@@ -28,6 +28,16 @@ struct SessionReport {
   /// the runner; 0 in a replay.
   std::int64_t schedule_slips{0};
   double schedule_slip_ms{0.0};
+  /// Datagrams read and dropped because they came from a sender other than the link's peer
+  /// (udp_socket.h), per link. Filled in by the runner (they never reach the log); 0 in a replay.
+  std::uint64_t can_rx_refused{0};
+  std::uint64_t hmd_rx_refused{0};
+  /// A live input (joystick) drove the session: latency from each new reading reaching the
+  /// process to the first platform command / HMD frame computed from it leaving (ms;
+  /// input_latency.h). Filled in by the runner; in the JSON only when has_live_input.
+  bool has_live_input{false};
+  Percentiles input_to_platform_ms;
+  Percentiles input_to_hmd_ms;
   Percentiles skew_ms;             ///< visual frame shown minus platform moved (signed)
   Percentiles abs_skew_ms;
   std::int64_t clock_offset_ns{0};

@@ -39,18 +39,21 @@ void Drain(ICanBus& bus, UdpSocket* hmd, SessionInputs* in, CandumpWriter* dump)
   }
 }
 
-/// Waits until `deadline_ns`, collecting whatever arrives meanwhile; with `until`, returns
-/// as soon as it holds.
+/// Waits until `deadline_ns`, collecting whatever arrives meanwhile (the source's live input
+/// too, for step `tick`); with `until`, returns as soon as it holds.
 void WaitUntil(std::int64_t deadline_ns, ICanBus& bus, UdpSocket* hmd, SessionInputs* in,
-               CandumpWriter* dump, const std::function<bool()>& until = nullptr) {
+               CandumpWriter* dump, SessionSource& source, std::int64_t tick,
+               const std::function<bool()>& until = nullptr) {
   for (;;) {
     Drain(bus, hmd, in, dump);
+    if (source.input_fd() >= 0) source.TakeInput(tick, MonotonicNs());
     const std::int64_t now = MonotonicNs();
     if (now >= deadline_ns || (until && until())) return;
-    std::array<pollfd, 2> fds{};
+    std::array<pollfd, 3> fds{};
     nfds_t n = 0;
     if (bus.fd() >= 0) fds[n++] = {bus.fd(), POLLIN, 0};
     if (hmd != nullptr && hmd->fd() >= 0) fds[n++] = {hmd->fd(), POLLIN, 0};
+    if (source.input_fd() >= 0) fds[n++] = {source.input_fd(), POLLIN, 0};
     const std::int64_t wait = deadline_ns - now;
     timespec ts{static_cast<time_t>(wait / 1'000'000'000), static_cast<long>(wait % 1'000'000'000)};
     ::ppoll(fds.data(), n, &ts, nullptr);
@@ -93,9 +96,30 @@ std::string EnterRealtime(int priority) {
   return "";
 }
 
+void StreamsSource::Fill(std::int64_t tick, bool drive, bool frame, std::int64_t /*now_ns*/, SessionInputs* in) {
+  if (drive && !streams_.setpoints.empty()) {
+    const auto i = static_cast<std::size_t>(tick / config_.drive_cycle_ticks);
+    in->setpoint = streams_.setpoints[std::min(i, streams_.setpoints.size() - 1)];
+  }
+  if (frame && !streams_.cameras.empty()) {
+    const auto i = static_cast<std::size_t>(tick / config_.frame_ticks);
+    in->camera = streams_.cameras[std::min(i, streams_.cameras.size() - 1)];
+  }
+}
+
 SessionReport RunSession(const SessionConfig& config, const SessionStreams& streams,
                          const RunnerIo& io) {
+  StreamsSource source(config, streams);
+  return RunSession(config, source, io);
+}
+
+SessionReport RunSession(const SessionConfig& config, SessionSource& source, const RunnerIo& io) {
   SessionCore core(config);
+  // At most one latency sample per output step (the last steps park and disable the drives:
+  // margin): reserved up front, nothing allocated later; beyond it, InputLatency counts overflow.
+  const std::int64_t last_tick = config.run_ticks + config.max_stop_ticks;
+  InputLatency to_platform(static_cast<std::size_t>(last_tick / config.drive_cycle_ticks + 1000));
+  InputLatency to_hmd(static_cast<std::size_t>(last_tick / config.frame_ticks + 1000));
   std::optional<CandumpWriter> dump;
   if (io.candump != nullptr) dump.emplace(*io.candump, "can0");
   if (io.log != nullptr) *io.log << "# pwsim-session-log/1 " << config.ToHeader() << "\n";
@@ -122,12 +146,12 @@ SessionReport RunSession(const SessionConfig& config, const SessionStreams& stre
     const bool frame = core.is_frame_tick(tick);
     if (!drive && !frame) continue;
     in.scheduled_ns = start + slip_ns + tick * ns_per_tick;
-    WaitUntil(in.scheduled_ns, *io.bus, io.hmd, &in, dump ? &*dump : nullptr);
+    WaitUntil(in.scheduled_ns, *io.bus, io.hmd, &in, dump ? &*dump : nullptr, source, tick);
     answers.Scan(in.can);
     if (drive && io.drive_answer_wait_ns > 0 && drives_answering && !answers.all()) {
       // Lockstep: the next SYNC goes out once the drives answered the last one (an event),
       // or, when they do not within the bound, as usual (then the TPDO watchdog sees it).
-      WaitUntil(last_sync_ns + io.drive_answer_wait_ns, *io.bus, io.hmd, &in, dump ? &*dump : nullptr,
+      WaitUntil(last_sync_ns + io.drive_answer_wait_ns, *io.bus, io.hmd, &in, dump ? &*dump : nullptr, source, tick,
                 [&] {
                   answers.Scan(in.can);
                   return answers.all();
@@ -139,21 +163,14 @@ SessionReport RunSession(const SessionConfig& config, const SessionStreams& stre
       slip_ns += in.now_ns - in.scheduled_ns;
       ++slips;
     }
-    if (drive) {
-      const auto i = static_cast<std::size_t>(tick / config.drive_cycle_ticks);
-      if (!streams.setpoints.empty())
-        in.setpoint = streams.setpoints[std::min(i, streams.setpoints.size() - 1)];
-    }
-    if (frame) {
-      const auto i = static_cast<std::size_t>(tick / config.frame_ticks);
-      if (!streams.cameras.empty()) in.camera = streams.cameras[std::min(i, streams.cameras.size() - 1)];
-    }
+    source.Fill(tick, drive, frame, in.now_ns, &in);
     in.stop_request = io.stop != nullptr && io.stop->load();
     out.Clear();
     core.Step(tick, in, &out);
     for (const CanFrame& f : out.can) {
       if (io.bus->Send(f) == BusStatus::kOk && dump) dump->Write(MonotonicNs() / 1000, f);
     }
+    if (drive && !out.can.empty()) to_platform.OnOutput(source.input(), MonotonicNs());
     if (drive) {
       if (answers.all()) drives_answering = true;
       answers.NewSync();
@@ -162,6 +179,7 @@ SessionReport RunSession(const SessionConfig& config, const SessionStreams& stre
     if (io.hmd != nullptr) {
       // A refused datagram is a lost frame: the headset's staleness rules cover it.
       for (const HmdDatagram& d : out.hmd) (void)io.hmd->SendTo(io.hmd_peer, d.bytes());
+      if (frame && !out.hmd.empty()) to_hmd.OnOutput(source.input(), MonotonicNs());
     }
     if (io.log != nullptr) {
       lines.clear();
@@ -181,6 +199,13 @@ SessionReport RunSession(const SessionConfig& config, const SessionStreams& stre
   SessionReport report = core.Report();
   report.schedule_slips = slips;
   report.schedule_slip_ms = static_cast<double>(slip_ns) / 1e6;
+  report.can_rx_refused = io.bus->stats().rx_refused;
+  if (source.has_live_input()) {
+    report.has_live_input = true;
+    report.input_to_platform_ms = to_platform.Summary();
+    report.input_to_hmd_ms = to_hmd.Summary();
+  }
+  report.hmd_rx_refused = io.hmd != nullptr ? io.hmd->refused() : 0;
   return report;
 }
 

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "hardware/can_bus.h"
+#include "hardware/input_latency.h"
 #include "hardware/session.h"
 #include "hardware/udp_socket.h"
 
@@ -28,9 +29,43 @@ struct SessionStreams {
   std::vector<Pose> cameras;
 };
 
+/// Where each step's setpoint and camera pose come from: precomputed streams (a scene, a
+/// measured trial), or a live drive (a joystick through a vehicle model, stepped up to the
+/// tick when the step runs: car_drive_source.h). Whatever it is, the core logs the setpoint
+/// and the camera pose as inputs, so a live session replays bit for bit like any other.
+class SessionSource {
+ public:
+  virtual ~SessionSource() = default;
+  /// Sets in->setpoint on drive ticks and in->camera on frame ticks for `tick`, at `now_ns`.
+  virtual void Fill(std::int64_t tick, bool drive, bool frame, std::int64_t now_ns, SessionInputs* in) = 0;
+  /// The live input reading the last Fill used (seq 0: none, e.g. precomputed streams). The
+  /// runner measures input -> platform command and input -> HMD frame latency from it.
+  virtual InputStamp input() const { return {}; }
+  /// True when the source has a live input (the report then carries the latencies).
+  virtual bool has_live_input() const { return false; }
+  /// A live input that arrives as a stream (a bus) may expose a file descriptor: the runner
+  /// then waits on it between steps too and calls TakeInput as it becomes readable, so each
+  /// reading is stamped when it arrived rather than at the next step (`next_tick`: the step
+  /// the runner is waiting for). Default: none.
+  virtual int input_fd() const { return -1; }
+  virtual void TakeInput(std::int64_t /*next_tick*/, std::int64_t /*now_ns*/) {}
+};
+
+/// Precomputed streams as a source.
+class StreamsSource final : public SessionSource {
+ public:
+  StreamsSource(const SessionConfig& config, const SessionStreams& streams) : config_(config), streams_(streams) {}
+  void Fill(std::int64_t tick, bool drive, bool frame, std::int64_t now_ns, SessionInputs* in) override;
+
+ private:
+  const SessionConfig& config_;
+  const SessionStreams& streams_;
+};
+
 struct RunnerIo {
   ICanBus* bus{nullptr};
-  UdpSocket* hmd{nullptr};      ///< may be null when the HMD is not required
+  UdpSocket* hmd{nullptr};      ///< may be null when the HMD is not required; set
+                                ///< AcceptOnlyFrom(hmd_peer) so that no one else reaches the log
   UdpAddress hmd_peer;
   std::ostream* log{nullptr};   ///< session log (replayable); may be null
   std::ostream* candump{nullptr};  ///< candump -l style log of all bus traffic; may be null
@@ -50,5 +85,8 @@ std::string EnterRealtime(int priority);
 /// Runs until the core is done. Returns the report.
 SessionReport RunSession(const SessionConfig& config, const SessionStreams& streams,
                          const RunnerIo& io);
+/// The same with any source; with a live input the report carries joystick -> platform and
+/// joystick -> HMD latencies (input_latency.h).
+SessionReport RunSession(const SessionConfig& config, SessionSource& source, const RunnerIo& io);
 
 }  // namespace pwsim::hw

@@ -5,7 +5,7 @@
 
 namespace pwsim::hw {
 
-BusOpenResult UdpCanBus::Open(const std::string& local, const std::string& remote) {
+BusOpenResult UdpCanBus::Open(const std::string& local, const std::string& remote, PeerPolicy policy) {
   BusOpenResult result;
   const auto local_addr = ParseUdpAddress(local);
   if (!local_addr) {
@@ -14,15 +14,21 @@ BusOpenResult UdpCanBus::Open(const std::string& local, const std::string& remot
     return result;
   }
   std::unique_ptr<UdpCanBus> bus(new UdpCanBus());
-  if (!remote.empty()) {
+  if (policy == PeerPolicy::kAdoptFirst) {
+    if (!remote.empty()) {
+      result.error = EINVAL;
+      result.message = "a bus that adopts its first sender takes no remote address (got '" + remote + "')";
+      return result;
+    }
+    bus->learn_peer_ = true;
+  } else {
     bus->remote_ = ParseUdpAddress(remote);
     if (!bus->remote_) {
       result.error = EINVAL;
-      result.message = "bad remote UDP address '" + remote + "' (expected HOST:PORT)";
+      result.message = "bad or missing peer UDP address '" + remote + "' (expected HOST:PORT)";
       return result;
     }
-  } else {
-    bus->learn_peer_ = true;
+    bus->socket_.AcceptOnlyFrom(*bus->remote_);
   }
   const std::string error = bus->socket_.Bind(*local_addr);
   if (!error.empty()) {
@@ -71,7 +77,8 @@ BusStatus UdpCanBus::Receive(CanFrame* frame) {
     pending_pos_ = 0;
     std::array<std::uint8_t, 1500> buffer{};
     UdpAddress from;
-    const long n = socket_.Receive(buffer, &from);
+    const long n = socket_.Receive(buffer, &from);  // drops (and counts) other senders
+    stats_.rx_refused = socket_.refused();
     if (n < 0) return BusStatus::kWouldBlock;
     if (static_cast<std::size_t>(n) > buffer.size()) {
       ++stats_.rx_malformed;
@@ -89,7 +96,11 @@ BusStatus UdpCanBus::Receive(CanFrame* frame) {
       if (gap != 0 && gap < 128) stats_.rx_lost += gap;
     }
     rx_seq_ = seq;
-    if (learn_peer_) remote_ = from;
+    if (learn_peer_) {  // adopted once, on the first well-formed datagram; fixed from then on
+      remote_ = from;
+      socket_.AcceptOnlyFrom(from);
+      learn_peer_ = false;
+    }
   }
 }
 

@@ -1,7 +1,12 @@
 #pragma once
 // CAN over UDP in cannelloni framing: each Send() is one cannelloni v2 DATA datagram carrying
 // one frame, so two processes on loopback (or a real cannelloni on a lab machine) share a bus.
-// A bus opened without a remote answers whoever sent to it last (the platform-sim side).
+//
+// The bus has exactly one peer and takes frames from no one else: datagrams whose source
+// address or port differ from the peer's are read, counted (BusStats::rx_refused) and dropped
+// before they are decoded. The peer is either configured (`remote`) or, only when asked for
+// (`PeerPolicy::kAdoptFirst`, the platform-sim side in tests), the sender of the first
+// well-formed datagram, fixed from then on.
 
 #include <memory>
 #include <optional>
@@ -15,8 +20,14 @@ namespace pwsim::hw {
 
 class UdpCanBus final : public ICanBus {
  public:
-  /// Binds `local` ("HOST:PORT", port 0 = ephemeral) and sends to `remote` (may be empty).
-  static BusOpenResult Open(const std::string& local, const std::string& remote);
+  enum class PeerPolicy {
+    kConfigured,  ///< `remote` is the peer (required)
+    kAdoptFirst,  ///< `remote` empty: the first well-formed datagram's sender becomes the peer
+  };
+  /// Binds `local` ("HOST:PORT", port 0 = ephemeral); sends to and accepts from `remote`, or,
+  /// with kAdoptFirst, from the first sender. A missing or malformed remote is an error.
+  static BusOpenResult Open(const std::string& local, const std::string& remote,
+                            PeerPolicy policy = PeerPolicy::kConfigured);
 
   BusStatus Send(const CanFrame& frame) override;
   BusStatus Receive(CanFrame* frame) override;
@@ -25,6 +36,8 @@ class UdpCanBus final : public ICanBus {
   std::string name() const override;
   std::uint16_t local_port() const { return socket_.local_port(); }
   bool has_peer() const { return remote_.has_value(); }
+  /// The peer ("HOST:PORT"), or "" while a kAdoptFirst bus has none yet.
+  std::string peer() const { return remote_ ? remote_->ToString() : ""; }
 
  private:
   UdpCanBus() = default;

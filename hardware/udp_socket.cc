@@ -46,11 +46,16 @@ std::int64_t MonotonicNs() {
 UdpSocket::~UdpSocket() {
   if (fd_ >= 0) ::close(fd_);
 }
-UdpSocket::UdpSocket(UdpSocket&& other) noexcept : fd_(other.fd_) { other.fd_ = -1; }
+UdpSocket::UdpSocket(UdpSocket&& other) noexcept
+    : fd_(other.fd_), peer_(other.peer_), refused_(other.refused_) {
+  other.fd_ = -1;
+}
 UdpSocket& UdpSocket::operator=(UdpSocket&& other) noexcept {
   if (this != &other) {
     if (fd_ >= 0) ::close(fd_);
     fd_ = other.fd_;
+    peer_ = other.peer_;
+    refused_ = other.refused_;
     other.fd_ = -1;
   }
   return *this;
@@ -102,7 +107,12 @@ long UdpSocket::Receive(std::span<std::uint8_t> buffer, UdpAddress* from) {
       if (errno == EINTR) continue;
       return -1;  // EAGAIN, or ECONNREFUSED from an earlier send: nothing to read
     }
-    if (from != nullptr) *from = UdpAddress{addr.sin_addr.s_addr, ntohs(addr.sin_port)};
+    const UdpAddress sender{addr.sin_addr.s_addr, ntohs(addr.sin_port)};
+    if (peer_ && sender != *peer_) {
+      ++refused_;  // not our peer: read, counted and dropped
+      continue;
+    }
+    if (from != nullptr) *from = sender;
     if (static_cast<std::size_t>(n) > buffer.size()) return static_cast<long>(buffer.size()) + 1;
     return static_cast<long>(n);
   }

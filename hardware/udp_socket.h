@@ -1,6 +1,13 @@
 #pragma once
 // A small non-blocking UDP socket (IPv4) used by the CAN-over-UDP bus and the HMD bridge.
 // Endpoints are "HOST:PORT" strings; port 0 binds an ephemeral port.
+//
+// A link that carries a person's platform accepts datagrams from its one peer only: after
+// AcceptOnlyFrom(peer), Receive reads every waiting datagram but hands back only those whose
+// source address AND port equal the peer's; the others are counted (refused()) and dropped.
+// UDP source addresses can be forged by anyone on the same network, so this is a guard against
+// stray and misdirected traffic, not authentication: docs/hardware.md says how to put the
+// links on a network of their own.
 
 #include <cstdint>
 #include <optional>
@@ -45,8 +52,16 @@ class UdpSocket {
   /// Waits up to `timeout_ms` for a datagram. False on timeout.
   bool WaitReadable(int timeout_ms) const;
 
+  /// From now on Receive hands back only datagrams from `peer` (address and port).
+  void AcceptOnlyFrom(const UdpAddress& peer) { peer_ = peer; }
+  const std::optional<UdpAddress>& peer() const { return peer_; }
+  /// Datagrams read and dropped because another sender sent them.
+  std::uint64_t refused() const { return refused_; }
+
  private:
   int fd_{-1};
+  std::optional<UdpAddress> peer_;
+  std::uint64_t refused_{0};
 };
 
 }  // namespace pwsim::hw

@@ -93,22 +93,24 @@ std::vector<std::string> ListJoysticks() {
   return names;
 }
 
-SdlWheel::SdlWheel(ControlMapping mapping) : mapping_(std::move(mapping)) {
+SDL_Joystick* OpenSdlJoystick(const std::string& device, std::string* name) {
   StartSdl();
   for (int i = 0; i < SDL_NumJoysticks(); ++i) {
-    const char* name = SDL_JoystickNameForIndex(i);
-    const std::string n = name != nullptr ? name : "";
-    if (mapping_.device.empty() || n.find(mapping_.device) != std::string::npos) {
-      joystick_ = SDL_JoystickOpen(i);
-      if (joystick_ == nullptr) throw std::runtime_error("SDL_JoystickOpen(" + n + "): " + SDL_GetError());
-      name_ = n;
-      break;
+    const char* c_name = SDL_JoystickNameForIndex(i);
+    const std::string n = c_name != nullptr ? c_name : "";
+    if (device.empty() || n.find(device) != std::string::npos) {
+      SDL_Joystick* joystick = SDL_JoystickOpen(i);
+      if (joystick == nullptr) throw std::runtime_error("SDL_JoystickOpen(" + n + "): " + SDL_GetError());
+      *name = n;
+      return joystick;
     }
   }
-  if (joystick_ == nullptr) {
-    throw std::runtime_error("no joystick" + (mapping_.device.empty() ? std::string() : " named like '" + mapping_.device + "'") +
-                             " attached (" + std::to_string(SDL_NumJoysticks()) + " seen)");
-  }
+  throw std::runtime_error("no joystick" + (device.empty() ? std::string() : " named like '" + device + "'") +
+                           " attached (" + std::to_string(SDL_NumJoysticks()) + " seen)");
+}
+
+SdlWheel::SdlWheel(ControlMapping mapping) : mapping_(std::move(mapping)) {
+  joystick_ = OpenSdlJoystick(mapping_.device, &name_);
   axes_.assign(static_cast<std::size_t>(std::max(0, SDL_JoystickNumAxes(joystick_))), 0);
   buttons_.assign(static_cast<std::size_t>(std::max(0, SDL_JoystickNumButtons(joystick_))), false);
 }

@@ -79,4 +79,9 @@ class SdlWheel {
 /// Names of the joysticks SDL sees now (initialises the joystick subsystem).
 std::vector<std::string> ListJoysticks();
 
+/// Starts SDL's joystick subsystem if needed and opens the first joystick whose name contains
+/// `device` ("" = the first); its name goes to `name`. @throws std::runtime_error when none
+/// matches or it cannot be opened.
+_SDL_Joystick* OpenSdlJoystick(const std::string& device, std::string* name);
+
 }  // namespace pwsim::hw

@@ -125,7 +125,7 @@ int RunPlannedSession(const fs::path& dir, const std::string& participant, int i
   probe = hw::UdpSocket();  // free the port for platform-sim
   int fds[2];
   if (::pipe(fds) != 0) return -11;
-  const pid_t platform = Spawn({kPwsim, "platform-sim", "--listen", "127.0.0.1:" + port, "--idle-exit", "1"},
+  const pid_t platform = Spawn({kPwsim, "platform-sim", "--listen", "127.0.0.1:" + port, "--idle-exit", "1", "--adopt-first-peer"},
                                dir / "platform.err", fds[1]);
   ::close(fds[1]);
   // event: platform-sim's first line says it is listening

@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cerrno>
+#include <span>
+#include <vector>
 
 #include "hardware/udp_can_bus.h"
 
@@ -130,7 +133,7 @@ TEST(InProcessBus, RandomDropsAreDeterministicForASeed) {
 }
 
 TEST(UdpCanBus, JoinsTwoEndsOnLoopbackInCannelloniFraming) {
-  BusOpenResult server = UdpCanBus::Open("127.0.0.1:0", "");
+  BusOpenResult server = UdpCanBus::Open("127.0.0.1:0", "", UdpCanBus::PeerPolicy::kAdoptFirst);
   ASSERT_TRUE(server.bus) << server.message;
   const auto port = static_cast<UdpCanBus*>(server.bus.get())->local_port();
   BusOpenResult client = UdpCanBus::Open("127.0.0.1:0", "127.0.0.1:" + std::to_string(port));
@@ -152,8 +155,105 @@ TEST(UdpCanBus, JoinsTwoEndsOnLoopbackInCannelloniFraming) {
 }
 
 TEST(UdpCanBus, RejectsBadAddresses) {
-  EXPECT_FALSE(UdpCanBus::Open("nonsense", "").bus);
+  EXPECT_FALSE(UdpCanBus::Open("nonsense", "127.0.0.1:1").bus);
   EXPECT_FALSE(UdpCanBus::Open("127.0.0.1:0", "1.2.3:99999").bus);
+  // no peer and no explicit adoption: refused, saying what is missing
+  const BusOpenResult none = UdpCanBus::Open("127.0.0.1:0", "");
+  EXPECT_FALSE(none.bus);
+  EXPECT_NE(none.message.find("peer"), std::string::npos) << none.message;
+  EXPECT_FALSE(UdpCanBus::Open("127.0.0.1:0", "127.0.0.1:1", UdpCanBus::PeerPolicy::kAdoptFirst).bus);
+}
+
+/// A well-formed cannelloni datagram carrying `frame`, as any process could send it.
+std::vector<std::uint8_t> Datagram(const CanFrame& frame, std::uint8_t seq) {
+  std::vector<std::uint8_t> bytes(kCannelloniHeaderSize + 13);
+  bytes.resize(EncodeCannelloni(seq, std::span<const CanFrame>(&frame, 1), bytes));
+  return bytes;
+}
+
+UdpAddress Loopback(std::uint16_t port) { return *ParseUdpAddress("127.0.0.1:" + std::to_string(port)); }
+
+TEST(UdpCanBus, TakesFramesFromItsConfiguredPeerOnlyAddressAndPort) {
+  // The peer: a socket on a known port. The bus is configured with it.
+  UdpSocket peer;
+  ASSERT_EQ(peer.Bind(*ParseUdpAddress("127.0.0.1:0")), "");
+  BusOpenResult opened = UdpCanBus::Open("127.0.0.1:0", "127.0.0.1:" + std::to_string(peer.local_port()));
+  ASSERT_TRUE(opened.bus) << opened.message;
+  auto& bus = static_cast<UdpCanBus&>(*opened.bus);
+  const UdpAddress bus_at = Loopback(bus.local_port());
+  // A stranger on the same host (same address, another port) sends well-formed frames,
+  // then the peer sends one, then the stranger again. Datagrams on loopback keep their order.
+  UdpSocket stranger;
+  ASSERT_EQ(stranger.Bind(*ParseUdpAddress("127.0.0.1:0")), "");
+  const CanFrame spoof = MakeFrame(0x202, {0x0F, 0x00, 0x20, 0xA1, 0x07, 0x00});  // rail to 0.5 m
+  ASSERT_TRUE(stranger.SendTo(bus_at, Datagram(spoof, 0)));
+  ASSERT_TRUE(stranger.SendTo(bus_at, Datagram(MakeFrame(0x000, {0x81, 0x00}), 1)));  // NMT reset all
+  const CanFrame genuine = MakeFrame(0x182, {0x37, 0x02, 0, 0, 0, 0});
+  ASSERT_TRUE(peer.SendTo(bus_at, Datagram(genuine, 0)));
+  ASSERT_TRUE(stranger.SendTo(bus_at, Datagram(spoof, 2)));
+  ASSERT_TRUE(WaitReadable(bus, 1000));
+  CanFrame f;
+  ASSERT_EQ(bus.Receive(&f), BusStatus::kOk);
+  EXPECT_EQ(f, genuine);
+  // The last spoof may still be on its way into the socket: wait for it as an event.
+  while (bus.stats().rx_refused < 3) {
+    ASSERT_TRUE(WaitReadable(bus, 1000));
+    EXPECT_EQ(bus.Receive(&f), BusStatus::kWouldBlock);
+  }
+  EXPECT_EQ(bus.stats().rx_refused, 3U);
+  EXPECT_EQ(bus.stats().rx, 1U);
+  EXPECT_EQ(bus.stats().rx_malformed, 0U);  // refused before decoding: no sequence gaps either
+  EXPECT_EQ(bus.stats().rx_lost, 0U);
+  EXPECT_EQ(bus.peer(), "127.0.0.1:" + std::to_string(peer.local_port()));
+}
+
+TEST(UdpCanBus, AdoptsTheFirstWellFormedSenderOnlyWhenAskedAndKeepsIt) {
+  BusOpenResult opened = UdpCanBus::Open("127.0.0.1:0", "", UdpCanBus::PeerPolicy::kAdoptFirst);
+  ASSERT_TRUE(opened.bus) << opened.message;
+  auto& bus = static_cast<UdpCanBus&>(*opened.bus);
+  const UdpAddress bus_at = Loopback(bus.local_port());
+  UdpSocket first, second;
+  ASSERT_EQ(first.Bind(*ParseUdpAddress("127.0.0.1:0")), "");
+  ASSERT_EQ(second.Bind(*ParseUdpAddress("127.0.0.1:0")), "");
+  // garbage from `second` adopts nothing; `first`'s well-formed frame adopts `first`
+  const std::uint8_t junk[3] = {1, 2, 3};
+  ASSERT_TRUE(second.SendTo(bus_at, junk));
+  ASSERT_TRUE(first.SendTo(bus_at, Datagram(MakeFrame(0x080, {1}), 0)));
+  ASSERT_TRUE(second.SendTo(bus_at, Datagram(MakeFrame(0x080, {2}), 0)));
+  ASSERT_TRUE(first.SendTo(bus_at, Datagram(MakeFrame(0x080, {3}), 1)));
+  std::vector<std::uint8_t> got;
+  CanFrame f;
+  while (got.size() < 2 || bus.stats().rx_refused < 1) {
+    ASSERT_TRUE(WaitReadable(bus, 1000));
+    while (bus.Receive(&f) == BusStatus::kOk) got.push_back(f.data[0]);
+  }
+  EXPECT_EQ(got, (std::vector<std::uint8_t>{1, 3}));
+  EXPECT_EQ(bus.stats().rx_malformed, 1U);
+  EXPECT_EQ(bus.stats().rx_refused, 1U);
+  EXPECT_EQ(bus.peer(), "127.0.0.1:" + std::to_string(first.local_port()));
+  // it answers the adopted peer
+  ASSERT_EQ(bus.Send(MakeFrame(0x181, {7})), BusStatus::kOk);
+  ASSERT_TRUE(first.WaitReadable(1000));
+  std::array<std::uint8_t, 64> buffer{};
+  EXPECT_GT(first.Receive(buffer, nullptr), 0);
+}
+
+TEST(UdpSocket, AcceptOnlyFromDropsOtherSendersAndCountsThem) {
+  UdpSocket a, b, c;
+  ASSERT_EQ(a.Bind(*ParseUdpAddress("127.0.0.1:0")), "");
+  ASSERT_EQ(b.Bind(*ParseUdpAddress("127.0.0.1:0")), "");
+  ASSERT_EQ(c.Bind(*ParseUdpAddress("127.0.0.1:0")), "");
+  a.AcceptOnlyFrom(Loopback(b.local_port()));
+  const std::uint8_t one[1] = {1}, two[1] = {2};
+  ASSERT_TRUE(c.SendTo(Loopback(a.local_port()), two));
+  ASSERT_TRUE(b.SendTo(Loopback(a.local_port()), one));
+  ASSERT_TRUE(a.WaitReadable(1000));
+  std::array<std::uint8_t, 8> buffer{};
+  UdpAddress from;
+  ASSERT_EQ(a.Receive(buffer, &from), 1);
+  EXPECT_EQ(buffer[0], 1);
+  EXPECT_EQ(from, Loopback(b.local_port()));
+  EXPECT_EQ(a.refused(), 1U);
 }
 
 }  // namespace

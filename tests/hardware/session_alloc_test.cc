@@ -16,6 +16,11 @@ using pwsim_test::g_allocations;
 using pwsim_test::g_counting;
 
 namespace pwsim::hw {
+
+/// In live_drive_alloc.cc: counts (through the two counters) the allocations inside
+/// CarDriveSource::Fill over a drive; `speed` gets the final speed of the bus-driven car.
+long LiveDriveFillAllocations(std::atomic<bool>& counting, std::atomic<long>& allocations, double* speed);
+
 namespace {
 
 using session_testing::World;
@@ -76,6 +81,17 @@ TEST(SessionAlloc, FaultsAndStopsStepWithoutAllocating) {
     EXPECT_FALSE(w.core->Report().stop_reason.empty());
     EXPECT_EQ(n, 0) << "allocations inside SessionCore::Step";
   }
+}
+
+// The live drive's part of a step: poll the joystick (the shipped R-Net log, and R-Net frames
+// over the in-process bus) and step the car and its MCA up to the tick (live_drive_alloc.cc:
+// its own file, so that GCC does not see the replaced operator delete inlined beside
+// std::allocator and warn).
+TEST(SessionAlloc, TheLiveDriveSourceFillsWithoutAllocating) {
+  double speed = 0.0;
+  const long n = LiveDriveFillAllocations(g_counting, g_allocations, &speed);
+  EXPECT_GT(speed, 1.0) << "the bus joystick should drive the car";
+  EXPECT_EQ(n, 0) << "allocations inside CarDriveSource::Fill";
 }
 
 }  // namespace

@@ -1,7 +1,9 @@
 // End to end on loopback: `pwsim session`, `pwsim platform-sim` and `pwsim hmd-peer` as three
 // processes. Checks the visual-platform skew, that no limit is ever exceeded (commands in the
 // session's report, positions in the simulated drives' report), a clean soft stop to neutral
-// when a peer vanishes, and that the session log replays bit for bit.
+// when a peer vanishes, that the session log replays bit for bit, and that each link takes
+// datagrams from its peer only: a fourth process (this test) sending well-formed spoofed frames
+// and commands to every socket moves nothing and is counted.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <fcntl.h>
@@ -17,13 +19,19 @@
 #include <chrono>
 #include <condition_variable>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
+
+#include "hardware/canopen.h"
+#include "hardware/hmd_protocol.h"
+#include "hardware/udp_socket.h"
 
 namespace pwsim::hw {
 namespace {
@@ -138,6 +146,10 @@ class Child {
     return output_;
   }
 
+  void Signal(int signal) {
+    if (pid_ > 0 && status_ == kRunning) ::kill(pid_, signal);
+  }
+
  private:
   static constexpr int kRunning = -100;
   pid_t pid_{-1};
@@ -167,30 +179,57 @@ struct E2e {
 
   struct Result {
     int session = -1, platform = -1, hmd = -1;
-    nlohmann::json report, platform_report;
+    nlohmann::json report, platform_report, hmd_report;
   };
 
+  /// Where everyone listens: the peers' ports are their own choice (they say which); the
+  /// session's two ports are reserved here so that the peers can be told whom to accept.
+  struct Ports {
+    std::string platform, hmd;             ///< "127.0.0.1:P" of platform-sim and hmd-peer
+    std::string session_can, session_hmd;  ///< the session's own ends of the two links
+  };
+  /// Runs while the session runs (after it started), e.g. to send spoofed traffic.
+  using During = std::function<void(Child& platform, Child& hmd, Child& session, const Ports& ports)>;
+
+  /// A free loopback port: bound by the kernel's choice and released for the session to bind.
+  static std::string FreePort() {
+    UdpSocket probe;
+    if (!probe.Bind(*ParseUdpAddress("127.0.0.1:0")).empty()) return "";
+    return "127.0.0.1:" + std::to_string(probe.local_port());
+  }
+
   /// The peers listen on ports of their own choosing and say which; the session starts once
-  /// both have said so. Fault times of the peers count from the session's first frame.
+  /// both have said so. Each peer accepts only the session's end of its link (--peer). Fault
+  /// times of the peers count from the session's first frame.
   Result Run(const std::vector<std::string>& platform_extra, const std::vector<std::string>& hmd_extra,
-             double duration_s) {
-    std::vector<std::string> ps = {kPwsim, "platform-sim", "--listen", "127.0.0.1:0",
-                                   "--idle-exit", "1", "--report", (dir / "platform.json").string()};
+             double duration_s, const During& during = nullptr, std::vector<std::string> command = {}) {
+    if (command.empty()) command = {kPwsim, "session", std::string(PWSIM_SOURCE_DIR) + "/scenes/speed_cushion.yaml"};
+    Ports ports;
+    ports.session_can = FreePort();
+    ports.session_hmd = FreePort();
+    std::vector<std::string> ps = {kPwsim, "platform-sim", "--listen", "127.0.0.1:0", "--peer",
+                                   "udp:" + ports.session_can, "--idle-exit", "1", "--report",
+                                   (dir / "platform.json").string()};
     ps.insert(ps.end(), platform_extra.begin(), platform_extra.end());
-    std::vector<std::string> hp = {kPwsim, "hmd-peer", "--listen", "127.0.0.1:0",
-                                   "--clock-offset-ms", "25", "--duration", "300"};
+    std::vector<std::string> hp = {kPwsim, "hmd-peer", "--listen", "127.0.0.1:0", "--peer", "udp:" + ports.session_hmd,
+                                   "--clock-offset-ms", "25", "--duration", "300", "--report",
+                                   (dir / "hmd.json").string()};
     hp.insert(hp.end(), hmd_extra.begin(), hmd_extra.end());
     Result r;
     Child platform(ps);
     Child hmd(hp);
     const std::optional<std::string> can_at = platform.WaitForLine("pwsim platform-sim: listening on ");
     const std::optional<std::string> hmd_at = hmd.WaitForLine("pwsim hmd-peer: listening on ");
-    const bool peers_ready = can_at && hmd_at;
+    const bool peers_ready = can_at && hmd_at && !ports.session_can.empty() && !ports.session_hmd.empty();
     if (peers_ready) {
-      Child session({kPwsim, "session", std::string(PWSIM_SOURCE_DIR) + "/scenes/speed_cushion.yaml",
-                     "--can", "udp:" + *can_at, "--hmd", "udp:" + *hmd_at, "--duration",
-                     std::to_string(duration_s), "--max-stop-s", "10", "--drive-wait-ms", "1000",
-                     "--out", (dir / "out").string()});
+      ports.platform = *can_at;
+      ports.hmd = *hmd_at;
+      std::vector<std::string> args = command;
+      args.insert(args.end(), {"--can", "udp:" + *can_at, "--can-local", ports.session_can, "--hmd", "udp:" + *hmd_at,
+                     "--hmd-local", ports.session_hmd, "--duration", std::to_string(duration_s),
+                     "--max-stop-s", "10", "--drive-wait-ms", "1000", "--out", (dir / "out").string()});
+      Child session(args);
+      if (during) during(platform, hmd, session, ports);
       r.session = session.Wait(kGuardS);
       outputs += "--- session\n" + session.Output();
     }
@@ -200,6 +239,7 @@ struct E2e {
     outputs += "--- platform-sim\n" + platform.Output() + "--- hmd-peer\n" + hmd.Output();
     r.report = ReadJson(dir / "out" / "report.json");
     r.platform_report = ReadJson(dir / "platform.json");
+    r.hmd_report = ReadJson(dir / "hmd.json");
     return r;
   }
   const std::string& Outputs() const { return outputs; }
@@ -302,6 +342,203 @@ TEST(SessionEndToEnd, DriveFaultOverTheLinkLatchesAFaultAndStopsAtRest) {
   EXPECT_EQ(r.report["final_state"], "fault");
   EXPECT_EQ(r.platform_report["rail_state"], "fault");
   EXPECT_LT(std::abs(r.platform_report["final_velocity"][1].get<double>()), 1e-3);
+}
+
+
+/// Well-formed traffic a fourth process could send to each socket of the session, and what it
+/// would do if taken: reset, disable or drive the platform away; fault or stop the session.
+struct Spoofs {
+  std::vector<CanFrame> to_platform, to_session_can;
+  std::vector<std::vector<std::uint8_t>> to_hmd, to_session_hmd;
+  Spoofs() {
+    using namespace canopen;
+    to_platform = {EncodeNmt(NmtCommand::kResetNode, 0),                 // reset both drives
+                   EncodeCspCommand(2, {0x000F, 500'000}),               // rail to 0.5 m
+                   EncodeCspCommand(1, {0x000F, 500'000}),               // yaw to 0.5 rad
+                   EncodeSync(0),                                        // latch them now
+                   EncodeCspCommand(2, {0x0002, 123'457})};              // quick stop
+    to_session_can = {EncodeEmcy(2, {0x5530, 0x01, {}}),                  // a drive fault
+                      EncodeCspStatus(2, {0x0008, 500'000}),              // fault, far away
+                      EncodeHeartbeat(2, NmtState::kStopped)};            // drive stopped
+    auto hmd = [](HmdBody body, std::uint32_t seq) {
+      HmdMessage m;
+      m.header.seq = seq;
+      m.body = std::move(body);
+      m.header.type = static_cast<HmdType>(m.body.index() + 1);
+      std::vector<std::uint8_t> bytes(kHmdMaxSize);
+      bytes.resize(EncodeHmd(m, bytes));
+      return bytes;
+    };
+    CameraPoseMsg camera;
+    camera.frame = 1'000'000;
+    camera.camera.p = {5.0, 0.0, 1.2};
+    to_hmd = {hmd(camera, 1'000'000), hmd(PingMsg{1}, 1'000'000), hmd(ByeMsg{}, 1'000'000)};
+    HeadPoseMsg head;
+    head.head.p = {0.4, 0.0, 1.2};
+    to_session_hmd = {hmd(head, 1'000'000), hmd(ByeMsg{}, 1'000'000)};
+  }
+};
+
+std::vector<std::uint8_t> Cannelloni(const CanFrame& frame, std::uint8_t seq) {
+  std::vector<std::uint8_t> bytes(kCannelloniHeaderSize + 13);
+  bytes.resize(EncodeCannelloni(seq, std::span<const CanFrame>(&frame, 1), bytes));
+  return bytes;
+}
+
+std::string HexOf(const std::vector<std::uint8_t>& bytes) {
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string text;
+  for (std::uint8_t b : bytes) text += {kHex[b >> 4], kHex[b & 0xF]};
+  return text;
+}
+
+TEST(SessionEndToEnd, SpoofedFramesAndCommandsFromAnotherSenderMoveNothingAndAreCounted) {
+  if (!fs::exists(kPwsim)) GTEST_SKIP() << kPwsim << " not built";
+  E2e e("spoof");
+  const Spoofs spoofs;
+  bool sent = false, platform_counted = false, hmd_counted = false;
+  std::string session_can;  // the only sender platform-sim takes frames from
+  // The spoofer is this test process: its own socket, on the same host as every peer (the
+  // hardest case for an address check: only the port differs).
+  const fs::path platform_candump = e.dir / "platform.candump";
+  const E2e::Result r = e.Run({"--candump", platform_candump.string()}, {}, 60.0, [&](Child& platform, Child& hmd, Child& session, const E2e::Ports& p) {
+    session_can = p.session_can;
+    // Events: both drives are enabled and following the session, and the headset has shown
+    // 100 frames (1 s of motion: the platform is moving); then the spoofs go out.
+    if (platform.WaitForLine("pwsim platform-sim: operation enabled") && hmd.WaitForLine("pwsim hmd-peer: 100 frames")) {
+      UdpSocket spoofer;
+      if (spoofer.Bind(*ParseUdpAddress("127.0.0.1:0")).empty()) {
+        sent = true;
+        std::uint8_t seq = 0;
+        for (const CanFrame& f : spoofs.to_platform)
+          sent &= spoofer.SendTo(*ParseUdpAddress(p.platform), Cannelloni(f, seq++));
+        for (const CanFrame& f : spoofs.to_session_can)
+          sent &= spoofer.SendTo(*ParseUdpAddress(p.session_can), Cannelloni(f, seq++));
+        for (const auto& d : spoofs.to_hmd) sent &= spoofer.SendTo(*ParseUdpAddress(p.hmd), d);
+        for (const auto& d : spoofs.to_session_hmd) sent &= spoofer.SendTo(*ParseUdpAddress(p.session_hmd), d);
+      }
+      // Events: each peer says it refused exactly what it was sent.
+      platform_counted = platform.WaitForLine("pwsim platform-sim: refused " +
+                                              std::to_string(spoofs.to_platform.size()) + " datagrams").has_value();
+      hmd_counted =
+          hmd.WaitForLine("pwsim hmd-peer: refused " + std::to_string(spoofs.to_hmd.size()) + " datagrams").has_value();
+    }
+    // The spoofs to the session were queued before this signal: the session reads them in the
+    // step that takes the stop request, before it soft-stops (session_runner.cc).
+    session.Signal(SIGINT);
+  });
+  ASSERT_TRUE(sent) << e.Outputs();
+  EXPECT_TRUE(platform_counted) << e.Outputs();
+  EXPECT_TRUE(hmd_counted) << e.Outputs();
+  // Nothing stopped, faulted or moved the session: it ended on our signal, parked, exit 0.
+  ASSERT_EQ(r.session, 0) << e.Outputs();
+  EXPECT_EQ(r.hmd, 0) << e.Outputs();
+  EXPECT_EQ(r.platform, 0) << e.Outputs();
+  ExpectWithinLimits(r);
+  EXPECT_EQ(r.report["final_state"], "parked");
+  EXPECT_EQ(r.report["stop_reason"], "stop requested") << e.Outputs();
+  EXPECT_EQ(r.report["refused_datagrams"]["can"].get<int>(), static_cast<int>(spoofs.to_session_can.size()));
+  EXPECT_EQ(r.report["refused_datagrams"]["hmd"].get<int>(), static_cast<int>(spoofs.to_session_hmd.size()));
+  EXPECT_EQ(r.report["hmd_rx"]["malformed"].get<int>(), 0);
+  // The drives followed the session only: no 0.5 m / 0.5 rad excursion, no more SYNCs than the
+  // session sent, and none of the spoofed frames in the drives' own log of what they took.
+  ASSERT_TRUE(r.platform_report.is_object()) << e.Outputs();
+  EXPECT_EQ(r.platform_report["refused_datagrams"].get<int>(), static_cast<int>(spoofs.to_platform.size()));
+  EXPECT_LT(r.platform_report["peak_abs_position"][0].get<double>(), 0.01);
+  EXPECT_LT(r.platform_report["peak_abs_position"][1].get<double>(),
+            r.report["peak_abs_command"][1].get<double>() + 0.005);
+  EXPECT_EQ(r.platform_report["peer"], session_can);
+  std::ifstream can_log(e.dir / "out" / "can.log");
+  int syncs_sent = 0;
+  for (std::string line; std::getline(can_log, line);)
+    if (line.find(" 080#") != std::string::npos) ++syncs_sent;
+  EXPECT_LE(r.platform_report["syncs"].get<int>(), syncs_sent);  // counted while operational
+  EXPECT_GT(r.platform_report["syncs"].get<int>(), 100);
+  std::ifstream taken(platform_candump);
+  int spoofs_taken = 0, frames_taken = 0;
+  for (std::string line; std::getline(taken, line); ++frames_taken) {
+    for (const CanFrame& f : spoofs.to_platform) {
+      const std::string t = " " + FormatFrameText(f);
+      if (line.size() >= t.size() && line.compare(line.size() - t.size(), t.size(), t) == 0) ++spoofs_taken;
+    }
+  }
+  EXPECT_GT(frames_taken, 1000);
+  EXPECT_EQ(spoofs_taken, 0);
+  ASSERT_TRUE(r.hmd_report.is_object()) << e.Outputs();
+  EXPECT_EQ(r.hmd_report["refused_datagrams"].get<int>(), static_cast<int>(spoofs.to_hmd.size()));
+  EXPECT_EQ(r.hmd_report["stop"], "session said bye");
+  // The session's log never saw the spoofs (they were refused before logging), and it replays.
+  std::ifstream log(e.dir / "out" / "session.log");
+  std::vector<std::string> spoof_texts;
+  for (const CanFrame& f : spoofs.to_session_can) spoof_texts.push_back(" " + FormatFrameText(f));
+  for (const auto& d : spoofs.to_session_hmd) spoof_texts.push_back(" " + HexOf(d));
+  int spoofed_lines = 0, lines = 0;
+  for (std::string line; std::getline(log, line); ++lines) {
+    if (line.rfind("C ", 0) != 0 && line.rfind("H ", 0) != 0) continue;
+    for (const auto& t : spoof_texts)
+      if (line.size() >= t.size() && line.compare(line.size() - t.size(), t.size(), t) == 0) ++spoofed_lines;
+  }
+  EXPECT_GT(lines, 1000);
+  EXPECT_EQ(spoofed_lines, 0);
+  Child replay({kPwsim, "replay", (e.dir / "out" / "session.log").string()});
+  EXPECT_EQ(replay.Wait(kGuardS), 0) << replay.Output();
+}
+
+// A live drive: the shipped (synthetic) R-Net joystick log drives the car through `pwsim drive`
+// with platform-sim and hmd-peer behind it; report.json carries the joystick latencies.
+TEST(SessionEndToEnd, RnetJoystickLogDrivesTheCarLiveWithLatenciesInTheReport) {
+  if (!fs::exists(kPwsim)) GTEST_SKIP() << kPwsim << " not built";
+  E2e e("drive");
+  const E2e::Result r =
+      e.Run({}, {}, 4.5, nullptr,
+            {kPwsim, "drive", std::string(PWSIM_SOURCE_DIR) + "/scenes/car_launch.yaml", "--joystick",
+             "rnet-log:" + std::string(PWSIM_SOURCE_DIR) + "/assets/rnet/joystick_synthetic.log"});
+  ASSERT_EQ(r.session, 0) << e.Outputs();
+  ExpectWithinLimits(r);
+  EXPECT_EQ(r.report["final_state"], "parked");
+  EXPECT_GT(r.report["peak_abs_command"][1].get<double>(), 0.05) << "the joystick should move the platform";
+  // 370 valid joystick frames; a reading superseded before any output (two frames released in
+  // one late step) is not counted, so at most 370.
+  for (const char* key : {"joystick_to_platform_command_ms", "joystick_to_hmd_frame_ms"}) {
+    const auto& l = r.report[key];
+    ASSERT_TRUE(l.is_object()) << key << "\n" << e.Outputs();
+    EXPECT_GT(l["n"].get<int>(), 300) << key;
+    EXPECT_LE(l["n"].get<int>(), 370) << key;
+    EXPECT_GE(l["p50"].get<double>(), 0.0) << key;
+    EXPECT_GE(l["p99"].get<double>(), l["p50"].get<double>()) << key;
+  }
+  // The drive's frames reach the headset every 10 ms: joystick -> HMD is at most one frame
+  // period plus the host's lateness; the median is asserted, not the tail (host scheduling).
+  EXPECT_LT(r.report["joystick_to_hmd_frame_ms"]["p50"].get<double>(), 10.0 + 5.0);
+  const nlohmann::json joystick = ReadJson(e.dir / "out" / "joystick.json");
+  ASSERT_TRUE(joystick.is_object()) << e.Outputs();
+  EXPECT_EQ(joystick["rnet_frames"]["joystick"].get<int>(), 370);
+  EXPECT_EQ(joystick["rnet_frames"]["garbage"].get<int>(), 3);
+  EXPECT_EQ(joystick["rnet_frames"]["other_slot"].get<int>(), 1);
+  EXPECT_EQ(joystick["rnet_frames"]["watchdog_timeouts"].get<int>(), 2);  // the loss and the log's end
+  Child replay({kPwsim, "replay", (e.dir / "out" / "session.log").string()});
+  EXPECT_EQ(replay.Wait(kGuardS), 0) << replay.Output();
+}
+
+// The same with SDL: a scripted joystick played on SDL's virtual joystick inside `pwsim drive`.
+TEST(SessionEndToEnd, SdlScriptedJoystickDrivesTheCarLive) {
+  if (!fs::exists(kPwsim)) GTEST_SKIP() << kPwsim << " not built";
+  ::setenv("SDL_VIDEODRIVER", "dummy", 1);  // inherited by the children
+  E2e e("drive_sdl");
+  const E2e::Result r =
+      e.Run({}, {}, 4.0, nullptr,
+            {kPwsim, "drive", std::string(PWSIM_SOURCE_DIR) + "/scenes/car_launch.yaml", "--joystick",
+             "sdl-script:" + std::string(PWSIM_SOURCE_DIR) + "/assets/joystick/scripted_drive.yaml"});
+  ASSERT_EQ(r.session, 0) << e.Outputs();
+  ExpectWithinLimits(r);
+  EXPECT_EQ(r.report["final_state"], "parked");
+  EXPECT_GT(r.report["peak_abs_command"][1].get<double>(), 0.05) << "the joystick should move the platform";
+  EXPECT_GT(r.report["peak_abs_command"][0].get<double>(), 0.001) << "and turn it";
+  // six changes of the scripted deflection after the first reading: 7 readings
+  EXPECT_EQ(r.report["joystick_to_platform_command_ms"]["n"].get<int>(), 7) << e.Outputs();
+  EXPECT_EQ(r.report["joystick_to_hmd_frame_ms"]["n"].get<int>(), 7) << e.Outputs();
+  Child replay({kPwsim, "replay", (e.dir / "out" / "session.log").string()});
+  EXPECT_EQ(replay.Wait(kGuardS), 0) << replay.Output();
 }
 
 TEST(SessionEndToEnd, SocketCanOnAKernelWithoutCanFailsWithAClearMessage) {

@@ -1,0 +1,38 @@
+#pragma once
+// What `pwsim session` and `pwsim drive --can ...` share: the live session's options (links,
+// timing, timeouts), the configuration built from them, the two links opened (each taking
+// datagrams from its peer only), and the run with its outputs (session.log, can.log,
+// report.json) and summary. Wiring only.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "app/cli.h"
+#include "engine/clock.h"
+#include "hardware/session_runner.h"
+#include "hardware/udp_socket.h"
+
+namespace pwsim::app {
+
+/// --can, --can-local, --hmd, --hmd-local, --drive-cycle-ms, --frame-ms, --hmd-timeout-ms,
+/// --max-stop-s, --rt-priority, --drive-wait-ms.
+std::vector<OptionSpec> SessionLinkOptions();
+
+struct SessionSetup {
+  hw::SessionConfig config;
+  hw::BusOpenResult bus;
+  hw::UdpSocket hmd;
+  hw::UdpAddress hmd_peer;
+};
+
+/// The configuration for `duration_s` of motion on `clock`, and the links opened. Returns "" or
+/// why a link could not be opened. @throws UsageError on bad options.
+std::string SetUpSession(const ParsedArgs& args, const Clock& clock, double duration_s, SessionSetup* setup);
+
+/// Runs the session from `source`, writes OUT/session.log, can.log, report.json, prints the
+/// summary; returns the exit status (0 parked, 4 latched fault at rest, 3 otherwise).
+int RunAndReport(const std::string& who, const ParsedArgs& args, SessionSetup& setup, hw::SessionSource& source,
+                 const std::filesystem::path& out_dir);
+
+}  // namespace pwsim::app
