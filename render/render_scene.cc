@@ -55,6 +55,75 @@ void AddWheel(std::vector<Quad>* quads, double x, double y, double radius, doubl
 
 }  // namespace
 
+void AddPrism(std::vector<Quad>* quads, const std::vector<Eigen::Vector2d>& base, double z0,
+              double z1, Rgb color, TextureKind texture, double tile) {
+  const std::size_t n = base.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector2d& a = base[i];
+    const Eigen::Vector2d& b = base[(i + 1) % n];
+    quads->push_back(MakeQuad({a.x(), a.y(), z0}, {b.x(), b.y(), z0}, {b.x(), b.y(), z1},
+                              {a.x(), a.y(), z1}, color, texture, tile));
+  }
+  // top: a fan of quads from the first corner (a quad is a triangle when two corners meet)
+  for (std::size_t i = 1; i + 1 < n; i += 2) {
+    const Eigen::Vector2d& c = base[std::min(i + 2, n - 1)];
+    quads->push_back(MakeQuad({base[0].x(), base[0].y(), z1}, {base[i].x(), base[i].y(), z1},
+                              {base[i + 1].x(), base[i + 1].y(), z1}, {c.x(), c.y(), z1}, color,
+                              texture, tile));
+  }
+}
+
+void AddWall(std::vector<Quad>* quads, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+             double thickness, double z0, double z1, Rgb color, TextureKind texture) {
+  const Eigen::Vector2d d = b - a;
+  if (!(d.norm() > 0.0)) return;
+  const Eigen::Vector2d side = Eigen::Vector2d(-d.y(), d.x()).normalized() * (thickness / 2.0);
+  AddPrism(quads, {a - side, b - side, b + side, a + side}, z0, z1, color, texture, 2.0);
+}
+
+void AddYawedBox(std::vector<Quad>* quads, const Eigen::Vector2d& centre, double hx, double hy,
+                 double yaw, double z0, double z1, Rgb color) {
+  const Eigen::Vector2d u(std::cos(yaw) * hx, std::sin(yaw) * hx);
+  const Eigen::Vector2d v(-std::sin(yaw) * hy, std::cos(yaw) * hy);
+  AddPrism(quads, {centre - u - v, centre + u - v, centre + u + v, centre - u + v}, z0, z1, color);
+}
+
+void AddHeightField(std::vector<Quad>* quads, const HeightGrid& grid, Rgb color,
+                    TextureKind texture, double flat, double lift) {
+  if (grid.nx < 2 || grid.ny < 2 ||
+      grid.z.size() != static_cast<std::size_t>(grid.nx) * static_cast<std::size_t>(grid.ny)) {
+    return;
+  }
+  auto at = [&](int i, int j) {
+    return Vector3d(grid.x0 + i * grid.cell, grid.y0 + j * grid.cell,
+                    grid.z[static_cast<std::size_t>(j) * static_cast<std::size_t>(grid.nx) +
+                           static_cast<std::size_t>(i)] + lift);
+  };
+  auto raised = [&](const Vector3d& p) { return p.z() - lift > flat; };
+  for (int j = 0; j + 1 < grid.ny; ++j) {
+    for (int i = 0; i + 1 < grid.nx; ++i) {
+      const Vector3d a = at(i, j), b = at(i + 1, j), c = at(i + 1, j + 1), d = at(i, j + 1);
+      if (!(raised(a) || raised(b) || raised(c) || raised(d))) continue;
+      quads->push_back(MakeQuad(a, b, c, d, color, texture, 0.5));
+    }
+  }
+  // skirts along the border, where the relief stands above the floor
+  const Rgb side{color.r * 0.8F, color.g * 0.8F, color.b * 0.8F};
+  auto skirt = [&](const Vector3d& p, const Vector3d& q) {
+    if (!(raised(p) || raised(q))) return;
+    quads->push_back(MakeQuad({p.x(), p.y(), flat}, {q.x(), q.y(), flat}, q, p, side,
+                              TextureKind::kNone, 1.0));
+  };
+  for (int i = 0; i + 1 < grid.nx; ++i) {
+    skirt(at(i, 0), at(i + 1, 0));
+    skirt(at(i + 1, grid.ny - 1), at(i, grid.ny - 1));
+  }
+  for (int j = 0; j + 1 < grid.ny; ++j) {
+    skirt(at(grid.nx - 1, j), at(grid.nx - 1, j + 1));
+    skirt(at(0, j + 1), at(0, j));
+  }
+}
+
 Eigen::Vector3d QuadNormal(const Quad& quad) {
   const Vector3d n = (quad.corners[1] - quad.corners[0]).cross(quad.corners[2] - quad.corners[0]);
   return n.norm() > 0.0 ? Vector3d(n.normalized()) : Vector3d(0, 0, 1);

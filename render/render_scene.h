@@ -51,6 +51,34 @@ struct RenderScene {
 /// extruded across the path, config.cushion_width wide), the chair from its wheel geometry.
 RenderScene BuildRenderScene(const Scene& scene, const RenderConfig& config);
 
+// Building blocks of circuit scenes (2.5-D rooms: walls, doorways, obstacles, floor relief), as
+// plain data so that any scene reader can use them. Faces point outwards (counter-clockwise).
+
+/// A vertical prism over the polygon `base` (x, y in W, counter-clockwise seen from above)
+/// between heights z0 < z1: side faces and the top (no bottom: it stands on the floor).
+void AddPrism(std::vector<Quad>* quads, const std::vector<Eigen::Vector2d>& base, double z0,
+              double z1, Rgb color, TextureKind texture = TextureKind::kNone, double tile = 1.0);
+/// A wall `thickness` thick centred on the segment a-b, from z0 to z1.
+void AddWall(std::vector<Quad>* quads, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+             double thickness, double z0, double z1, Rgb color,
+             TextureKind texture = TextureKind::kWall);
+/// A box of half extents (hx, hy) about `centre`, turned by `yaw` [rad], from z0 to z1.
+void AddYawedBox(std::vector<Quad>* quads, const Eigen::Vector2d& centre, double hx, double hy,
+                 double yaw, double z0, double z1, Rgb color);
+
+/// Floor heights on a regular grid: z[j·nx + i] at (x0 + i·cell, y0 + j·cell) [m].
+struct HeightGrid {
+  double x0{0.0}, y0{0.0}, cell{0.1};
+  int nx{0}, ny{0};
+  std::vector<double> z;
+};
+/// The relief of a height grid: one quad per cell with any corner above `flat` (cells at the
+/// floor's height are left to the floor), lifted by `lift` to stay clear of the floor's depth,
+/// and a skirt down to `flat` along the grid's border where it is raised.
+void AddHeightField(std::vector<Quad>* quads, const HeightGrid& grid, Rgb color,
+                    TextureKind texture = TextureKind::kCushion, double flat = 0.0,
+                    double lift = 0.001);
+
 /// Outward unit normal of a quad (from its winding).
 Eigen::Vector3d QuadNormal(const Quad& quad);
 
