@@ -47,6 +47,13 @@ struct RenderScene {
   Eigen::Vector3d room_max_W{0.0, 0.0, 0.0};
 };
 
+/// A circuit scene (scene.circuit): a floor over the circuit's extent with its relief (every
+/// layer of the floor map sampled on a grid of `relief_cell` [m] where it is not flat), the
+/// walls (scene.room.height high), obstacles, gates (two posts and a stripe on the floor) and
+/// the chair. No ceiling: the sky is the clear colour. @pre scene.is_circuit().
+RenderScene BuildCircuitRenderScene(const Scene& scene, const RenderConfig& config,
+                                    double relief_cell = 0.05);
+
 /// Room (floor, four walls, ceiling) from scene.room, the cushion from scene.terrain (profile
 /// extruded across the path, config.cushion_width wide), the chair from its wheel geometry.
 RenderScene BuildRenderScene(const Scene& scene, const RenderConfig& config);
@@ -66,12 +73,6 @@ void AddWall(std::vector<Quad>* quads, const Eigen::Vector2d& a, const Eigen::Ve
 void AddYawedBox(std::vector<Quad>* quads, const Eigen::Vector2d& centre, double hx, double hy,
                  double yaw, double z0, double z1, Rgb color);
 
-/// Floor heights on a regular grid: z[j·nx + i] at (x0 + i·cell, y0 + j·cell) [m].
-struct HeightGrid {
-  double x0{0.0}, y0{0.0}, cell{0.1};
-  int nx{0}, ny{0};
-  std::vector<double> z;
-};
 /// The relief of a height grid: one quad per cell with any corner above `flat` (cells at the
 /// floor's height are left to the floor), lifted by `lift` to stay clear of the floor's depth,
 /// and a skirt down to `flat` along the grid's border where it is raised.

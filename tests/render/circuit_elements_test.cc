@@ -41,7 +41,11 @@ TEST(CircuitElementsTest, PrismFacesPointOutwards) {
 // Tests the relief: a bump on a flat grid gives top quads only where it is raised, at its
 // heights (lifted by 1 mm), facing up, plus skirts where the bump meets the grid's border.
 TEST(CircuitElementsTest, HeightFieldCoversRaisedCellsOnly) {
-  HeightGrid grid{.x0 = 0.0, .y0 = 0.0, .cell = 0.5, .nx = 5, .ny = 4, .z = std::vector<double>(20, 0.0)};
+  HeightGrid grid;
+  grid.cell = 0.5;
+  grid.nx = 5;
+  grid.ny = 4;
+  grid.z.assign(20, 0.0);
   grid.z[1 * 5 + 2] = 0.04;  // one raised vertex at (1.0, 0.5)
   grid.z[0 * 5 + 4] = 0.02;  // and a raised border corner at (2.0, 0.0)
   std::vector<Quad> quads;
