@@ -16,9 +16,11 @@
 //
 // Closed-loop driver (pure pursuit on the joystick). At the path point a look-ahead L ahead of
 // the nearest point, with α the bearing of that point in V:
-//   κ = 2 sin α / L,   f = (v_path + k_s (v_path - v)) / v_fwd,   t = κ v_ref / ω_max(v_ref)
-// deflections clamped to [-1, 1] (the controller's shaping is inverted for e = 1, d0 = 0 only:
-// the driver reads the chair's response, not its profile's curve).
+//   κ = 2 sin α / L,   v_ref = min(v_path, √(a_dec s_left)) · clamp(cos α, 0.2, 1)
+//   shaped f = (v_ref + k_s (v_ref - v)) / v_fwd,   shaped t = κ max(v, v_ref/2) / (ω_max(v_ref) G_t)
+// and the deflections are the controller's shaping inverted (deadband and curve), clamped to
+// [0, 1] forward and [-1, 1] turn: the driver knows the chair it drives. At the path's end the
+// joystick is released.
 
 #include <filesystem>
 #include <string>

@@ -193,6 +193,9 @@ class FullChairSimulator {
   /// Places the chair at rest at `pose` (v, ω ignored) in static equilibrium (tick 0), casters
   /// at `caster_angle` [rad].
   const FullChairSample& Start(const PlanarState& pose, double caster_angle = 0.0);
+  /// Start for a straight run: at rest at `pose`, the sagittal view's drive = `drive` (its x the
+  /// distance along the start heading that AdvanceAlong continues from).
+  const FullChairSample& StartAlong(const PlanarState& pose, const Longitudinal& drive);
   /// Advances one tick with the joystick's deflection through the controller. No allocation.
   const FullChairSample& Advance(const JoystickInput& joystick);
   /// Advances one tick with the set-points given directly (a controller bypassed).
@@ -204,6 +207,8 @@ class FullChairSimulator {
   /// Replaces the planar state (the circuit runner's wall contact: pose kept, speeds zeroed),
   /// keeping everything else of the current sample.
   void OverridePlanar(const PlanarState& planar);
+  /// The circuit runner's bookkeeping, copied into the sample (circuit.h).
+  void SetCircuitStatus(bool in_contact, int contact_events, double last_contact_speed, int gates_passed);
 
   const FullChairSample& sample() const { return sample_; }
   int wheel_count() const { return gm_.wheel_count(); }
@@ -215,10 +220,12 @@ class FullChairSimulator {
   double track() const { return track_; }       ///< b [m]
 
  private:
-  void Vertical(double a_x, double a_y);
+  void Vertical(double pitch_torque, double roll_torque);
   void Loads(double a_x, double a_y);
-  void PlanarStep(const ControllerState& setpoints);
   void ContactsAt(const PlanarState& pose);
+  void Equilibrium();
+  double PitchTorqueNow() const;
+  double RollTorqueNow() const;
 
   const FloorMap& floor_;
   PlanarLayout layout_;
@@ -238,6 +245,13 @@ class FullChairSimulator {
   std::array<WheelRole, kMaxWheels> role_{};
   std::vector<std::array<double, 2>> support_;  ///< convex support polygon in V (ccw)
   double polygon_rear_{0.0};
+  std::vector<std::array<double, 2>> support_anti_tip_;  ///< with the anti-tip wheels (ccw)
+  std::array<WheelRole, kMaxContacts> contact_role_{};
+  int ground_contacts_{0};     ///< 2 per row (the anti-tip pair follows)
+  int drive_row_{0};
+  double front_x_{0.0}, rear_x_{0.0};  ///< first and last rows' x [m]
+  double along_x0_{0.0}, along_y0_{0.0}, along_c_{1.0}, along_s_{0.0};  ///< AdvanceAlong line
+  double floor_pitch_{0.0}, floor_roll_{0.0};  ///< inclination of the floor under the chair [rad]
   FullChairSample sample_;
 };
 
