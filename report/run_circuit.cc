@@ -218,7 +218,8 @@ void AddCircuitMotionCueing(const Scene& scene, const std::vector<FullChairSampl
   }
   const std::vector<mca::HeadMotion> head =
       mca::HeadMotionFromBodyTrack(body, scene.occupant.head_offset, scene.clock.dt());
-  AddMotionCueingStage(scene, table.Column("t_s"), head, visual, table, summary, out_dir);
+  const std::vector<double> t = table.Column("t_s");  // a copy: the stage adds columns
+  AddMotionCueingStage(scene, t, head, visual, table, summary, out_dir);
 }
 
 void WriteCircuitFigures(const Scene& scene, const std::vector<FullChairSample>& samples,
