@@ -252,6 +252,15 @@ void WriteCircuitFigures(const Scene& scene, const std::vector<FullChairSample>&
     }
     AppendPolyline(obstacles, ring, true);
   }
+  plot::Series relief = MakeSeries("floor relief (features, height grid)", 0xE69F00);
+  for (const FloorFeature& f : circuit.floor.features) {
+    AppendPolyline(relief, {{f.x_min, f.y_min}, {f.x_max, f.y_min}, {f.x_max, f.y_max}, {f.x_min, f.y_max}}, true);
+  }
+  if (circuit.floor.grid) {
+    const HeightGrid& g = *circuit.floor.grid;
+    const double x1 = g.x0 + (g.nx - 1) * g.cell, y1 = g.y0 + (g.ny - 1) * g.cell;
+    AppendPolyline(relief, {{g.x0, g.y0}, {x1, g.y0}, {x1, y1}, {g.x0, y1}}, true);
+  }
   plot::Series gates = MakeSeries("gates (left to right post)", 0x009E73, plot::Style::kLinesPoints);
   for (const Gate& g : circuit.gates) AppendPolyline(gates, {{g.left.x, g.left.y}, {g.right.x, g.right.y}}, false);
   plot::Series path = MakeSeries("path of O_V", 0xD55E00);
@@ -296,13 +305,27 @@ void WriteCircuitFigures(const Scene& scene, const std::vector<FullChairSample>&
   plot::Figure top;
   top.title = "pwsim run: " + scene.name + " from above";
   top.x_label = "x [m] (W)";
-  top.width_px = 1000;
-  top.panel_height_px = 800;
+  // a map: as tall as the path's extent needs at ~650 px of plot width (beside the key)
+  double x_lo = 0.0, x_hi = 1.0, y_lo = 0.0, y_hi = 1.0;
+  bool first = true;
+  for (const plot::Series* series : {&walls, &obstacles, &gates, &path}) {
+    for (std::size_t i = 0; i < series->x.size(); ++i) {
+      if (!std::isfinite(series->x[i])) continue;
+      x_lo = first ? series->x[i] : std::min(x_lo, series->x[i]);
+      x_hi = first ? series->x[i] : std::max(x_hi, series->x[i]);
+      y_lo = first ? series->y[i] : std::min(y_lo, series->y[i]);
+      y_hi = first ? series->y[i] : std::max(y_hi, series->y[i]);
+      first = false;
+    }
+  }
+  const double aspect = (y_hi - y_lo + 1.0) / std::max(x_hi - x_lo + 1.0, 1e-3);
+  top.width_px = 1100;
+  top.panel_height_px = static_cast<int>(std::clamp(220.0 + 650.0 * aspect, 360.0, 1100.0));
   plot::Panel map;
   map.title = "path, casters and contacts";
   map.y_label = "y [m] (W, left)";
   map.equal_axes = true;
-  for (plot::Series* s : {&walls, &obstacles, &gates, &footprint, &path, &casters, &hits, &lifted}) {
+  for (plot::Series* s : {&walls, &obstacles, &relief, &gates, &footprint, &path, &casters, &hits, &lifted}) {
     if (s->x.empty()) {  // keep the legend stable: an empty series is one NaN point
       s->x.push_back(kNaN);
       s->y.push_back(kNaN);
