@@ -157,3 +157,52 @@ TEST(CircuitTest, BadCircuitsAreErrorsNamingFieldAndExpectation) {
 
 }  // namespace
 }  // namespace pwsim
+
+namespace pwsim {
+namespace {
+
+// Tests the shipped circuits: each loads, validates and runs; the course's driver passes the
+// doorway, the slalom, the cross-slope and the kerb gates in order without touching anything,
+// the kerb is climbed by the left wheels only (roll left side up, right contacts on the floor),
+// the cross-slope rolls the chair; the room's drive ends with one counted wall contact.
+TEST(ShippedCircuitsTest, CourseRoomAndRecordedDriveRun) {
+  const std::filesystem::path scenes = std::filesystem::path(PWSIM_SOURCE_DIR) / "scenes";
+  const Scene course = LoadScene(scenes / "circuit_course.yaml");
+  ASSERT_TRUE(course.is_circuit());
+  const std::vector<FullChairSample> run = SimulateCircuitScene(course);
+  EXPECT_EQ(run.back().gates_passed, static_cast<int>(course.circuit->gates.size()));
+  EXPECT_EQ(run.back().contact_events, 0);
+  double kerb_roll = 0.0, slope_roll = 0.0, right_kerb_z = 0.0;
+  for (const FullChairSample& s : run) {
+    if (s.planar.x > 19.7 && s.planar.x < 20.3) {
+      kerb_roll = std::max(kerb_roll, s.roll_gm);
+      for (int i = 0; i < 3; ++i) right_kerb_z = std::max(right_kerb_z, s.contacts[2 * i + 1].z);
+    }
+    if (s.planar.x > 14.0 && s.planar.x < 16.0) slope_roll = std::max(slope_roll, s.roll_gm);
+    ASSERT_FALSE(s.tip_over);
+  }
+  EXPECT_GT(kerb_roll, 0.8 * std::asin(0.05 / 0.56));  // left wheels 5 cm up
+  EXPECT_EQ(right_kerb_z, 0.0);
+  EXPECT_GT(slope_roll, 0.8 * std::asin(0.05));
+
+  const std::vector<FullChairSample> room = SimulateCircuitScene(LoadScene(scenes / "circuit_room.yaml"));
+  EXPECT_EQ(room.back().contact_events, 1);
+  EXPECT_TRUE(room.back().in_contact);
+  EXPECT_LT(room.back().last_contact_speed, 0.6);
+
+  const Scene recorded = LoadScene(scenes / "circuit_recorded.yaml");
+  EXPECT_EQ(recorded.circuit->joystick.kind, JoystickSource::Kind::kRecorded);
+  const std::vector<FullChairSample> replay = SimulateCircuitScene(recorded);
+  EXPECT_EQ(replay.back().contact_events, 0);
+  EXPECT_GT(replay.back().distance, 10.0);
+}
+
+// Tests that the default scene of `pwsim run` is still the sagittal speed-cushion trial.
+TEST(ShippedCircuitsTest, DefaultSceneStaysTheSpeedCushion) {
+  const Scene scene = LoadScene(DefaultScenePath(PWSIM_SOURCE_DIR));
+  EXPECT_FALSE(scene.is_circuit());
+  EXPECT_EQ(scene.name, "speed_cushion");
+}
+
+}  // namespace
+}  // namespace pwsim
