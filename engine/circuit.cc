@@ -90,9 +90,9 @@ bool QuadCircleOverlap(const Quad& quad, Point2 centre, double radius) {
   return inside;
 }
 
-Quad Footprint(const PlanarLayout& layout, const PlanarState& pose) {
-  return Rectangle({pose.x, pose.y}, pose.yaw, layout.footprint_front, layout.footprint_rear,
-                   layout.footprint_half_width);
+Quad Footprint(const PlanarLayout& layout, const PlanarState& pose, double margin) {
+  return Rectangle({pose.x, pose.y}, pose.yaw, layout.footprint_front + margin, layout.footprint_rear - margin,
+                   layout.footprint_half_width + margin);
 }
 
 Point2 ReadPoint(YamlMap& map, const std::string& key) {
@@ -280,8 +280,8 @@ JoystickSource ReadRecordedJoystick(const std::filesystem::path& file) {
   return source;
 }
 
-int FootprintHit(const CircuitSpec& circuit, const PlanarState& pose) {
-  const Quad footprint = Footprint(circuit.layout, pose);
+int FootprintHit(const CircuitSpec& circuit, const PlanarState& pose, double margin) {
+  const Quad footprint = Footprint(circuit.layout, pose, margin);
   for (std::size_t i = 0; i < circuit.walls.size(); ++i) {
     if (QuadsOverlap(footprint, WallQuad(circuit.walls[i]))) return static_cast<int>(i);
   }
@@ -550,7 +550,7 @@ const FullChairSample& CircuitRunner::Advance(double time) {
     in_contact_ = true;
     simulator_.OverridePlanar({before.x, before.y, before.yaw, 0.0, 0.0});
   } else {
-    in_contact_ = false;
+    if (in_contact_ && FootprintHit(circuit_, after, kContactReleaseGap) < 0) in_contact_ = false;
     if (gates_passed_ < static_cast<int>(circuit_.gates.size())) {
       const Gate& gate = circuit_.gates[gates_passed_];
       if (SegmentsCross({before.x, before.y}, {after.x, after.y}, gate.left, gate.right)) ++gates_passed_;

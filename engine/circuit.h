@@ -7,7 +7,8 @@
 // Contacts. The chair's footprint is a rectangle in V; a tick whose new pose would overlap a
 // wall (a segment with thickness) or an obstacle (circle or oriented box) is not taken: the pose
 // stays, v and ω become 0 (the chair stops at the wall), and a contact is counted once when it
-// begins, with its approach speed (the speed of O_V toward the wall). The chair never passes
+// begins, with its approach speed (the speed of O_V toward the wall), and lasts until the chair
+// is kContactReleaseGap clear again (pushing on at the wall is one contact). The chair never passes
 // through: a tick moves it by at most v_max dt (2.4 mm at 2.4 m/s, 1 kHz), far less than any
 // wall's thickness (>= 0.02 m, validated).
 //
@@ -113,10 +114,13 @@ CircuitSpec ParseCircuit(YamlMap& map, const Chair& chair, double load_kg);
 /// deflection finite and in [-1, 1]. @throws InputError naming file, line and column.
 JoystickSource ReadRecordedJoystick(const std::filesystem::path& file);
 
-/// Does the footprint of a chair at `pose` (layout's rectangle) overlap a wall or obstacle?
-/// Returns the index of the first one hit (walls first, then obstacles offset by walls.size()),
-/// or -1.
-int FootprintHit(const CircuitSpec& circuit, const PlanarState& pose);
+/// Does the footprint of a chair at `pose` (layout's rectangle grown by `margin` [m] on every
+/// side) overlap a wall or obstacle? Returns the index of the first one hit (walls first, then
+/// obstacles offset by walls.size()), or -1.
+int FootprintHit(const CircuitSpec& circuit, const PlanarState& pose, double margin = 0.0);
+
+/// A contact ends when the chair is this far clear of everything it touched [m].
+inline constexpr double kContactReleaseGap = 0.01;
 
 /// Runs one circuit on the clock: sample 0 is the start, then one sample per tick.
 class CircuitRunner {

@@ -24,8 +24,8 @@ double FloorFeature::HeightAt(double x_W, double y_W) const {
   const double sy = Taper(y_W, y_min, y_max, ramp);
   if (sy == 0.0) return 0.0;
   if (kind == Kind::kBump) return height * sx * sy;
-  const double xc = 0.5 * (x_min + x_max);
-  const double yc = 0.5 * (y_min + y_max);
+  const double xc = has_origin ? origin_x : 0.5 * (x_min + x_max);
+  const double yc = has_origin ? origin_y : 0.5 * (y_min + y_max);
   return (grade_x * (x_W - xc) + grade_y * (y_W - yc)) * sx * sy;
 }
 
@@ -58,8 +58,10 @@ double FloorMap::MaxHeightBound() const {
     if (f.kind == FloorFeature::Kind::kBump) {
       bound += std::max(0.0, f.height);
     } else {
-      bound += 0.5 * (std::abs(f.grade_x) * (f.x_max - f.x_min) +
-                      std::abs(f.grade_y) * (f.y_max - f.y_min));
+      const double xc = f.has_origin ? f.origin_x : 0.5 * (f.x_min + f.x_max);
+      const double yc = f.has_origin ? f.origin_y : 0.5 * (f.y_min + f.y_max);
+      bound += std::abs(f.grade_x) * std::max(std::abs(f.x_max - xc), std::abs(f.x_min - xc)) +
+               std::abs(f.grade_y) * std::max(std::abs(f.y_max - yc), std::abs(f.y_min - yc));
     }
   }
   if (grid) bound += std::max(0.0, *std::max_element(grid->z.begin(), grid->z.end()));
@@ -102,6 +104,12 @@ FloorFeature ParseFeature(const YAML::Node& node, const YamlMap& parent, const s
   } else {
     feature.grade_x = body.NumberOr("grade_x", 0.0, Range::Closed(-0.5, 0.5));
     feature.grade_y = body.NumberOr("grade_y", 0.0, Range::Closed(-0.5, 0.5));
+    if (body.Has("origin_m")) {
+      const std::vector<double> origin = body.Numbers("origin_m", Range::Closed(-1000.0, 1000.0, "m"), 2, 2);
+      feature.has_origin = true;
+      feature.origin_x = origin[0];
+      feature.origin_y = origin[1];
+    }
   }
   body.Finish();
   entry.Finish();

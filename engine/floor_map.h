@@ -9,8 +9,9 @@
 //              by s(u) = clamp(min(u - u_min, u_max - u) / ramp, 0, 1) (a step when ramp = 0):
 //                bump   f = h · s_x(x) · s_y(y)                        (threshold, kerb, cushion,
 //                                                                      a bump under one side)
-//                plane  f = (g_x (x - x_c) + g_y (y - y_c)) · s_x(x) · s_y(y)
-//                       (x_c, y_c) the rectangle's centre; a ramp (g_x) or cross-slope (g_y)
+//                plane  f = (g_x (x - x_0) + g_y (y - y_0)) · s_x(x) · s_y(y)
+//                       (x_0, y_0) its origin (the rectangle's centre unless given); a ramp
+//                       (g_x, origin at its foot) or a cross-slope (g_y)
 //   z_grid     a regular height grid, bilinear between nodes, 0 outside it.
 //
 // With only a profile, HeightAt(x, y) returns z_profile(x) bit for bit (the full-DoF chair on a
@@ -35,6 +36,8 @@ struct FloorFeature {
   double height{0.0};             ///< bump: plateau height h [m] (negative: a dip)
   double grade_x{0.0};            ///< plane: rise per metre along x [-]
   double grade_y{0.0};            ///< plane: rise per metre along y [-] (cross-slope, left up > 0)
+  bool has_origin{false};         ///< plane: (origin_x, origin_y) given, else the centre
+  double origin_x{0.0}, origin_y{0.0};  ///< plane: where f = 0 before tapering [m]
 
   /// f_k(x, y) [m].
   double HeightAt(double x_W, double y_W) const;
@@ -67,7 +70,7 @@ FloorMap FloorFromTerrain(const Terrain& terrain);
 
 /// Reads `{profile_m: [[x, z], ...], features: [...], grid: {...}}` (every key optional):
 ///   features: - {bump: {name, x_m: [min, max], y_m: [min, max], height_m, ramp_m}}
-///             - {plane: {name, x_m: [...], y_m: [...], grade_x, grade_y, ramp_m}}
+///             - {plane: {name, x_m: [...], y_m: [...], grade_x, grade_y, origin_m: [x, y], ramp_m}}
 ///   grid: {origin_m: [x0, y0], cell_m, rows: [[z at y0 for x0, x0 + cell ...], [next y] ...]}
 /// Holes (null or missing values, ragged rows), NaN and infinities are errors naming the row
 /// and column. @throws InputError (file, line, field, expected).

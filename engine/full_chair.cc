@@ -491,29 +491,37 @@ const FullChairSample& FullChairSimulator::AdvanceSetpoints(const ControllerStat
   double force_x = mass_ * g_x;
   double moment_z = e * mass_ * g_y;
 
-  // Drive wheels: speed loops with feed-forward, torque and traction limits, rolling resistance.
+  // Drive wheels: speed loops with feed-forward, torque and traction limits, rolling resistance;
+  // parking brakes once the set-points are at rest.
+  const bool braked = set.speed == 0.0 && set.yaw_rate == 0.0 && set.accel == 0.0 && set.yaw_accel == 0.0;
   bool limited = false;
+  std::array<double, 2> limit{};
+  std::array<double, 2> rolling{};
   for (int side = 0; side < 2; ++side) {
     const double sign = side == 0 ? -1.0 : 1.0;  // left: v - ω b/2, right: v + ω b/2
     const int c = 2 * drive_row_ + side;
     const double wheel_speed = v + sign * w * half_b;
+    const double load = std::max(sample_.contacts[c].load, 0.0);
+    limit[side] = std::min(layout_.max_motor_torque / layout_.drive_radius, layout_.friction * load);
+    rolling[side] = braked ? 0.0 : -layout_.rolling_resistance * load * std::clamp(wheel_speed / 0.01, -1.0, 1.0);
+    if (braked) {
+      sample_.speed_error_integral[side] = 0.0;
+      continue;
+    }
     const double wheel_set = set.speed + sign * set.yaw_rate * half_b;
     const double wheel_accel = set.accel + sign * set.yaw_accel * half_b;
-    const double load = std::max(sample_.contacts[c].load, 0.0);
-    const double limit = std::min(layout_.max_motor_torque / layout_.drive_radius, layout_.friction * load);
-    double drive = 0.5 * mass_ * (wheel_accel + layout_.speed_loop_gain * (wheel_set - wheel_speed));
-    if (std::abs(drive) > limit) {
-      drive = std::copysign(limit, drive);
+    const double error = wheel_set - wheel_speed;
+    const double k_v = layout_.speed_loop_gain;
+    double& integral = sample_.speed_error_integral[side];
+    double drive = 0.5 * mass_ * (wheel_accel + k_v * error + 0.25 * k_v * k_v * integral);
+    if (std::abs(drive) > limit[side]) {
+      drive = std::copysign(limit[side], drive);
       limited = true;
+    } else {
+      integral += error * dt;  // no wind-up while limited
     }
-    const double rolling = -layout_.rolling_resistance * load * std::clamp(wheel_speed / 0.01, -1.0, 1.0);
     sample_.drive_force[side] = drive;
-    sample_.contacts[c].force_x = drive + rolling;
-    sample_.contacts[c].force_y = 0.0;
-    force_x += drive + rolling;
-    moment_z += -rest_y_[c] * (drive + rolling);
   }
-  sample_.torque_limited = limited;
 
   // Casters (implicit swivel) and fixed wheels (sideways scrub) at their contacts.
   for (int c = 0; c < ground_contacts_; ++c) {
@@ -542,12 +550,32 @@ const FullChairSample& FullChairSimulator::AdvanceSetpoints(const ControllerStat
     moment_z += (px - drive_x_) * fy - py * fx;
   }
 
+  if (braked) {
+    // F_L + F_R and F_R - F_L that bring v and ω to 0 within the step (equations below).
+    const double sum = -mass_ * v / dt - force_x - mass_ * e * w * w;
+    const double difference = (-yaw_inertia_D_ * w / dt - moment_z + mass_ * e * v * w) / half_b;
+    sample_.drive_force = {0.5 * (sum - difference), 0.5 * (sum + difference)};
+  }
+  for (int side = 0; side < 2; ++side) {
+    const int c = 2 * drive_row_ + side;
+    double& drive = sample_.drive_force[side];
+    if (braked && std::abs(drive) > limit[side]) {
+      drive = std::copysign(limit[side], drive);
+      limited = true;
+    }
+    sample_.contacts[c].force_x = drive + rolling[side];
+    sample_.contacts[c].force_y = 0.0;
+    force_x += drive + rolling[side];
+    moment_z += -rest_y_[c] * (drive + rolling[side]);
+  }
+  sample_.torque_limited = limited;
+
   // Constrained rigid body about D (semi-implicit Euler).
   const double v_dot = force_x / mass_ + e * w * w;
   const double w_dot = (moment_z - mass_ * e * v * w) / yaw_inertia_D_;
   PlanarState& p = sample_.planar;
-  p.v = v + v_dot * dt;
-  p.yaw_rate = w + w_dot * dt;
+  p.v = braked && !limited ? 0.0 : v + v_dot * dt;  // held exactly by the brakes
+  p.yaw_rate = braked && !limited ? 0.0 : w + w_dot * dt;
   const double heading = before.yaw + 0.5 * p.yaw_rate * dt;
   const double lateral = -p.yaw_rate * drive_x_;
   const double ch = std::cos(heading), sh = std::sin(heading);
@@ -576,6 +604,7 @@ void FullChairSimulator::OverridePlanar(const PlanarState& planar) {
   sample_.planar = planar;
   if (planar.v == 0.0 && planar.yaw_rate == 0.0) {
     sample_.controller = ControllerState{};
+    sample_.speed_error_integral = {0.0, 0.0};
     sample_.lateral_speed = 0.0;
   }
   ContactsAt(planar);

@@ -18,9 +18,15 @@
 //        about D, e m g_V,y (a cross-slope turns a chair whose mass is off its axle downhill).
 // Drive wheel speeds v_L,R = v ∓ ω b/2 follow the controller's set-points (controller_profile.h)
 // through each motor's speed loop with acceleration feed-forward and a torque limit:
-//   F_i = clamp(m/2 (a*_i + k_v (v*_i - v_i)), ±min(T_max / r_d, μ N_i)),   i = L, R
-// (k_v the speed-loop bandwidth; a finite k_v lets a load such as caster drag slow one wheel:
-// the pull of a chair started with its casters across).
+//   F_i = clamp(m/2 (a*_i + k_v (v*_i - v_i) + k_I ∫(v*_i - v_i) dt), ±min(T_max / r_d, μ N_i))
+// (k_v the speed-loop bandwidth, k_I = k_v²/4 its integral action, critically damped: the seed's
+// hypothesis that the power module holds the programmed speed whatever the load, in steady
+// state; the integral stops while the force is limited. In a transient a load such as caster
+// drag still slows one wheel: the pull of a chair started with its casters across).
+// Parking brakes: once the set-points are at rest (v* = ω* = 0 and not ramping) the power module
+// brakes the drive wheels: F_L, F_R are the forces that stop v and ω within the step against
+// every other force, each within the traction limit μ N_i (beyond it the chair slides and
+// torque_limited is set); the loops' integrals are cleared.
 // Integration: semi-implicit Euler (speeds from the forces at the step's start, then the pose
 // at the midpoint heading), casters implicit in δ̇ (caster.h).
 //
@@ -153,6 +159,7 @@ struct FullChairSample {
   JoystickInput joystick;      ///< deflection applied over the last step
   ControllerState controller;  ///< set-points over the last step
   std::array<double, 2> drive_force{};  ///< F_L, F_R [N]
+  std::array<double, 2> speed_error_integral{};  ///< ∫(v*_i - v_i) dt of the speed loops [m]
   bool torque_limited{false};  ///< a motor at its torque or traction limit
   // --- vertical (the sagittal model's quantities, per row, plus roll) ---
   Longitudinal drive;                       ///< (distance, v, a_x): the sagittal view
