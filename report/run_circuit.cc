@@ -284,7 +284,7 @@ void WriteCircuitFigures(const Scene& scene, const std::vector<FullChairSample>&
                      false);
     }
   }
-  plot::Series hits = MakeSeries("wall/obstacle contact", 0x000000, plot::Style::kPoints);
+  plot::Series hits = MakeSeries("wall/obstacle contact begins (O_V there)", 0x111111, plot::Style::kPoints);
   plot::Series lifted = MakeSeries("wheel lifted off (load <= 0)", 0xE69F00, plot::Style::kPoints);
   int events = samples.empty() ? 0 : samples.front().contact_events;
   for (std::size_t k = 0; k < samples.size(); ++k) {
@@ -320,7 +320,7 @@ void WriteCircuitFigures(const Scene& scene, const std::vector<FullChairSample>&
   }
   const double aspect = (y_hi - y_lo + 1.0) / std::max(x_hi - x_lo + 1.0, 1e-3);
   top.width_px = 1100;
-  top.panel_height_px = static_cast<int>(std::clamp(220.0 + 650.0 * aspect, 360.0, 1100.0));
+  top.panel_height_px = static_cast<int>(std::clamp(120.0 + 560.0 * aspect, 360.0, 1100.0));
   plot::Panel map;
   map.title = "path, casters and contacts";
   map.y_label = "y [m] (W, left)";

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The circuit figures of README.md and docs/render.md, made through pwsim itself: each shipped
-# circuit (scenes/circuit_*.yaml) driven to its end by `pwsim run` with video, then one frame
-# of the occupant's view, the top view and the lateral MCA figure copied to docs/images/circuit/,
-# with each summary.json. Data: same-model simulation of the shipped scenes (no measured drive).
+# circuit (scenes/circuit_*.yaml) driven to its end by `pwsim run` with video; its top view and
+# summary.json go to docs/images/circuit/, and for circuit_course also one frame of the
+# occupant's view, the lateral MCA figure and the caster/wheel-load figure. Data: same-model simulation of the shipped scenes (no measured drive).
 # Usage: scripts/circuit-figures.sh [BUILD_DIR]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -16,8 +16,10 @@ cd "$root"
 for file in scenes/circuit_*.yaml; do
   scene=$(basename "$file" .yaml)
   "$build/pwsim" run "$file" --out "$work/$scene" --size 960x540 --fps 25 --decimate 10
-  for figure in top_view mca_lateral wheels; do cp "$work/$scene/$figure.png" "$dest/${scene}_$figure.png"; done
+  cp "$work/$scene/top_view.png" "$dest/${scene}_top_view.png"
   cp "$work/$scene/summary.json" "$dest/${scene}_summary.json"
+  [ "$scene" = circuit_course ] || continue
+  for figure in mca_lateral wheels; do cp "$work/$scene/$figure.png" "$dest/${scene}_$figure.png"; done
   # the frame a third of the way through the drive
   frames=$(python3 -c "import json; print(json.load(open('$work/$scene/summary.json'))['render']['frames'])")
   ffmpeg -loglevel error -y -i "$work/$scene/video.mp4" -vf "select=eq(n\,$((frames / 3)))" -frames:v 1 \
