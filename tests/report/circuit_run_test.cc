@@ -234,5 +234,33 @@ TEST(CircuitRunRepeat, SameSceneSameBits) {
   EXPECT_EQ(Summary(a)["render"]["skipped"], "--no-video");
 }
 
+// Tests "done when": every shipped circuit (scenes/circuit_*.yaml) runs headless to its end with
+// video, the four platform axes in use and inside their limits.
+TEST(ShippedCircuits, EachRunsToItsEndWithVideoAndFourAxes) {
+  int circuits = 0;
+  for (const auto& entry : fs::directory_iterator(fs::path(PWSIM_SOURCE_DIR) / "scenes")) {
+    const std::string name = entry.path().filename().string();
+    if (!name.starts_with("circuit_") || entry.path().extension() != ".yaml") continue;
+    ++circuits;
+    const Scene scene = LoadScene(entry.path());
+    ASSERT_TRUE(scene.is_circuit()) << name;
+    RenderStageOptions render;
+    render.width_px = 160;
+    render.height_px = 90;
+    render.fps = 10;
+    const fs::path out = Scratch(name);
+    RunCircuitScene(scene, entry.path().string(), 50, render, out);
+    const nlohmann::json s = Summary(out);
+    EXPECT_NEAR(s["duration_s"].get<double>(), scene.circuit->duration, 1e-9) << name;
+    const int frames = static_cast<int>(std::llround(scene.circuit->duration * 10)) + 1;
+    EXPECT_EQ(s["render"]["frames"].get<int>(), frames) << name;
+    EXPECT_EQ(render::testing::Ffprobe(out / "video.mp4").at("nb_read_frames"), std::to_string(frames)) << name;
+    EXPECT_TRUE(s["mca"]["platform"]["within_limits"].get<bool>()) << name;
+    EXPECT_EQ(s["mca"]["platform"]["axes_in_use"], nlohmann::json::array({"heave", "roll", "pitch", "yaw"})) << name;
+    EXPECT_TRUE(fs::exists(out / "top_view.png")) << name;
+  }
+  EXPECT_GE(circuits, 3);
+}
+
 }  // namespace
 }  // namespace pwsim::report
