@@ -41,6 +41,7 @@ struct CasterForce {
   double fx{0.0}, fy{0.0};
   double contact_x{0.0}, contact_y{0.0};
   double slip{0.0};  ///< s [m/s]
+  double cos_angle{1.0}, sin_angle{0.0};  ///< cos δ, sin δ of the new angle
 };
 
 /// One implicit step of `dt` [s]: the pivot moves at (vx, vy) in V [m/s] while the chair turns
@@ -50,6 +51,22 @@ struct CasterForce {
 CasterForce StepCaster(const CasterParams& params, CasterState& state, double pivot_x,
                        double pivot_y, double vx, double vy, double yaw_rate, double load,
                        double dt);
+
+/// What a step of `dt` needs of the parameters, computed once (no division per step).
+struct CasterStepConstants {
+  double dt{1e-3};
+  double inertia_rate{0.0};       ///< I_s / dt
+  double inv_a_grounded{0.0};     ///< 1 / (I_s/dt + t² k + c_s)
+  double inv_a_lifted{0.0};       ///< 1 / (I_s/dt + c_s)
+};
+CasterStepConstants MakeCasterStepConstants(const CasterParams& params, double dt);
+
+/// The same step with cos δ and sin δ of the state's angle given (as returned by the previous
+/// step) and the constants above, to spare their evaluation. Same equations; the results may
+/// differ from the plain StepCaster's in the last bits (reciprocals instead of divisions).
+CasterForce StepCaster(const CasterParams& params, const CasterStepConstants& constants,
+                       CasterState& state, double cos_angle, double sin_angle, double pivot_x,
+                       double pivot_y, double vx, double vy, double yaw_rate, double load);
 
 /// δ after rolling a distance `distance` [m] forward from δ_0 under the kinematic law.
 /// (A reference for tests and chair-checks, written from the closed form above.)

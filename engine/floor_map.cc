@@ -52,6 +52,14 @@ double FloorMap::HeightAt(double x_W, double y_W) const {
   return z;
 }
 
+double FloorMap::HeightAtNear(double x_W, double y_W, std::size_t& hint) const {
+  double z = profile.HeightAtNear(x_W, hint);
+  if (features.empty() && !grid) return z;
+  for (const FloorFeature& feature : features) z += feature.HeightAt(x_W, y_W);
+  if (grid) z += grid->HeightAt(x_W, y_W);
+  return z;
+}
+
 double FloorMap::MaxHeightBound() const {
   double bound = profile.x.empty() ? 0.0 : profile.MaxHeight();
   for (const FloorFeature& f : features) {

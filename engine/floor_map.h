@@ -61,6 +61,8 @@ struct FloorMap {
 
   /// z(x, y) [m].
   double HeightAt(double x_W, double y_W) const;
+  /// The same, bit for bit, with the profile's breakpoint search started at `hint` (updated).
+  double HeightAtNear(double x_W, double y_W, std::size_t& hint) const;
   /// Highest point of every layer, summed (an upper bound, for rendering and checks) [m].
   double MaxHeightBound() const;
 };

@@ -10,6 +10,7 @@
 #include "engine/check.h"
 #include "engine/input_error.h"
 #include "engine/number_format.h"
+#include "engine/small_rotation.h"
 
 namespace pwsim {
 
@@ -236,6 +237,14 @@ FullChairSimulator::FullChairSimulator(const Chair& chair, const PlanarLayout& l
   roll_axis_ = MakeAxisPropagator(roll_params_, dt);
   front_x_ = chair.wheels.front().x;
   rear_x_ = chair.wheels.back().x;
+  caster_constants_ = MakeCasterStepConstants(layout.caster, dt);
+  inv_mass_ = 1.0 / mass_;
+  inv_yaw_inertia_D_ = 1.0 / yaw_inertia_D_;
+  inv_dt_ = 1.0 / dt;
+  inv_roll_inertia_ = 1.0 / roll_params_.inertia;
+  inv_track_ = 1.0 / track_;
+  inv_wheelbase_ = 1.0 / (front_x_ - rear_x_);
+  for (int i = 0; i < rows_; ++i) inv_row_track_[i] = 1.0 / (2.0 * layout.rows[i].half_track);
 
   ground_contacts_ = 2 * rows_;
   for (int i = 0; i < rows_; ++i) {
@@ -284,28 +293,40 @@ FullChairSimulator::FullChairSimulator(const Chair& chair, const PlanarLayout& l
 }
 
 void FullChairSimulator::ContactsAt(const PlanarState& pose) {
-  const double c = std::cos(pose.yaw);
-  const double s = std::sin(pose.yaw);
+  const double c = yaw_cos_;
+  const double s = yaw_sin_;
   const double trail = layout_.caster.trail;
   for (int k = 0; k < sample_.contact_count; ++k) {
     double cx = rest_x_[k];
     double cy = rest_y_[k];
     if (contact_role_[k] == WheelRole::kCaster && k < ground_contacts_) {
-      const double angle = sample_.casters[k].angle;
-      cx += trail * (1.0 - std::cos(angle));
-      cy -= trail * std::sin(angle);
+      cx += trail * (1.0 - caster_cos_[k]);
+      cy -= trail * caster_sin_[k];
     }
     WheelContact& contact = sample_.contacts[k];
     contact.x = pose.x + c * cx - s * cy;
     contact.y = pose.y + s * cx + c * cy;
-    contact.z = floor_.HeightAt(contact.x, contact.y);
+    contact.z = floor_.HeightAtNear(contact.x, contact.y, floor_hints_[k]);
   }
   for (int i = 0; i < rows_; ++i) {
     sample_.z_O[i] = 0.5 * (sample_.contacts[2 * i].z + sample_.contacts[2 * i + 1].z);
   }
   // Inclination of the floor under the chair (gravity in V for the planar and load models).
-  floor_pitch_ = std::atan((sample_.z_O[0] - sample_.z_O[rows_ - 1]) / (front_x_ - rear_x_));
-  floor_roll_ = std::atan((sample_.contacts[2 * drive_row_].z - sample_.contacts[2 * drive_row_ + 1].z) / track_);
+  // tan of each angle from the contacts; sin and cos from it without trigonometry
+  const double tan_pitch = (sample_.z_O[0] - sample_.z_O[rows_ - 1]) * inv_wheelbase_;
+  const double tan_roll = (sample_.contacts[2 * drive_row_].z - sample_.contacts[2 * drive_row_ + 1].z) * inv_track_;
+  if (tan_pitch != floor_tan_pitch_) {
+    floor_tan_pitch_ = tan_pitch;
+    floor_pitch_ = std::atan(tan_pitch);
+    floor_cos_pitch_ = 1.0 / std::sqrt(1.0 + tan_pitch * tan_pitch);
+    floor_sin_pitch_ = tan_pitch * floor_cos_pitch_;
+  }
+  if (tan_roll != floor_tan_roll_) {
+    floor_tan_roll_ = tan_roll;
+    floor_roll_ = std::atan(tan_roll);
+    floor_cos_roll_ = 1.0 / std::sqrt(1.0 + tan_roll * tan_roll);
+    floor_sin_roll_ = tan_roll * floor_cos_roll_;
+  }
 }
 
 double FullChairSimulator::PitchTorqueNow() const {
@@ -323,9 +344,9 @@ void FullChairSimulator::Vertical(double pitch_torque, double roll_torque) {
   sample_.gm = gm_.Evaluate(std::span<const double>(sample_.z_O.data(), rows_));
   double roll_gm = 0.0;
   for (int i = 0; i < rows_; ++i) {
-    if (roll_weight_[i] == 0.0) continue;
-    const double sine = std::clamp((sample_.contacts[2 * i].z - sample_.contacts[2 * i + 1].z) /
-                                       (2.0 * layout_.rows[i].half_track), -1.0, 1.0);
+    const double rise = sample_.contacts[2 * i].z - sample_.contacts[2 * i + 1].z;
+    if (roll_weight_[i] == 0.0 || rise == 0.0) continue;  // level row: asin(0) = 0
+    const double sine = std::clamp(rise * inv_row_track_[i], -1.0, 1.0);
     roll_gm += roll_weight_[i] * std::asin(sine);
   }
   sample_.roll_gm = roll_gm;
@@ -342,14 +363,14 @@ void FullChairSimulator::Vertical(double pitch_torque, double roll_torque) {
   AdvanceAxis(roll_axis_, sample_.roll, sample_.roll_rate, roll_begin, sample_.roll_gm_rate, roll_torque);
   sample_.roll_torque = roll_torque;
   sample_.roll_accel = (roll_torque - roll_params_.damping * (sample_.roll_rate - sample_.roll_gm_rate) -
-                        roll_params_.stiffness * (sample_.roll - roll_gm)) /
-                       roll_params_.inertia;
+                        roll_params_.stiffness * (sample_.roll - roll_gm)) *
+                       inv_roll_inertia_;
 }
 
 void FullChairSimulator::Loads(double a_x, double a_y) {
   const double g = kStandardGravity;
-  const double cp = std::cos(floor_pitch_), sp = std::sin(floor_pitch_);
-  const double cr = std::cos(floor_roll_), sr = std::sin(floor_roll_);
+  const double cp = floor_cos_pitch_, sp = floor_sin_pitch_;
+  const double cr = floor_cos_roll_, sr = floor_sin_roll_;
   const double f_x = mass_ * (-g * sp - a_x);
   const double f_y = mass_ * (-g * sr * cp - a_y);
   const double weight = mass_ * g * cr * cp;  // -F_z
@@ -363,8 +384,9 @@ void FullChairSimulator::Loads(double a_x, double a_y) {
     lifted += contact.lift_off;
   }
   sample_.lift_off_count = lifted;
-  sample_.cop_x = sum_x / weight;
-  sample_.cop_y = sum_y / weight;
+  const double inv_weight = 1.0 / weight;
+  sample_.cop_x = sum_x * inv_weight;
+  sample_.cop_y = sum_y * inv_weight;
   const bool inside = InsideConvex(support_, sample_.cop_x, sample_.cop_y);
   if (layout_.anti_tip.present) {
     const bool inside_anti_tip = InsideConvex(support_anti_tip_, sample_.cop_x, sample_.cop_y);
@@ -413,11 +435,15 @@ const FullChairSample& FullChairSimulator::Start(const PlanarState& pose, double
   sample_.planar.yaw_rate = 0.0;
   for (int c = 0; c < ground_contacts_; ++c) {
     if (contact_role_[c] == WheelRole::kCaster) sample_.casters[c].angle = caster_angle;
+    caster_cos_[c] = std::cos(sample_.casters[c].angle);
+    caster_sin_[c] = std::sin(sample_.casters[c].angle);
   }
   along_x0_ = pose.x;
   along_y0_ = pose.y;
   along_c_ = std::cos(pose.yaw);
   along_s_ = std::sin(pose.yaw);
+  yaw_cos_ = along_c_;
+  yaw_sin_ = along_s_;
   ContactsAt(sample_.planar);
   Equilibrium();
   return sample_;
@@ -436,7 +462,6 @@ const FullChairSample& FullChairSimulator::StartAlong(const PlanarState& pose, c
 const FullChairSample& FullChairSimulator::AdvanceAlong(const Longitudinal& drive) {
   const double pitch_torque = PitchTorqueNow();  // held over the step (ZOH), as ChairSimulator
   const double roll_torque = RollTorqueNow();
-  const double dt = lumped_.dt;
   const PlanarState before = sample_.planar;
   PlanarState& p = sample_.planar;
   p.x = drive.x * along_c_ + along_x0_;
@@ -447,15 +472,18 @@ const FullChairSample& FullChairSimulator::AdvanceAlong(const Longitudinal& driv
   sample_.a_x = drive.a;
   sample_.a_y = 0.0;
   sample_.yaw_accel = 0.0;
-  sample_.distance += std::hypot(p.x - before.x, p.y - before.y);
+  const double dx = p.x - before.x, dy = p.y - before.y;
+  sample_.distance += std::sqrt(dx * dx + dy * dy);
   sample_.controller = {drive.v, 0.0, drive.a, 0.0};
   sample_.drive_force = {0.5 * mass_ * drive.a, 0.5 * mass_ * drive.a};
   sample_.torque_limited = false;
   for (int c = 0; c < ground_contacts_; ++c) {
     if (contact_role_[c] != WheelRole::kCaster) continue;
     const double pivot_x = rest_x_[c] + layout_.caster.trail;
-    const CasterForce f = StepCaster(layout_.caster, sample_.casters[c], pivot_x, rest_y_[c], drive.v, 0.0,
-                                     0.0, sample_.contacts[c].load, dt);
+    const CasterForce f = StepCaster(layout_.caster, caster_constants_, sample_.casters[c], caster_cos_[c],
+                                     caster_sin_[c], pivot_x, rest_y_[c], drive.v, 0.0, 0.0, sample_.contacts[c].load);
+    caster_cos_[c] = f.cos_angle;
+    caster_sin_[c] = f.sin_angle;
     sample_.contacts[c].force_x = f.fx;
     sample_.contacts[c].force_y = f.fy;
   }
@@ -486,8 +514,8 @@ const FullChairSample& FullChairSimulator::AdvanceSetpoints(const ControllerStat
   const double e = layout_.cm_x - drive_x_;
 
   // Gravity along the floor, in V.
-  const double g_x = -g * std::sin(floor_pitch_);
-  const double g_y = -g * std::sin(floor_roll_) * std::cos(floor_pitch_);
+  const double g_x = -g * floor_sin_pitch_;
+  const double g_y = -g * floor_sin_roll_ * floor_cos_pitch_;
   double force_x = mass_ * g_x;
   double moment_z = e * mass_ * g_y;
 
@@ -503,7 +531,7 @@ const FullChairSample& FullChairSimulator::AdvanceSetpoints(const ControllerStat
     const double wheel_speed = v + sign * w * half_b;
     const double load = std::max(sample_.contacts[c].load, 0.0);
     limit[side] = std::min(layout_.max_motor_torque / layout_.drive_radius, layout_.friction * load);
-    rolling[side] = braked ? 0.0 : -layout_.rolling_resistance * load * std::clamp(wheel_speed / 0.01, -1.0, 1.0);
+    rolling[side] = braked ? 0.0 : -layout_.rolling_resistance * load * std::clamp(wheel_speed * 100.0, -1.0, 1.0);
     if (braked) {
       sample_.speed_error_integral[side] = 0.0;
       continue;
@@ -533,7 +561,10 @@ const FullChairSample& FullChairSimulator::AdvanceSetpoints(const ControllerStat
       const double pivot_x = rest_x_[c] + layout_.caster.trail;
       const double vx = v - w * py;
       const double vy = w * (pivot_x - drive_x_);
-      const CasterForce f = StepCaster(layout_.caster, sample_.casters[c], pivot_x, py, vx, vy, w, load, dt);
+      const CasterForce f = StepCaster(layout_.caster, caster_constants_, sample_.casters[c], caster_cos_[c],
+                                       caster_sin_[c], pivot_x, py, vx, vy, w, load);
+      caster_cos_[c] = f.cos_angle;
+      caster_sin_[c] = f.sin_angle;
       fx = f.fx;
       fy = f.fy;
       px = f.contact_x;
@@ -541,7 +572,7 @@ const FullChairSample& FullChairSimulator::AdvanceSetpoints(const ControllerStat
     } else if (load > 0.0) {
       const double vx = v - w * py;
       const double vy = w * (px - drive_x_);
-      fx = -layout_.caster.rolling_resistance * load * std::clamp(vx / 0.01, -1.0, 1.0);
+      fx = -layout_.caster.rolling_resistance * load * std::clamp(vx * 100.0, -1.0, 1.0);
       fy = -layout_.caster.lateral_damping * vy;
     }
     sample_.contacts[c].force_x = fx;
@@ -552,8 +583,8 @@ const FullChairSample& FullChairSimulator::AdvanceSetpoints(const ControllerStat
 
   if (braked) {
     // F_L + F_R and F_R - F_L that bring v and ω to 0 within the step (equations below).
-    const double sum = -mass_ * v / dt - force_x - mass_ * e * w * w;
-    const double difference = (-yaw_inertia_D_ * w / dt - moment_z + mass_ * e * v * w) / half_b;
+    const double sum = -mass_ * v * inv_dt_ - force_x - mass_ * e * w * w;
+    const double difference = (-yaw_inertia_D_ * w * inv_dt_ - moment_z + mass_ * e * v * w) * (2.0 * inv_track_);
     sample_.drive_force = {0.5 * (sum - difference), 0.5 * (sum + difference)};
   }
   for (int side = 0; side < 2; ++side) {
@@ -571,25 +602,28 @@ const FullChairSample& FullChairSimulator::AdvanceSetpoints(const ControllerStat
   sample_.torque_limited = limited;
 
   // Constrained rigid body about D (semi-implicit Euler).
-  const double v_dot = force_x / mass_ + e * w * w;
-  const double w_dot = (moment_z - mass_ * e * v * w) / yaw_inertia_D_;
+  const double v_dot = force_x * inv_mass_ + e * w * w;
+  const double w_dot = (moment_z - mass_ * e * v * w) * inv_yaw_inertia_D_;
   PlanarState& p = sample_.planar;
   p.v = braked && !limited ? 0.0 : v + v_dot * dt;  // held exactly by the brakes
   p.yaw_rate = braked && !limited ? 0.0 : w + w_dot * dt;
-  const double heading = before.yaw + 0.5 * p.yaw_rate * dt;
+  // midpoint heading ψ + ω dt/2, then the new heading ψ + ω dt, by two half-step rotations
+  const double half_turn = 0.5 * p.yaw_rate * dt;
+  RotateBy(yaw_cos_, yaw_sin_, half_turn);
+  const double ch = yaw_cos_, sh = yaw_sin_;
+  RotateBy(yaw_cos_, yaw_sin_, half_turn);
   const double lateral = -p.yaw_rate * drive_x_;
-  const double ch = std::cos(heading), sh = std::sin(heading);
   p.x = before.x + (p.v * ch - lateral * sh) * dt;
   p.y = before.y + (p.v * sh + lateral * ch) * dt;
   p.yaw = before.yaw + p.yaw_rate * dt;
   sample_.lateral_speed = lateral;
-  const double a_x = (p.v - v) / dt + p.yaw_rate * p.yaw_rate * drive_x_;
-  const double a_y = -(p.yaw_rate - w) / dt * drive_x_ + p.yaw_rate * p.v;
+  const double a_x = (p.v - v) * inv_dt_ + p.yaw_rate * p.yaw_rate * drive_x_;
+  const double a_y = -(p.yaw_rate - w) * inv_dt_ * drive_x_ + p.yaw_rate * p.v;
   sample_.a_x = a_x;
   sample_.a_y = a_y;
-  sample_.yaw_accel = (p.yaw_rate - w) / dt;
+  sample_.yaw_accel = (p.yaw_rate - w) * inv_dt_;
   const double dx = p.x - before.x, dy = p.y - before.y;
-  sample_.distance += std::hypot(dx, dy);
+  sample_.distance += std::sqrt(dx * dx + dy * dy);
   sample_.controller = set;
   sample_.drive = {sample_.drive.x + dx * ch + dy * sh, p.v, a_x};
 
@@ -601,6 +635,10 @@ const FullChairSample& FullChairSimulator::AdvanceSetpoints(const ControllerStat
 }
 
 void FullChairSimulator::OverridePlanar(const PlanarState& planar) {
+  if (planar.yaw != sample_.planar.yaw) {
+    yaw_cos_ = std::cos(planar.yaw);
+    yaw_sin_ = std::sin(planar.yaw);
+  }
   sample_.planar = planar;
   if (planar.v == 0.0 && planar.yaw_rate == 0.0) {
     sample_.controller = ControllerState{};

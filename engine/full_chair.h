@@ -259,6 +259,15 @@ class FullChairSimulator {
   double front_x_{0.0}, rear_x_{0.0};  ///< first and last rows' x [m]
   double along_x0_{0.0}, along_y0_{0.0}, along_c_{1.0}, along_s_{0.0};  ///< AdvanceAlong line
   double floor_pitch_{0.0}, floor_roll_{0.0};  ///< inclination of the floor under the chair [rad]
+  double floor_tan_pitch_{0.0}, floor_tan_roll_{0.0};
+  double yaw_cos_{1.0}, yaw_sin_{0.0};
+  CasterStepConstants caster_constants_;
+  double inv_mass_{0.0}, inv_yaw_inertia_D_{0.0}, inv_dt_{0.0}, inv_roll_inertia_{0.0};
+  double inv_track_{0.0}, inv_wheelbase_{0.0};
+  std::array<double, kMaxWheels> inv_row_track_{};  ///< 1 / (2 half_track_i)  ///< cos ψ, sin ψ carried with the yaw (small_rotation.h)
+  double floor_cos_pitch_{1.0}, floor_sin_pitch_{0.0}, floor_cos_roll_{1.0}, floor_sin_roll_{0.0};
+  std::array<double, kMaxContacts> caster_cos_{}, caster_sin_{};  ///< of each caster's δ
+  std::array<std::size_t, kMaxContacts> floor_hints_{};  ///< profile segment of each contact
   FullChairSample sample_;
 };
 
