@@ -16,6 +16,7 @@
 #include "report/car_run.h"
 #include "engine/trial_table.h"
 #include "report/render_stage.h"
+#include "report/run_circuit.h"
 #include "report/run_mca.h"
 #include "report/run_report.h"
 
@@ -68,7 +69,7 @@ const CommandSpec& RunSpec() {
           {"lossless", "", "-", "", "also write DIR/video_lossless.mkv (exact pixels)"},
           {"no-video", "", "-", "off", "skip rendering (no video.mp4, frames.csv)"},
       },
-      "SCENE  a pwsim-scene/1 YAML file (default: the paper's speed-cushion trial); kind: car runs seed 001's car"};
+      "SCENE  a pwsim-scene/1 YAML file (default: the paper's speed-cushion trial); kind: car runs seed 001's car; a circuit: section runs the full-DoF chair through it"};
   return spec;
 }
 
@@ -100,6 +101,14 @@ int RunCommand(const ParsedArgs& args) {
   }
 
   const Scene scene = ParseScene(scene_document);
+  if (scene.is_circuit()) {  // the full-DoF chair through a circuit, every platform axis
+    const auto written = report::RunCircuitScene(scene, scene_path.string(), static_cast<int>(decimate),
+                                                 render_options, out_dir);
+    std::cout << "pwsim run: circuit scene '" << scene.name << "' (" << scene_path.string() << "), "
+              << scene.tick_count() << " ticks at " << scene.clock.rate_hz << " Hz; wrote:\n";
+    for (const auto& file : written) std::cout << "  " << file.string() << "\n";
+    return 0;
+  }
   const std::vector<ChairSample> samples = SimulateScene(scene);
   TrialTable table = report::ChairColumns(scene, samples);
   nlohmann::ordered_json summary = report::RunSummary(scene, scene_path.string(), table);

@@ -1,10 +1,11 @@
-// Chair-model steps per second (goal: >= 10 million/s on one core of the CI machine).
+// Chair-model steps per second (goals: sagittal >= 30 million/s, full-DoF >= 10 million/s, one core).
 // BM_LumpedStep: the exact LM propagator alone. BM_ChairStep: terrain lookup for every wheel,
 // GM (1)-(2) and LM (3)-(5): one full engine tick of the chair over the speed cushion.
 
 #include <benchmark/benchmark.h>
 
 #include "engine/chair_simulator.h"
+#include "engine/full_chair.h"
 #include "engine/lumped_model.h"
 
 namespace pwsim {
@@ -39,6 +40,74 @@ void BM_ChairStep(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_ChairStep);
+
+}  // namespace
+}  // namespace pwsim
+
+namespace pwsim {
+namespace {
+
+/// The Table I chair with its default planar layout on a floor with a cross-slope, a one-side
+/// bump and the cushion profile: four features to evaluate per contact.
+struct FullChairRig {
+  Chair chair = MakeTableOneChair();
+  PlanarLayout layout = DefaultPlanarLayout(chair);
+  FloorMap floor;
+  FullChairRig() {
+    floor.profile = MakeSpeedCushion();
+    FloorFeature slope;
+    slope.kind = FloorFeature::Kind::kPlane;
+    slope.x_min = 8.0;
+    slope.x_max = 14.0;
+    slope.y_min = -4.0;
+    slope.y_max = 4.0;
+    slope.ramp = 1.0;
+    slope.grade_y = 0.05;
+    FloorFeature bump;
+    bump.x_min = 3.0;
+    bump.x_max = 3.4;
+    bump.y_min = 0.05;
+    bump.y_max = 2.0;
+    bump.ramp = 0.1;
+    bump.height = 0.03;
+    floor.features = {slope, bump};
+  }
+};
+
+// One full-DoF tick driven by the joystick: controller, drive loops, six wheels with four
+// casters (implicit swivel), constrained planar dynamics, 6 floor lookups, GM + 3-axis LM, loads.
+void BM_FullChairStep(benchmark::State& state) {
+  const FullChairRig rig;
+  FullChairSimulator simulator(rig.chair, rig.layout, rig.floor, 100.0, 1e-3);
+  simulator.Start({});
+  std::int64_t k = 0;
+  for (auto _ : state) {
+    const double turn = (k / 4000) % 2 == 0 ? 0.4 : -0.4;  // weave every 4 s
+    benchmark::DoNotOptimize(simulator.Advance({0.7, turn}));
+    if (++k == 40000) {
+      k = 0;
+      simulator.Start({});
+    }
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_FullChairStep);
+
+// The full-DoF chair on the sagittal straight run (AdvanceAlong), for comparison.
+void BM_FullChairAlongStep(benchmark::State& state) {
+  const Chair chair = MakeTableOneChair();
+  const FloorMap floor = FloorFromTerrain(MakeSpeedCushion());
+  FullChairSimulator simulator(chair, DefaultPlanarLayout(chair), floor, 100.0, 1e-3);
+  simulator.StartAlong({}, {0.0, 2.4, 0.0});
+  double x = 0.0;
+  for (auto _ : state) {
+    x += 2.4e-3;
+    if (x > 6.0) x = 0.0;
+    benchmark::DoNotOptimize(simulator.AdvanceAlong({x, 2.4, 0.0}));
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_FullChairAlongStep);
 
 }  // namespace
 }  // namespace pwsim

@@ -28,7 +28,8 @@ const ChairSample& ChairSimulator::Advance(const Longitudinal& drive) {
   const double torque = torque_.constant + torque_.per_accel * sample_.drive.a;  // held (ZOH)
 
   sample_.drive = drive;
-  gm_.ContactHeights(terrain_, drive.x, std::span<double>(sample_.z_O.data(), wheel_count()));
+  gm_.ContactHeights(terrain_, drive.x, std::span<double>(sample_.z_O.data(), wheel_count()),
+                     std::span<std::size_t>(hints_.data(), wheel_count()));
   sample_.gm = gm_.Evaluate(std::span<const double>(sample_.z_O.data(), wheel_count()));
 
   const LumpedInput input{gm_begin.z, sample_.gm.z, gm_begin.pitch, sample_.gm.pitch, torque};

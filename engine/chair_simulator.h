@@ -60,6 +60,7 @@ class ChairSimulator {
   DiscreteLumpedModel lumped_;
   PitchTorqueParams torque_;
   ChairSample sample_;
+  std::array<std::size_t, kMaxWheels> hints_{};  ///< terrain segment of each wheel (search start)
 };
 
 }  // namespace pwsim

@@ -27,6 +27,12 @@ void GeometricModel::ContactHeights(const Terrain& terrain, double x_V,
   for (std::size_t i = 0; i < wheel_x_.size(); ++i) z_O[i] = terrain.HeightAt(x_V + wheel_x_[i]);
 }
 
+void GeometricModel::ContactHeights(const Terrain& terrain, double x_V, std::span<double> z_O,
+                                    std::span<std::size_t> hints) const {
+  PWSIM_DEMAND(z_O.size() >= wheel_x_.size() && hints.size() >= wheel_x_.size());
+  for (std::size_t i = 0; i < wheel_x_.size(); ++i) z_O[i] = terrain.HeightAtNear(x_V + wheel_x_[i], hints[i]);
+}
+
 GeometricOutput GeometricModel::Evaluate(std::span<const double> z_O) const {
   GeometricOutput out;
   for (std::size_t i = 0; i < alpha_.size(); ++i) out.z += alpha_[i] * z_O[i];

@@ -29,6 +29,11 @@ class GeometricModel {
   /// Z_Oi = z(x_V + x_i) for each wheel [m]; `z_O` has wheel_count() entries.
   void ContactHeights(const Terrain& terrain, double x_V, std::span<double> z_O) const;
 
+  /// The same heights, bit for bit, with each wheel's terrain search started at its `hints`
+  /// entry (updated): the per-tick path of ChairSimulator.
+  void ContactHeights(const Terrain& terrain, double x_V, std::span<double> z_O,
+                      std::span<std::size_t> hints) const;
+
   /// Eq. (1)-(2). The asin argument is clamped to [-1, 1] (a slope steeper than vertical
   /// between two contacts is not a chair on the ground).
   GeometricOutput Evaluate(std::span<const double> z_O) const;

@@ -27,6 +27,11 @@ struct KnotSegment {
 /// a query before the first or from the last knot on clamps to the end segment, s to [0, 1].
 KnotSegment FindKnotSegment(std::span<const double> x, double xq);
 
+/// The same segment as FindKnotSegment (same k, same s, same bits), searched first at `hint`
+/// and the segment after it (a query that moves little between calls: one comparison or two
+/// instead of a binary search); `hint` is updated to the segment found.
+KnotSegment FindKnotSegmentNear(std::span<const double> x, double xq, std::size_t& hint);
+
 /// y at xq, linear between the knots (x strictly increasing, same size as y, >= 2), held at
 /// the end values outside [x.front(), x.back()].
 double InterpolateLinear(std::span<const double> x, std::span<const double> y, double xq);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "engine/check.h"
 #include "engine/input_error.h"
 
 namespace pwsim {
@@ -52,7 +53,8 @@ Scene ParseSceneRoot(const YamlDocument& document) {
     room.Finish();
   }
 
-  scene.terrain = ReadReferenced(
+  const bool circuit = root.Has("circuit");
+  if (!circuit || root.Has("terrain")) scene.terrain = ReadReferenced(
       root, "terrain",
       [](YamlMap& map) {
         map.StringOr("format", "pwsim-terrain/1");
@@ -72,6 +74,7 @@ Scene ParseSceneRoot(const YamlDocument& document) {
   }
   scene.load_kg = root.Number("load_kg", Range::Closed(0.0, 300.0, "kg"));
 
+  if (!circuit || root.Has("drive")) {
   YamlMap drive = root.Map("drive");
   scene.drive.start_x = drive.NumberOr("start_x_m", 0.0, Range::Closed(-100.0, 100.0, "m"));
   scene.drive.start_delay = drive.NumberOr("start_delay_s", 0.5, Range::Closed(0.0, 60.0, "s"));
@@ -85,6 +88,12 @@ Scene ParseSceneRoot(const YamlDocument& document) {
                "start_x_m and stop_x_m too close for this speed and acceleration");
   }
   drive.Finish();
+  }
+  if (circuit) {
+    YamlMap section = root.Map("circuit");
+    scene.circuit = ParseCircuit(section, scene.chair, scene.load_kg);
+    section.Finish();
+  }
 
   if (root.Has("pitch_torque")) {
     YamlMap torque = root.Map("pitch_torque");
@@ -156,6 +165,34 @@ std::vector<ChairSample> SimulateScene(const Scene& scene) {
   samples.push_back(simulator.Start(EvaluateDrive(scene.drive, 0.0)));
   for (std::int64_t tick = 1; tick < ticks; ++tick) {
     samples.push_back(simulator.Advance(EvaluateDrive(scene.drive, scene.clock.TimeAt(tick))));
+  }
+  return samples;
+}
+
+std::vector<FullChairSample> SimulateCircuitScene(const Scene& scene) {
+  PWSIM_DEMAND(scene.is_circuit());
+  CircuitRunner runner(scene.chair, *scene.circuit, scene.load_kg, scene.clock.dt(), scene.pitch_torque);
+  const std::int64_t ticks = scene.tick_count();
+  std::vector<FullChairSample> samples;
+  samples.reserve(static_cast<std::size_t>(ticks));
+  samples.push_back(runner.Start());
+  // the joystick is sampled at each tick's start
+  for (std::int64_t tick = 1; tick < ticks; ++tick) samples.push_back(runner.Advance(scene.clock.TimeAt(tick - 1)));
+  return samples;
+}
+
+std::vector<FullChairSample> SimulateSceneFullChair(const Scene& scene) {
+  PWSIM_DEMAND(!scene.is_circuit());
+  const FloorMap floor = FloorFromTerrain(scene.terrain);
+  const PlanarLayout layout = DefaultPlanarLayout(scene.chair);
+  FullChairSimulator simulator(scene.chair, layout, floor, scene.load_kg, scene.clock.dt(), scene.pitch_torque);
+  const std::int64_t ticks = scene.tick_count();
+  std::vector<FullChairSample> samples;
+  samples.reserve(static_cast<std::size_t>(ticks));
+  const Longitudinal first = EvaluateDrive(scene.drive, 0.0);
+  samples.push_back(simulator.StartAlong({first.x, 0.0, 0.0, 0.0, 0.0}, first));
+  for (std::int64_t tick = 1; tick < ticks; ++tick) {
+    samples.push_back(simulator.AdvanceAlong(EvaluateDrive(scene.drive, scene.clock.TimeAt(tick))));
   }
   return samples;
 }

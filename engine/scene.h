@@ -14,11 +14,13 @@
 #include <array>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "engine/chair.h"
 #include "engine/chair_simulator.h"
+#include "engine/circuit.h"
 #include "engine/clock.h"
 #include "engine/drive_profile.h"
 #include "engine/straight_line_servo.h"
@@ -58,8 +60,14 @@ struct Scene {
   Occupant occupant;
   ServoParams servo;
   std::map<std::string, SceneSection> sections;  ///< mca, platform, render, session
+  /// Present for a circuit scene (`circuit:` section): the full-DoF chair driven by a joystick
+  /// through walls, obstacles and gates over a floor height map (circuit.h). `drive` and
+  /// `terrain` are then optional and unused by SimulateCircuitScene.
+  std::optional<CircuitSpec> circuit;
 
-  double duration() const { return drive.StopTime() + settle_time; }  ///< [s]
+  bool is_circuit() const { return circuit.has_value(); }
+  /// [s]: the drive's stop time plus settling, or the circuit's duration.
+  double duration() const { return circuit ? circuit->duration : drive.StopTime() + settle_time; }
   std::int64_t tick_count() const { return clock.TicksFor(duration()) + 1; }
   const SceneSection* section(const std::string& key) const;
 };
@@ -86,5 +94,12 @@ std::filesystem::path DefaultScenePath(const std::filesystem::path& source_dir);
 
 /// Runs the chair through the scene's drive on the scene's clock: one sample per tick.
 std::vector<ChairSample> SimulateScene(const Scene& scene);
+
+/// A circuit scene run by the full-DoF chair: one sample per tick. @pre scene.is_circuit().
+std::vector<FullChairSample> SimulateCircuitScene(const Scene& scene);
+
+/// The straight drive of a (non-circuit) scene run by the full-DoF chair (AdvanceAlong) on the
+/// scene's terrain as a floor: the sagittal columns equal SimulateScene's bit for bit.
+std::vector<FullChairSample> SimulateSceneFullChair(const Scene& scene);
 
 }  // namespace pwsim

@@ -17,6 +17,9 @@ struct Terrain {
 
   /// z(x) [m]; 0 outside [x.front(), x.back()].
   double HeightAt(double x_W) const;
+  /// z(x) as HeightAt, bit for bit, with the breakpoint search started at `hint` (a lookup that
+  /// moves little between calls, as a wheel from tick to tick); `hint` is updated.
+  double HeightAtNear(double x_W, std::size_t& hint) const;
   /// dz/dx [-] (right-hand slope at a breakpoint); 0 outside the span.
   double SlopeAt(double x_W) const;
   /// Highest point of the profile [m].

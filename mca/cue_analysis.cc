@@ -8,26 +8,6 @@
 namespace pwsim::mca {
 namespace {
 
-using Mat3 = std::array<double, 9>;
-
-Mat3 Multiply(const Mat3& a, const Mat3& b) {
-  Mat3 out{};
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) {
-      double s = 0.0;
-      for (int k = 0; k < 3; ++k) s += a[static_cast<std::size_t>(3 * r + k)] * b[static_cast<std::size_t>(3 * k + c)];
-      out[static_cast<std::size_t>(3 * r + c)] = s;
-    }
-  }
-  return out;
-}
-
-/// Rᵀ v.
-std::array<double, 3> TransposeTimes(const Mat3& r, const std::array<double, 3>& v) {
-  return {r[0] * v[0] + r[3] * v[1] + r[6] * v[2], r[1] * v[0] + r[4] * v[1] + r[7] * v[2],
-          r[2] * v[0] + r[5] * v[1] + r[8] * v[2]};
-}
-
 double Mean(const std::vector<double>& v) {
   double s = 0.0;
   for (double x : v) s += x;
@@ -55,53 +35,12 @@ double LaggedSquares(const std::vector<double>& v, long from, long to) {
 }  // namespace
 
 PlatformHeadPose HeadPoseOnPlatform(const PlatformSpec& platform, const DofArray& pose) {
-  const double roll = pose[Index(Dof::kRoll)];
-  const double pitch = pose[Index(Dof::kPitch)];
-  const double yaw = pose[Index(Dof::kYaw)];
-  const double cr = std::cos(roll), sr = std::sin(roll);
-  const double cp = std::cos(pitch), sp = std::sin(pitch);
-  const double cy = std::cos(yaw), sy = std::sin(yaw);
-  const Mat3 rz{cy, -sy, 0, sy, cy, 0, 0, 0, 1};
-  const Mat3 ry{cp, 0, -sp, 0, 1, 0, sp, 0, cp};  // Ry(-pitch): nose-up lifts x
-  const Mat3 rx{1, 0, 0, 0, cr, -sr, 0, sr, cr};
-  PlatformHeadPose out;
-  out.r = Multiply(Multiply(rz, ry), rx);
-  const auto& h = platform.head_from_pivot;
-  for (std::size_t i = 0; i < 3; ++i) {
-    out.p[i] = pose[i] + out.r[3 * i] * h[0] + out.r[3 * i + 1] * h[1] + out.r[3 * i + 2] * h[2];
-  }
-  return out;
+  return PointOnBody(pose, platform.head_from_pivot);
 }
 
 std::vector<HeadMotion> DeliveredHeadMotion(const PlatformSpec& platform,
                                             const std::vector<DofArray>& poses, double dt) {
-  PWSIM_DEMAND(dt > 0.0);
-  const std::size_t n = poses.size();
-  std::vector<HeadMotion> out(n);
-  if (n < 3) return out;
-  std::vector<PlatformHeadPose> head(n);
-  for (std::size_t k = 0; k < n; ++k) head[k] = HeadPoseOnPlatform(platform, poses[k]);
-  for (std::size_t k = 1; k + 1 < n; ++k) {
-    const PlatformHeadPose& prev = head[k - 1];
-    const PlatformHeadPose& now = head[k];
-    const PlatformHeadPose& next = head[k + 1];
-    std::array<double, 3> f{};
-    for (std::size_t i = 0; i < 3; ++i) f[i] = (next.p[i] - 2.0 * now.p[i] + prev.p[i]) / (dt * dt);
-    f[2] += kGravity;
-    out[k].fs = TransposeTimes(now.r, f);
-    // Ω = Rᵀ Ṙ (skew), Ṙ by central difference
-    Mat3 rdot{};
-    for (std::size_t i = 0; i < 9; ++i) rdot[i] = (next.r[i] - prev.r[i]) / (2.0 * dt);
-    Mat3 rt{};
-    for (std::size_t r = 0; r < 3; ++r) {
-      for (std::size_t c = 0; c < 3; ++c) rt[3 * r + c] = now.r[3 * c + r];
-    }
-    const Mat3 omega = Multiply(rt, rdot);
-    out[k].w = {0.5 * (omega[7] - omega[5]), 0.5 * (omega[2] - omega[6]), 0.5 * (omega[3] - omega[1])};
-  }
-  out[0] = out[1];
-  out[n - 1] = out[n - 2];
-  return out;
+  return HeadMotionFromBodyTrack(poses, platform.head_from_pivot, dt);
 }
 
 std::array<double, 2> MaxCrossCorrelation(const std::vector<double>& a,

@@ -20,10 +20,7 @@
 namespace pwsim::mca {
 
 /// Head position in the lab [m] and R (row-major 3×3) for one platform pose.
-struct PlatformHeadPose {
-  std::array<double, 3> p{};
-  std::array<double, 9> r{1, 0, 0, 0, 1, 0, 0, 0, 1};
-};
+using PlatformHeadPose = PointPose;
 PlatformHeadPose HeadPoseOnPlatform(const PlatformSpec& platform, const DofArray& pose);
 
 /// Head motion delivered by a stream of platform poses (one per tick). Allocates.

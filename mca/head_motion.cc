@@ -8,6 +8,26 @@
 namespace pwsim::mca {
 namespace {
 
+using Mat3 = std::array<double, 9>;
+
+Mat3 Multiply(const Mat3& a, const Mat3& b) {
+  Mat3 out{};
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) {
+      double s = 0.0;
+      for (int k = 0; k < 3; ++k) s += a[static_cast<std::size_t>(3 * r + k)] * b[static_cast<std::size_t>(3 * k + c)];
+      out[static_cast<std::size_t>(3 * r + c)] = s;
+    }
+  }
+  return out;
+}
+
+/// Rᵀ v.
+std::array<double, 3> TransposeTimes(const Mat3& r, const std::array<double, 3>& v) {
+  return {r[0] * v[0] + r[3] * v[1] + r[6] * v[2], r[1] * v[0] + r[4] * v[1] + r[7] * v[2],
+          r[2] * v[0] + r[5] * v[1] + r[8] * v[2]};
+}
+
 /// Sagittal kinematics of the head from O_V's acceleration and the pitch state.
 HeadMotion Kinematics(double ax, double az, double pitch, double pitch_rate, double pitch_acc,
                       const std::array<double, 3>& p) {
@@ -30,6 +50,59 @@ HeadMotion Kinematics(double ax, double az, double pitch, double pitch_rate, dou
 }
 
 }  // namespace
+
+PointPose PointOnBody(const DofArray& pose, const std::array<double, 3>& p_B) {
+  const double roll = pose[Index(Dof::kRoll)];
+  const double pitch = pose[Index(Dof::kPitch)];
+  const double yaw = pose[Index(Dof::kYaw)];
+  const double cr = std::cos(roll), sr = std::sin(roll);
+  const double cp = std::cos(pitch), sp = std::sin(pitch);
+  const double cy = std::cos(yaw), sy = std::sin(yaw);
+  const Mat3 rz{cy, -sy, 0, sy, cy, 0, 0, 0, 1};
+  const Mat3 ry{cp, 0, -sp, 0, 1, 0, sp, 0, cp};  // Ry(-pitch): nose-up lifts x
+  const Mat3 rx{1, 0, 0, 0, cr, -sr, 0, sr, cr};
+  PointPose out;
+  out.r = Multiply(Multiply(rz, ry), rx);
+  for (std::size_t i = 0; i < 3; ++i) {
+    out.p[i] = pose[i] + out.r[3 * i] * p_B[0] + out.r[3 * i + 1] * p_B[1] + out.r[3 * i + 2] * p_B[2];
+  }
+  return out;
+}
+
+std::vector<HeadMotion> HeadMotionFromPoses(const std::vector<PointPose>& head, double dt) {
+  PWSIM_DEMAND(dt > 0.0);
+  const std::size_t n = head.size();
+  std::vector<HeadMotion> out(n);
+  if (n < 3) return out;
+  for (std::size_t k = 1; k + 1 < n; ++k) {
+    const PointPose& prev = head[k - 1];
+    const PointPose& now = head[k];
+    const PointPose& next = head[k + 1];
+    std::array<double, 3> f{};
+    for (std::size_t i = 0; i < 3; ++i) f[i] = (next.p[i] - 2.0 * now.p[i] + prev.p[i]) / (dt * dt);
+    f[2] += kGravity;
+    out[k].fs = TransposeTimes(now.r, f);
+    // Ω = Rᵀ Ṙ (skew), Ṙ by central difference
+    Mat3 rdot{};
+    for (std::size_t i = 0; i < 9; ++i) rdot[i] = (next.r[i] - prev.r[i]) / (2.0 * dt);
+    Mat3 rt{};
+    for (std::size_t r = 0; r < 3; ++r) {
+      for (std::size_t c = 0; c < 3; ++c) rt[3 * r + c] = now.r[3 * c + r];
+    }
+    const Mat3 omega = Multiply(rt, rdot);
+    out[k].w = {0.5 * (omega[7] - omega[5]), 0.5 * (omega[2] - omega[6]), 0.5 * (omega[3] - omega[1])};
+  }
+  out[0] = out[1];
+  out[n - 1] = out[n - 2];
+  return out;
+}
+
+std::vector<HeadMotion> HeadMotionFromBodyTrack(const std::vector<DofArray>& body,
+                                                const std::array<double, 3>& head_offset, double dt) {
+  std::vector<PointPose> head(body.size());
+  for (std::size_t k = 0; k < body.size(); ++k) head[k] = PointOnBody(body[k], head_offset);
+  return HeadMotionFromPoses(head, dt);
+}
 
 HeadMotion HeadMotionFromChair(const ChairSample& sample, const std::array<double, 3>& head_offset) {
   return Kinematics(sample.drive.a, sample.lm_acc.z, sample.lm.pitch, sample.lm.pitch_rate,

@@ -39,6 +39,25 @@ HeadMotion HeadMotionFromChair(const ChairSample& sample, const std::array<doubl
 /// p_WH and the chair pitch at one sample.
 HeadPose HeadPoseFromChair(const ChairSample& sample, const std::array<double, 3>& head_offset);
 
+/// A frame fixed on a rigid body, seen from W: its origin p [m] and R (row-major 3×3, columns the
+/// frame's axes in W). Bodies are posed as (x, y, z, roll, pitch, yaw) like the platform's axes
+/// (mca/dof.h): R = Rz(ψ) Ry(−θ) Rx(φ), roll left side up, pitch nose-up, yaw turning left.
+struct PointPose {
+  std::array<double, 3> p{};
+  std::array<double, 9> r{1, 0, 0, 0, 1, 0, 0, 0, 1};
+};
+/// The frame at p_B (in the body's axes) on a body posed at `pose` = (x, y, z, roll, pitch, yaw)
+/// [m, rad], indexed like DofArray: p = (x, y, z) + R p_B.
+PointPose PointOnBody(const DofArray& pose, const std::array<double, 3>& p_B);
+
+/// Motion felt at a frame that moves along `poses` (one per tick, dt apart), by central
+/// differences (the end ticks copy their neighbours): fs = Rᵀ (p̈ − g_W), Ω = Rᵀ Ṙ with
+/// w = (Ω₃₂, Ω₁₃, Ω₂₁). Works through any yaw (no angle wrapping: R is differenced). Allocates.
+std::vector<HeadMotion> HeadMotionFromPoses(const std::vector<PointPose>& poses, double dt);
+/// The head motion of a vehicle (or chair) posed at `body` per tick, the head at p_VH in V.
+std::vector<HeadMotion> HeadMotionFromBodyTrack(const std::vector<DofArray>& body,
+                                                const std::array<double, 3>& head_offset, double dt);
+
 /// A tracked rigid body (e.g. motion capture of the chair) sampled on the engine's ticks.
 struct SagittalTrack {
   double dt{1e-3};             ///< [s]

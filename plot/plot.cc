@@ -192,6 +192,7 @@ std::string PlotBody(const Figure& figure, const std::string& data_file) {
     gp << "set xrange [*:*]\n";
     if (figure.log_x) gp << "set logscale x\n";
     gp << "set xlabel " << Quote(p + 1 == n ? figure.x_label : std::string()) << "\n";
+    if (panel.equal_axes) gp << "set size ratio -1\n";
     gp << "plot ";
     for (std::size_t s = 0; s < panel.series.size(); ++s, ++index) {
       const Series& series = panel.series[s];
@@ -202,6 +203,7 @@ std::string PlotBody(const Figure& figure, const std::string& data_file) {
     }
     if (panel.series.empty()) gp << "NaN notitle";
     gp << "\n";
+    if (panel.equal_axes) gp << "set size noratio\n";
   }
   if (!figure.title.empty() || n > 1) gp << "unset multiplot\n";
   return gp.str();

@@ -55,6 +55,8 @@ struct Panel {
   bool box_whiskers_to_extremes{false};
   /// Box plots: every value drawn as a point over its box (jittered where values repeat).
   bool box_show_points{false};
+  /// One metre is as long on x as on y (a map, e.g. a top view of a path).
+  bool equal_axes{false};
 };
 
 struct Figure {

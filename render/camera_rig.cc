@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "render/road_scene.h"
+
 namespace pwsim::render {
 
 Eigen::Matrix3d PitchRollRotation(double pitch, double roll) {
@@ -23,9 +25,18 @@ Eigen::Isometry3d ChairPose(const VisualSample& sample) {
   return X_WV;
 }
 
+Eigen::Isometry3d ChairPose3d(const VisualSample& sample) {
+  return CarPose(sample.x, sample.y, sample.z, sample.yaw, sample.roll, sample.pitch);
+}
+
 Eigen::Isometry3d EyePose(const VisualSample& sample, const std::array<double, 3>& head_offset,
                           bool remove_tilt, Eye eye, double ipd) {
-  const Eigen::Isometry3d X_WV = ChairPose(sample);
+  return EyePoseOn(ChairPose(sample), sample, head_offset, remove_tilt, eye, ipd);
+}
+
+Eigen::Isometry3d EyePoseOn(const Eigen::Isometry3d& X_WV, const VisualSample& sample,
+                            const std::array<double, 3>& head_offset, bool remove_tilt, Eye eye,
+                            double ipd) {
   // X_VH: the head on the chair; the tracked platform tilt stays in the view unless removed.
   Eigen::Isometry3d X_VH = Eigen::Isometry3d::Identity();
   X_VH.translation() = Eigen::Vector3d(head_offset[0], head_offset[1], head_offset[2]);

@@ -20,6 +20,10 @@ struct VisualSample {
   double pitch{0.0};       ///< [rad] chair pitch to show, positive nose-up
   double tilt_pitch{0.0};  ///< [rad] platform tilt-coordination pitch, positive nose-up
   double tilt_roll{0.0};   ///< [rad] platform tilt-coordination roll, positive right side down
+  // The chair in the plane (circuit scenes); 0 on a straight run.
+  double y{0.0};           ///< [m] O_V across W (left)
+  double yaw{0.0};         ///< [rad] heading, turning left positive
+  double roll{0.0};        ///< [rad] chair roll to show, positive left side up
 };
 
 enum class Eye { kCentre, kLeft, kRight };
@@ -32,11 +36,18 @@ std::array<double, 2> PitchRollOf(const Eigen::Matrix3d& R);
 /// X_WV: the chair pose of a visual sample (x, z, pitch; y = 0, no yaw or roll).
 Eigen::Isometry3d ChairPose(const VisualSample& sample);
 
+/// X_WV of a chair free in the plane: (x, y, z) and R = Rz(ψ) Ry(−θ) Rx(φ).
+Eigen::Isometry3d ChairPose3d(const VisualSample& sample);
+
 /// X_WC of one eye. The eye sits at p_VH (head_offset) on the chair, shifted ±ipd/2 along the
 /// head's y for the left/right eye. The head tracker of an HMD on the platform sees the
 /// platform's tilt; with `remove_tilt` the renderer takes it out again (the view shows the chair
 /// pitch only); without it the view is pitched and rolled by the tilt as well.
 Eigen::Isometry3d EyePose(const VisualSample& sample, const std::array<double, 3>& head_offset,
                           bool remove_tilt, Eye eye = Eye::kCentre, double ipd = 0.0);
+/// The same for a chair at X_WV (e.g. ChairPose3d(sample)); EyePose uses ChairPose(sample).
+Eigen::Isometry3d EyePoseOn(const Eigen::Isometry3d& X_WV, const VisualSample& sample,
+                            const std::array<double, 3>& head_offset, bool remove_tilt,
+                            Eye eye = Eye::kCentre, double ipd = 0.0);
 
 }  // namespace pwsim::render

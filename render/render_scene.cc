@@ -53,7 +53,97 @@ void AddWheel(std::vector<Quad>* quads, double x, double y, double radius, doubl
   }
 }
 
+/// The chair in V (x forward, y left, z up; O_V on the ground under the drive axle): wheels at
+/// the chair's contact points, a base, a seat, a backrest, armrests and a footrest.
+void AddChairBody(std::vector<Quad>* quads, const Chair& chair) {
+  double front = 0.4, rear = -0.4;
+  for (const Wheel& w : chair.wheels) {
+    AddWheel(quads, w.x, 0.30, w.radius, 0.06);
+    AddWheel(quads, w.x, -0.30, w.radius, 0.06);
+    front = std::max(front, w.x + w.radius);
+    rear = std::min(rear, w.x - w.radius);
+  }
+  const Rgb frame{0.20F, 0.22F, 0.26F}, seat{0.15F, 0.25F, 0.55F};
+  AddBox(quads, {rear + 0.05, -0.26, 0.15}, {front - 0.05, 0.26, 0.35}, frame);
+  AddBox(quads, {-0.25, -0.24, 0.45}, {0.25, 0.24, 0.53}, seat);
+  AddBox(quads, {-0.33, -0.24, 0.53}, {-0.25, 0.24, 1.05}, seat);
+  AddBox(quads, {-0.20, 0.24, 0.70}, {0.20, 0.30, 0.75}, frame);
+  AddBox(quads, {-0.20, -0.30, 0.70}, {0.20, -0.24, 0.75}, frame);
+  AddBox(quads, {front - 0.05, -0.18, 0.10}, {front + 0.10, 0.18, 0.14}, frame);
+  AddBox(quads, {0.16, -0.32, 0.75}, {0.20, -0.28, 0.85},
+         Rgb{0.05F, 0.05F, 0.05F});  // joystick
+}
+
 }  // namespace
+
+void AddPrism(std::vector<Quad>* quads, const std::vector<Eigen::Vector2d>& base, double z0,
+              double z1, Rgb color, TextureKind texture, double tile) {
+  const std::size_t n = base.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector2d& a = base[i];
+    const Eigen::Vector2d& b = base[(i + 1) % n];
+    quads->push_back(MakeQuad({a.x(), a.y(), z0}, {b.x(), b.y(), z0}, {b.x(), b.y(), z1},
+                              {a.x(), a.y(), z1}, color, texture, tile));
+  }
+  // top: a fan of quads from the first corner (a quad is a triangle when two corners meet)
+  for (std::size_t i = 1; i + 1 < n; i += 2) {
+    const Eigen::Vector2d& c = base[std::min(i + 2, n - 1)];
+    quads->push_back(MakeQuad({base[0].x(), base[0].y(), z1}, {base[i].x(), base[i].y(), z1},
+                              {base[i + 1].x(), base[i + 1].y(), z1}, {c.x(), c.y(), z1}, color,
+                              texture, tile));
+  }
+}
+
+void AddWall(std::vector<Quad>* quads, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+             double thickness, double z0, double z1, Rgb color, TextureKind texture) {
+  const Eigen::Vector2d d = b - a;
+  if (!(d.norm() > 0.0)) return;
+  const Eigen::Vector2d side = Eigen::Vector2d(-d.y(), d.x()).normalized() * (thickness / 2.0);
+  AddPrism(quads, {a - side, b - side, b + side, a + side}, z0, z1, color, texture, 2.0);
+}
+
+void AddYawedBox(std::vector<Quad>* quads, const Eigen::Vector2d& centre, double hx, double hy,
+                 double yaw, double z0, double z1, Rgb color) {
+  const Eigen::Vector2d u(std::cos(yaw) * hx, std::sin(yaw) * hx);
+  const Eigen::Vector2d v(-std::sin(yaw) * hy, std::cos(yaw) * hy);
+  AddPrism(quads, {centre - u - v, centre + u - v, centre + u + v, centre - u + v}, z0, z1, color);
+}
+
+void AddHeightField(std::vector<Quad>* quads, const HeightGrid& grid, Rgb color,
+                    TextureKind texture, double flat, double lift) {
+  if (grid.nx < 2 || grid.ny < 2 ||
+      grid.z.size() != static_cast<std::size_t>(grid.nx) * static_cast<std::size_t>(grid.ny)) {
+    return;
+  }
+  auto at = [&](int i, int j) {
+    return Vector3d(grid.x0 + i * grid.cell, grid.y0 + j * grid.cell,
+                    grid.z[static_cast<std::size_t>(j) * static_cast<std::size_t>(grid.nx) +
+                           static_cast<std::size_t>(i)] + lift);
+  };
+  auto raised = [&](const Vector3d& p) { return p.z() - lift > flat; };
+  for (int j = 0; j + 1 < grid.ny; ++j) {
+    for (int i = 0; i + 1 < grid.nx; ++i) {
+      const Vector3d a = at(i, j), b = at(i + 1, j), c = at(i + 1, j + 1), d = at(i, j + 1);
+      if (!(raised(a) || raised(b) || raised(c) || raised(d))) continue;
+      quads->push_back(MakeQuad(a, b, c, d, color, texture, 0.5));
+    }
+  }
+  // skirts along the border, where the relief stands above the floor
+  const Rgb side{color.r * 0.8F, color.g * 0.8F, color.b * 0.8F};
+  auto skirt = [&](const Vector3d& p, const Vector3d& q) {
+    if (!(raised(p) || raised(q))) return;
+    quads->push_back(MakeQuad({p.x(), p.y(), flat}, {q.x(), q.y(), flat}, q, p, side,
+                              TextureKind::kNone, 1.0));
+  };
+  for (int i = 0; i + 1 < grid.nx; ++i) {
+    skirt(at(i, 0), at(i + 1, 0));
+    skirt(at(i + 1, grid.ny - 1), at(i, grid.ny - 1));
+  }
+  for (int j = 0; j + 1 < grid.ny; ++j) {
+    skirt(at(grid.nx - 1, j), at(grid.nx - 1, j + 1));
+    skirt(at(0, j + 1), at(0, j));
+  }
+}
 
 Eigen::Vector3d QuadNormal(const Quad& quad) {
   const Vector3d n = (quad.corners[1] - quad.corners[0]).cross(quad.corners[2] - quad.corners[0]);
@@ -103,25 +193,115 @@ RenderScene BuildRenderScene(const Scene& scene, const RenderConfig& config) {
                                  {xb, half_width, zb}, side, TextureKind::kNone, 1));
   }
 
-  // Chair in V (x forward, y left, z up; O_V on the ground under the drive axle): wheels at the
-  // chair's contact points, a base, a seat, a backrest, armrests and a footrest.
-  const Chair& chair = scene.chair;
-  double front = 0.4, rear = -0.4;
-  for (const Wheel& w : chair.wheels) {
-    AddWheel(&out.chair, w.x, 0.30, w.radius, 0.06);
-    AddWheel(&out.chair, w.x, -0.30, w.radius, 0.06);
-    front = std::max(front, w.x + w.radius);
-    rear = std::min(rear, w.x - w.radius);
+  AddChairBody(&out.chair, scene.chair);
+  return out;
+}
+
+RenderScene BuildCircuitRenderScene(const Scene& scene, const RenderConfig& config,
+                                    double relief_cell) {
+  const CircuitSpec& circuit = *scene.circuit;
+  RenderScene out;
+  out.texture_seed = config.texture_seed;
+  out.clear_color = Rgb{0.62F, 0.74F, 0.86F};  // sky; room_min/max stay 0: the view is cleared
+
+  // The circuit's extent: everything placed in it, plus a margin.
+  Eigen::AlignedBox2d box;
+  box.extend(Eigen::Vector2d(circuit.start.x, circuit.start.y));
+  for (const Wall& w : circuit.walls) {
+    box.extend(Eigen::Vector2d(w.from.x, w.from.y));
+    box.extend(Eigen::Vector2d(w.to.x, w.to.y));
   }
-  const Rgb frame{0.20F, 0.22F, 0.26F}, seat{0.15F, 0.25F, 0.55F};
-  AddBox(&out.chair, {rear + 0.05, -0.26, 0.15}, {front - 0.05, 0.26, 0.35}, frame);
-  AddBox(&out.chair, {-0.25, -0.24, 0.45}, {0.25, 0.24, 0.53}, seat);
-  AddBox(&out.chair, {-0.33, -0.24, 0.53}, {-0.25, 0.24, 1.05}, seat);
-  AddBox(&out.chair, {-0.20, 0.24, 0.70}, {0.20, 0.30, 0.75}, frame);
-  AddBox(&out.chair, {-0.20, -0.30, 0.70}, {0.20, -0.24, 0.75}, frame);
-  AddBox(&out.chair, {front - 0.05, -0.18, 0.10}, {front + 0.10, 0.18, 0.14}, frame);
-  AddBox(&out.chair, {0.16, -0.32, 0.75}, {0.20, -0.28, 0.85},
-         Rgb{0.05F, 0.05F, 0.05F});  // joystick
+  for (const Obstacle& o : circuit.obstacles) box.extend(Eigen::Vector2d(o.centre.x, o.centre.y));
+  for (const Gate& g : circuit.gates) {
+    box.extend(Eigen::Vector2d(g.left.x, g.left.y));
+    box.extend(Eigen::Vector2d(g.right.x, g.right.y));
+  }
+  for (const Point2& p : circuit.joystick.path) box.extend(Eigen::Vector2d(p.x, p.y));
+  constexpr double kMargin = 3.0;
+  const Eigen::Vector2d lo = box.min() - Eigen::Vector2d(kMargin, kMargin);
+  const Eigen::Vector2d hi = box.max() + Eigen::Vector2d(kMargin, kMargin);
+  const Rgb floor{0.85F, 0.80F, 0.72F};
+  out.world.push_back(MakeQuad({lo.x(), lo.y(), 0}, {hi.x(), lo.y(), 0}, {hi.x(), hi.y(), 0},
+                               {lo.x(), hi.y(), 0}, floor, TextureKind::kFloor, 1.0));
+
+  // Floor relief: every layer of the floor map, sampled where it can be non-zero.
+  Eigen::AlignedBox2d relief;
+  const FloorMap& map = circuit.floor;
+  if (!map.profile.x.empty()) {
+    relief.extend(Eigen::Vector2d(map.profile.x.front(), lo.y()));
+    relief.extend(Eigen::Vector2d(map.profile.x.back(), hi.y()));
+  }
+  for (const FloorFeature& f : map.features) {
+    relief.extend(Eigen::Vector2d(f.x_min, f.y_min));
+    relief.extend(Eigen::Vector2d(f.x_max, f.y_max));
+  }
+  if (map.grid) {
+    relief.extend(Eigen::Vector2d(map.grid->x0, map.grid->y0));
+    relief.extend(Eigen::Vector2d(map.grid->x0 + (map.grid->nx - 1) * map.grid->cell,
+                                  map.grid->y0 + (map.grid->ny - 1) * map.grid->cell));
+  }
+  if (!relief.isEmpty()) {
+    relief = relief.intersection(Eigen::AlignedBox2d(lo, hi));
+    const Eigen::Vector2d size = relief.sizes();
+    double cell = relief_cell;
+    while ((size.x() / cell + 2) * (size.y() / cell + 2) > 250000.0) cell *= 1.5;  // bounded
+    HeightGrid grid;
+    grid.x0 = relief.min().x();
+    grid.y0 = relief.min().y();
+    grid.cell = cell;
+    grid.nx = static_cast<int>(std::ceil(size.x() / cell)) + 1;
+    grid.ny = static_cast<int>(std::ceil(size.y() / cell)) + 1;
+    grid.z.resize(static_cast<std::size_t>(grid.nx) * static_cast<std::size_t>(grid.ny));
+    for (int j = 0; j < grid.ny; ++j) {
+      for (int i = 0; i < grid.nx; ++i) {
+        grid.z[static_cast<std::size_t>(j * grid.nx + i)] =
+            map.HeightAt(grid.x0 + i * cell, grid.y0 + j * cell);
+      }
+    }
+    if (grid.nx >= 2 && grid.ny >= 2) {
+      AddHeightField(&out.world, grid, Rgb{0.95F, 0.55F, 0.15F}, TextureKind::kCushion);
+    }
+  }
+
+  // Walls, obstacles, gates.
+  const double wall_height = scene.room.height;
+  for (std::size_t i = 0; i < circuit.walls.size(); ++i) {
+    const Wall& w = circuit.walls[i];
+    const Rgb wall = i % 2 == 0 ? Rgb{0.90F, 0.90F, 0.88F} : Rgb{0.86F, 0.88F, 0.92F};
+    AddWall(&out.world, {w.from.x, w.from.y}, {w.to.x, w.to.y}, w.thickness, 0.0, wall_height,
+            wall);
+  }
+  const Rgb obstacle{0.20F, 0.45F, 0.75F};
+  for (const Obstacle& o : circuit.obstacles) {
+    if (o.shape == Obstacle::Shape::kBox) {
+      AddYawedBox(&out.world, {o.centre.x, o.centre.y}, o.half_length, o.half_width, o.yaw, 0.0,
+                  o.height, obstacle);
+      continue;
+    }
+    std::vector<Eigen::Vector2d> base;
+    constexpr int kSides = 16;
+    for (int k = 0; k < kSides; ++k) {
+      const double a = 2.0 * M_PI * k / kSides;
+      base.emplace_back(o.centre.x + o.radius * std::cos(a), o.centre.y + o.radius * std::sin(a));
+    }
+    AddPrism(&out.world, base, 0.0, o.height, obstacle);
+  }
+  const Rgb post{0.10F, 0.60F, 0.25F};
+  for (const Gate& g : circuit.gates) {
+    const Eigen::Vector2d l(g.left.x, g.left.y), r(g.right.x, g.right.y);
+    AddYawedBox(&out.world, l, 0.03, 0.03, 0.0, 0.0, 1.2, post);
+    AddYawedBox(&out.world, r, 0.03, 0.03, 0.0, 0.0, 1.2, post);
+    const Eigen::Vector2d d = r - l;
+    if (!(d.norm() > 0.0)) continue;
+    const Eigen::Vector2d across = Eigen::Vector2d(-d.y(), d.x()).normalized() * 0.03;
+    const double z = std::max(map.HeightAt(l.x(), l.y()), map.HeightAt(r.x(), r.y())) + 0.002;
+    out.world.push_back(MakeQuad({l.x() - across.x(), l.y() - across.y(), z},
+                                 {r.x() - across.x(), r.y() - across.y(), z},
+                                 {r.x() + across.x(), r.y() + across.y(), z},
+                                 {l.x() + across.x(), l.y() + across.y(), z}, post,
+                                 TextureKind::kNone, 1.0));
+  }
+  AddChairBody(&out.chair, scene.chair);
   return out;
 }
 

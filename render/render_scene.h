@@ -47,9 +47,38 @@ struct RenderScene {
   Eigen::Vector3d room_max_W{0.0, 0.0, 0.0};
 };
 
+/// A circuit scene (scene.circuit): a floor over the circuit's extent with its relief (every
+/// layer of the floor map sampled on a grid of `relief_cell` [m] where it is not flat), the
+/// walls (scene.room.height high), obstacles, gates (two posts and a stripe on the floor) and
+/// the chair. No ceiling: the sky is the clear colour. @pre scene.is_circuit().
+RenderScene BuildCircuitRenderScene(const Scene& scene, const RenderConfig& config,
+                                    double relief_cell = 0.05);
+
 /// Room (floor, four walls, ceiling) from scene.room, the cushion from scene.terrain (profile
 /// extruded across the path, config.cushion_width wide), the chair from its wheel geometry.
 RenderScene BuildRenderScene(const Scene& scene, const RenderConfig& config);
+
+// Building blocks of circuit scenes (2.5-D rooms: walls, doorways, obstacles, floor relief), as
+// plain data so that any scene reader can use them. Faces point outwards (counter-clockwise).
+
+/// A vertical prism over the polygon `base` (x, y in W, counter-clockwise seen from above)
+/// between heights z0 < z1: side faces and the top (no bottom: it stands on the floor).
+void AddPrism(std::vector<Quad>* quads, const std::vector<Eigen::Vector2d>& base, double z0,
+              double z1, Rgb color, TextureKind texture = TextureKind::kNone, double tile = 1.0);
+/// A wall `thickness` thick centred on the segment a-b, from z0 to z1.
+void AddWall(std::vector<Quad>* quads, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+             double thickness, double z0, double z1, Rgb color,
+             TextureKind texture = TextureKind::kWall);
+/// A box of half extents (hx, hy) about `centre`, turned by `yaw` [rad], from z0 to z1.
+void AddYawedBox(std::vector<Quad>* quads, const Eigen::Vector2d& centre, double hx, double hy,
+                 double yaw, double z0, double z1, Rgb color);
+
+/// The relief of a height grid: one quad per cell with any corner above `flat` (cells at the
+/// floor's height are left to the floor), lifted by `lift` to stay clear of the floor's depth,
+/// and a skirt down to `flat` along the grid's border where it is raised.
+void AddHeightField(std::vector<Quad>* quads, const HeightGrid& grid, Rgb color,
+                    TextureKind texture = TextureKind::kCushion, double flat = 0.0,
+                    double lift = 0.001);
 
 /// Outward unit normal of a quad (from its winding).
 Eigen::Vector3d QuadNormal(const Quad& quad);

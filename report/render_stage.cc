@@ -61,6 +61,12 @@ class VisualChannel {
     x_ = &table.Column(mca ? "vis_x_m" : "x_m");
     z_ = &table.Column(mca && table.Has("vis_z_m") ? "vis_z_m" : "z_m");
     pitch_ = &table.Column(mca && table.Has("vis_pitch_rad") ? "vis_pitch_rad" : "pitch_rad");
+    if (table.Has("vis_yaw_rad")) {  // a chair free in the plane (circuit scenes)
+      y_ = &table.Column("vis_y_m");
+      roll_ = &table.Column("vis_roll_rad");
+      yaw_ = &table.Column("vis_yaw_rad");
+      source_ += ", in the plane (vis_y_m, vis_roll_rad, vis_yaw_rad)";
+    }
     if (table.Has("vis_tilt_pitch_rad")) tilt_pitch_ = &table.Column("vis_tilt_pitch_rad");
     if (table.Has("vis_tilt_roll_rad")) tilt_roll_ = &table.Column("vis_tilt_roll_rad");
   }
@@ -71,8 +77,18 @@ class VisualChannel {
     s.pitch = (*pitch_)[row];
     s.tilt_pitch = tilt_pitch_ != nullptr ? (*tilt_pitch_)[row] : 0.0;
     s.tilt_roll = tilt_roll_ != nullptr ? (*tilt_roll_)[row] : 0.0;
+    if (yaw_ != nullptr) {
+      s.y = (*y_)[row];
+      s.roll = (*roll_)[row];
+      s.yaw = (*yaw_)[row];
+    }
     return s;
   }
+  /// X_WV: in the plane when the channel has a yaw, else the straight run's sagittal pose.
+  Eigen::Isometry3d ChairPose(const render::VisualSample& s) const {
+    return yaw_ != nullptr ? render::ChairPose3d(s) : render::ChairPose(s);
+  }
+  bool planar() const { return yaw_ != nullptr; }
   const std::string& source() const { return source_; }
 
  private:
@@ -82,6 +98,9 @@ class VisualChannel {
   const std::vector<double>* pitch_{nullptr};
   const std::vector<double>* tilt_pitch_{nullptr};
   const std::vector<double>* tilt_roll_{nullptr};
+  const std::vector<double>* y_{nullptr};
+  const std::vector<double>* roll_{nullptr};
+  const std::vector<double>* yaw_{nullptr};
 };
 
 /// A vestibular pitch-rate cue to compare with: `sign` × column is a nose-up rate [rad/s].
@@ -164,7 +183,9 @@ void RenderTrial(const Scene& scene, const TrialTable& table, const RenderStageO
   std::vector<double> tilt_shown(frame_count);
   std::vector<double> est_pitch_rate(frame_count, kNaN), est_vertical_rate(frame_count, kNaN);
 
-  render::OffscreenRenderer renderer(render::BuildRenderScene(scene, config), config);
+  render::OffscreenRenderer renderer(scene.is_circuit() ? render::BuildCircuitRenderScene(scene, config)
+                                                        : render::BuildRenderScene(scene, config),
+                                     config);
   const int width = renderer.width(), height = renderer.height();
   render::VideoWriter h264(
       {out_dir / "video.mp4", width, height, config.fps, render::VideoCodec::kH264, config.crf});
@@ -174,8 +195,9 @@ void RenderTrial(const Scene& scene, const TrialTable& table, const RenderStageO
         render::VideoConfig{out_dir / "video_lossless.mkv", width, height, config.fps,
                             render::VideoCodec::kLossless, 0});
   }
-  std::unique_ptr<render::FrameMotionEstimator> estimator;  // mono views only
-  if (!config.stereo) {
+  // mono views of straight runs only: the plane fit assumes a chair moving along the room
+  std::unique_ptr<render::FrameMotionEstimator> estimator;
+  if (!config.stereo && !channel.planar()) {
     estimator = std::make_unique<render::FrameMotionEstimator>(width, height, config.fov_y_deg);
   }
 
@@ -184,8 +206,14 @@ void RenderTrial(const Scene& scene, const TrialTable& table, const RenderStageO
   for (std::size_t k = 0; k < frame_count; ++k) {
     const std::size_t row = k * static_cast<std::size_t>(ticks_per_frame);  // frame k = tick k·N
     const render::VisualSample sample = channel.At(row);
-    const Eigen::Isometry3d X_WC = render::EyePose(sample, head, config.remove_tilt);
-    const std::array<double, 2> pitch_roll = render::PitchRollOf(X_WC.linear());
+    const Eigen::Isometry3d X_WV = channel.ChairPose(sample);
+    const Eigen::Isometry3d X_WC = render::EyePoseOn(X_WV, sample, head, config.remove_tilt);
+    // camera angles: the heading taken out first (R = Rz(ψ) Ry(−θ) Rx(φ)), so a straight run
+    // (ψ = 0) reads its pitch and roll exactly as before
+    const double yaw = channel.planar() ? std::atan2(X_WC.linear()(1, 0), X_WC.linear()(0, 0)) : 0.0;
+    const std::array<double, 2> pitch_roll = render::PitchRollOf(
+        channel.planar() ? Eigen::Matrix3d(Eigen::AngleAxisd(-yaw, Eigen::Vector3d::UnitZ()) * X_WC.linear())
+                         : Eigen::Matrix3d(X_WC.linear()));
     frame_index[k] = static_cast<double>(k);
     tick[k] = static_cast<double>(row);
     time[k] = scene.clock.TimeAt(static_cast<std::int64_t>(row));
@@ -194,9 +222,10 @@ void RenderTrial(const Scene& scene, const TrialTable& table, const RenderStageO
     cam_z[k] = X_WC.translation().z();
     cam_pitch[k] = pitch_roll[0];
     cam_roll[k] = pitch_roll[1];
+    cam_yaw[k] = yaw;
     tilt_shown[k] = config.remove_tilt ? 0.0 : sample.tilt_pitch;
 
-    const render::ImageView frame = renderer.Render(render::ChairPose(sample), X_WC, time[k]);
+    const render::ImageView frame = renderer.Render(X_WV, X_WC, time[k]);
     h264.Push(frame);
     if (lossless) lossless->Push(frame);
     if (options.png_frames) {
@@ -262,7 +291,9 @@ void RenderTrial(const Scene& scene, const TrialTable& table, const RenderStageO
   if (lossless) render_json["lossless_video"] = "video_lossless.mkv";
   summary["render"] = render_json;
   if (!estimator) {
-    summary["visual_check"] = {{"skipped", "stereo view"}};
+    summary["visual_check"] = {
+        {"skipped", channel.planar() ? "circuit: the floor/ceiling plane fit assumes a straight run"
+                                     : "stereo view"}};
     return;
   }
 

@@ -125,20 +125,38 @@ void AddVestibularColumns(const mca::CueingTrace& trace, TrialTable& table) {
 
 void AddMotionCueing(const Scene& scene, const std::vector<ChairSample>& samples, TrialTable& table,
                      nlohmann::ordered_json& summary, const std::filesystem::path& out_dir) {
-  const mca::McaConfig config = mca::LoadMcaConfig(scene);
-  const double dt = scene.clock.dt();
   const std::size_t n = samples.size();
   std::vector<mca::HeadMotion> head(n);
   for (std::size_t k = 0; k < n; ++k) head[k] = mca::HeadMotionFromChair(samples[k], scene.occupant.head_offset);
+  VisualPose visual;
+  visual.x = Column(n, [&](std::size_t k) { return samples[k].drive.x; });
+  visual.z = Column(n, [&](std::size_t k) { return samples[k].lm.z; });
+  visual.pitch = Column(n, [&](std::size_t k) { return samples[k].lm.pitch; });
+  std::vector<double> t(n);
+  for (std::size_t k = 0; k < n; ++k) t[k] = scene.clock.TimeAt(samples[k].tick);
+  AddMotionCueingStage(scene, t, head, visual, table, summary, out_dir);
+}
+
+void AddMotionCueingStage(const Scene& scene, const std::vector<double>& t,
+                          const std::vector<mca::HeadMotion>& head, const VisualPose& visual,
+                          TrialTable& table, nlohmann::ordered_json& summary,
+                          const std::filesystem::path& out_dir) {
+  const mca::McaConfig config = mca::LoadMcaConfig(scene);
+  const double dt = scene.clock.dt();
+  const std::size_t n = head.size();
+  const bool planar = !visual.yaw.empty();  // a chair free in the plane: every axis reported
   const mca::CueingTrace trace = mca::RunCueing(config, head, dt);
   const mca::ConsistencyReport report = mca::EvaluateConsistency(config, trace, dt);
 
   // trial.csv columns
   AddCueMotionColumns(config, trace, table);
   // the vehicle motion to show: the chair pose X_WV (render/ puts the eyes at head_offset on it)
-  table.Add("vis_x_m", Column(n, [&](std::size_t k) { return samples[k].drive.x; }));
-  table.Add("vis_z_m", Column(n, [&](std::size_t k) { return samples[k].lm.z; }));
-  table.Add("vis_pitch_rad", Column(n, [&](std::size_t k) { return samples[k].lm.pitch; }));
+  table.Add("vis_x_m", visual.x);
+  if (planar) table.Add("vis_y_m", visual.y);
+  table.Add("vis_z_m", visual.z);
+  if (planar) table.Add("vis_roll_rad", visual.roll);
+  table.Add("vis_pitch_rad", visual.pitch);
+  if (planar) table.Add("vis_yaw_rad", visual.yaw);
   table.Add("vis_tilt_pitch_rad", Column(n, [&](std::size_t k) { return trace.commands[k].tilt_pitch; }));
   table.Add("vis_tilt_roll_rad", Column(n, [&](std::size_t k) { return trace.commands[k].tilt_roll; }));
   AddVestibularColumns(trace, table);
@@ -149,13 +167,24 @@ void AddMotionCueing(const Scene& scene, const std::vector<ChairSample>& samples
   platform_json["name"] = config.platform.name;
   platform_json["source"] = config.platform_source;
   platform_json["usage"] = PlatformUsageJson(report);
+  if (planar) {
+    platform_json["axes_in_use"] = AxesInUse(report);
+    platform_json["within_limits"] = WithinLimits(report);
+  }
   mca_json["platform"] = platform_json;
-  double max_tilt = 0.0;
-  for (const mca::McaCommand& c : trace.commands) max_tilt = std::max(max_tilt, std::abs(c.tilt_pitch));
+  double max_tilt = 0.0, max_roll_tilt = 0.0;
+  for (const mca::McaCommand& c : trace.commands) {
+    max_tilt = std::max(max_tilt, std::abs(c.tilt_pitch));
+    max_roll_tilt = std::max(max_roll_tilt, std::abs(c.tilt_roll));
+  }
   mca_json["tilt"] = {{"max_pitch_deg", max_tilt / mca::kDegToRad},
                       {"rate_limit_degps", config.washout.tilt_pitch.max_rate / mca::kDegToRad},
                       {"pitch_rate_above_threshold", RateCuesJson(report.tilt_pitch)},
                       {"roll_rate_above_threshold", RateCuesJson(report.tilt_roll)}};
+  if (planar) {
+    mca_json["tilt"]["max_roll_deg"] = max_roll_tilt / mca::kDegToRad;
+    mca_json["tilt"]["roll_rate_limit_degps"] = config.washout.tilt_roll.max_rate / mca::kDegToRad;
+  }
   mca_json["consistency"] = ConsistencyJson(report);
   const WrongSignCues wrong = CountWrongSignCues(report);
   mca_json["false_cues"] = {{"wrong_sign_count", wrong.count},
@@ -166,8 +195,6 @@ void AddMotionCueing(const Scene& scene, const std::vector<ChairSample>& samples
   summary["mca"] = mca_json;
 
   // mca.png: vehicle against platform at the head
-  std::vector<double> t(n);
-  for (std::size_t k = 0; k < n; ++k) t[k] = scene.clock.TimeAt(samples[k].tick);
   auto series = [&](const char* label, unsigned color, auto get) {
     plot::Series s;
     s.label = label;
@@ -202,6 +229,37 @@ void AddMotionCueing(const Scene& scene, const std::vector<ChairSample>& samples
                                    [&](std::size_t k) { return trace.commands[k].tilt_pitch / mca::kDegToRad; })}));
   std::filesystem::create_directories(out_dir);
   plot::WriteFigure(out_dir / "mca.png", figure);
+  if (!planar) return;
+
+  // mca_lateral.png: the axes a turning chair adds (sway force by roll tilt, roll and yaw)
+  plot::Figure lateral;
+  lateral.title = "pwsim run: lateral axes, vehicle vs platform at the head (" + config.platform.name + ")";
+  lateral.x_label = "t [s]";
+  lateral.panels.push_back(panel("sway specific force (left +)", "f_y [m/s^2]",
+                            {series("vehicle", 0x0072B2, [&](std::size_t k) { return trace.truth[k].fs[1]; }),
+                             series("platform", 0xD55E00, [&](std::size_t k) { return trace.delivered[k].fs[1]; })}));
+  lateral.panels.push_back(panel("roll rate (left side up +)", "roll rate [deg/s]",
+                            {series("vehicle", 0x0072B2, [&](std::size_t k) { return trace.truth[k].w[0] / mca::kDegToRad; }),
+                             series("platform", 0xD55E00, [&](std::size_t k) { return trace.delivered[k].w[0] / mca::kDegToRad; })}));
+  lateral.panels.push_back(panel("yaw rate (left +)", "yaw rate [deg/s]",
+                            {series("vehicle", 0x0072B2, [&](std::size_t k) { return trace.truth[k].w[2] / mca::kDegToRad; }),
+                             series("platform", 0xD55E00, [&](std::size_t k) { return trace.delivered[k].w[2] / mca::kDegToRad; })}));
+  lateral.panels.push_back(panel("platform roll and its tilt-coordination part; platform yaw", "angle [deg]",
+                            {series("platform roll", 0x009E73,
+                                    [&](std::size_t k) { return trace.commands[k].pose[mca::Index(Dof::kRoll)] / mca::kDegToRad; }),
+                             series("roll tilt (not shown)", 0xE69F00,
+                                    [&](std::size_t k) { return trace.commands[k].tilt_roll / mca::kDegToRad; }),
+                             series("platform yaw", 0xCC79A7,
+                                    [&](std::size_t k) { return trace.commands[k].pose[mca::Index(Dof::kYaw)] / mca::kDegToRad; })}));
+  plot::WriteFigure(out_dir / "mca_lateral.png", lateral);
+}
+
+nlohmann::ordered_json AxesInUse(const mca::ConsistencyReport& report, double min_fraction) {
+  nlohmann::ordered_json axes = nlohmann::ordered_json::array();
+  for (const mca::DofUsage& u : report.usage) {
+    if (u.pose_fraction >= min_fraction) axes.push_back(std::string(mca::DofName(u.dof)));
+  }
+  return axes;
 }
 
 }  // namespace pwsim::report

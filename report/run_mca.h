@@ -51,6 +51,26 @@ struct WrongSignCues {
 };
 WrongSignCues CountWrongSignCues(const mca::ConsistencyReport& report);
 
+/// The axes whose peak pose reaches `min_fraction` of their travel (["heave", "roll", ...]).
+nlohmann::ordered_json AxesInUse(const mca::ConsistencyReport& report, double min_fraction = 0.01);
+
+/// The chair pose X_WV the visuals must show, per tick [m, rad]. y, roll and yaw stay empty on a
+/// straight run (its trial.csv keeps vis_x_m, vis_z_m, vis_pitch_rad only).
+struct VisualPose {
+  std::vector<double> x, y, z, roll, pitch, yaw;
+};
+
+/// The stage for any chair: the head motion per tick in, columns, summary["mca"] and DIR/mca.png
+/// out. With a planar visual pose (yaw given) it also writes vis_y_m, vis_roll_rad, vis_yaw_rad,
+/// summary["mca"]["platform"]["axes_in_use"], the roll tilt, and DIR/mca_lateral.png (sway
+/// force, roll and yaw rate, platform roll with its tilt part, platform yaw).
+/// @throws InputError for a bad mca: or platform: section.
+void AddMotionCueingStage(const Scene& scene, const std::vector<double>& t,
+                          const std::vector<mca::HeadMotion>& head, const VisualPose& visual,
+                          TrialTable& table, nlohmann::ordered_json& summary,
+                          const std::filesystem::path& out_dir);
+
+/// The straight run's stage: head motion from the sagittal samples (HeadMotionFromChair).
 /// @throws InputError for a bad mca: or platform: section.
 void AddMotionCueing(const Scene& scene, const std::vector<ChairSample>& samples, TrialTable& table,
                      nlohmann::ordered_json& summary, const std::filesystem::path& out_dir);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 namespace pwsim::mca {
 namespace {
@@ -66,6 +67,49 @@ TEST(HeadMotionTest, TrackDifferentiation) {
       EXPECT_NEAR(dut[static_cast<std::size_t>(k)].w[i], expected.w[i], 1e-5) << k;
     }
   }
+}
+
+// Tests the 3-D pose-track kinematics against a steady left turn of radius R at yaw rate ω: the
+// head, 5 cm ahead of O_V and 1.25 m up, circles the turn centre (R to the left of O_V), so
+// fs_H = (−0.05 ω², R ω², g) (centripetal towards the centre, x component from the lever) and
+// w_H = (0, 0, ω). The track passes yaw ±π, which the matrix differencing must not notice.
+TEST(HeadMotionTest, SteadyTurnFromBodyTrackClosedForm) {
+  const double radius = 1.5, omega = 0.8, dt = 1e-3;
+  const std::array<double, 3> head{0.05, 0.0, 1.25};
+  std::vector<DofArray> track;
+  for (int k = 0; k <= 10000; ++k) {
+    const double t = k * dt;
+    const double yaw = std::remainder(omega * t, 2.0 * kPi);  // wrapped to (−π, π]
+    track.push_back({radius * std::sin(omega * t), radius * (1.0 - std::cos(omega * t)), 0.0, 0.0,
+                     0.0, yaw});
+  }
+  const std::vector<HeadMotion> m = HeadMotionFromBodyTrack(track, head, dt);
+  ASSERT_EQ(m.size(), track.size());
+  for (std::size_t k = 0; k < m.size(); k += 7) {
+    ASSERT_NEAR(m[k].fs[0], -0.05 * omega * omega, 1e-6) << k;
+    ASSERT_NEAR(m[k].fs[1], radius * omega * omega, 1e-6) << k;
+    ASSERT_NEAR(m[k].fs[2], kGravity, 1e-6) << k;
+    ASSERT_NEAR(m[k].w[0], 0.0, 1e-9) << k;
+    ASSERT_NEAR(m[k].w[1], 0.0, 1e-9) << k;
+    ASSERT_NEAR(m[k].w[2], omega, 1e-6) << k;
+  }
+}
+
+// Tests static roll and pitch (gravity seen in tilted axes: left side up φ gives fs_y = g sin φ)
+// and a pure roll rate about the body's x axis.
+TEST(HeadMotionTest, TiltedAndRollingBodyClosedForms) {
+  const double dt = 1e-3, phi = 0.07, theta = -0.04, rate = 0.3;
+  std::vector<DofArray> still(5, DofArray{1.0, 2.0, 0.1, phi, theta, 0.4});
+  const HeadMotion s = HeadMotionFromBodyTrack(still, {0.0, 0.0, 0.0}, dt)[2];
+  EXPECT_NEAR(s.fs[0], kGravity * std::sin(theta), 1e-12);
+  EXPECT_NEAR(s.fs[1], kGravity * std::cos(theta) * std::sin(phi), 1e-12);
+  EXPECT_NEAR(s.fs[2], kGravity * std::cos(theta) * std::cos(phi), 1e-12);
+  std::vector<DofArray> rolling;
+  for (int k = 0; k < 5; ++k) rolling.push_back({0.0, 0.0, 0.0, rate * k * dt, 0.0, 0.0});
+  const HeadMotion r = HeadMotionFromBodyTrack(rolling, {0.0, 0.0, 1.0}, dt)[2];
+  EXPECT_NEAR(r.w[0], rate, 1e-7);  // central difference: sin δ / δ, δ = rate·dt
+  EXPECT_NEAR(r.fs[1], kGravity * std::sin(2 * rate * dt), 1e-6);
+  EXPECT_NEAR(r.fs[2], kGravity * std::cos(2 * rate * dt) - rate * rate * 1.0, 1e-6);  // centripetal
 }
 
 }  // namespace

@@ -35,6 +35,43 @@ TEST(OmctTest, HeaveMatchesContinuousDesign) {
   }
 }
 
+// Tests the roll and yaw direct tests (p→p, r→r) against the continuous design: rate out over
+// rate in is s · channel(s) (the channel maps a rate to an angle).
+TEST(OmctTest, RollAndYawMatchContinuousDesign) {
+  const WashoutParams params = DefaultWashoutParams();
+  const PlatformSpec platform = MakePw4DofPlatform();
+  OmctOptions options;
+  options.settle_min = 10.0;
+  for (auto [index, dof] : {std::pair{0, Dof::kRoll}, std::pair{2, Dof::kYaw}}) {
+    const ContinuousSystem channel = ChannelSystem(params, dof);
+    for (double w : {0.251, 1.0, 6.31}) {
+      const OmctPoint p = RunOmctPoint(OmctTests()[static_cast<std::size_t>(index)], w, params, platform, options);
+      ASSERT_EQ(p.test, index == 0 ? "p_to_p" : "r_to_r");
+      const std::complex<double> expected = std::complex<double>(0.0, w) * channel.Response(w);
+      EXPECT_NEAR(p.gain, std::abs(expected), 1e-3) << p.test << " " << w;
+      EXPECT_NEAR(p.phase * kDegToRad, std::arg(expected), 1e-3) << p.test << " " << w;
+    }
+  }
+}
+
+// Tests roll tilt coordination in the OMCT (fy→p): at low frequency, inside the tilt-rate
+// limit, the roll rate is d/dt asin(LP(s) fy / g) ≈ s · LP(s) / g per unit fy (small angles:
+// 0.1 m/s² is 0.58°), with LP = ω²/(s² + 2ζωs + ω²) the tilt low-pass.
+TEST(OmctTest, LateralForceToRollRateIsTiltCoordination) {
+  const WashoutParams params = DefaultWashoutParams();
+  OmctOptions options;
+  options.settle_min = 10.0;
+  for (double w : {0.1, 0.251}) {
+    const OmctPoint p = RunOmctPoint(OmctTests()[7], w, params, MakePw4DofPlatform(), options);
+    ASSERT_EQ(p.test, "fy_to_p");
+    const std::complex<double> s(0.0, w);
+    const double wn = params.tilt_roll.lp_omega, z = params.tilt_roll.lp_zeta;
+    const std::complex<double> expected = s * (wn * wn / (s * s + 2.0 * z * wn * s + wn * wn)) / kGravity;
+    EXPECT_NEAR(p.gain, std::abs(expected), 2e-3 * std::abs(expected)) << w;
+    EXPECT_NEAR(p.phase * kDegToRad, std::arg(expected), 2e-3) << w;
+  }
+}
+
 // Tests which tests apply to the two platforms of the seeds.
 TEST(OmctTest, ApplicableTests) {
   const WashoutParams params = DefaultWashoutParams();

@@ -1,6 +1,7 @@
 #include "mca/washout.h"
 
 #include "engine/input_error.h"
+#include "mca/cue_analysis.h"
 
 #include <gtest/gtest.h>
 
@@ -81,6 +82,70 @@ TEST(WashoutTest, SustainedSurgeTiltsToAsinAtLimitedRate) {
       EXPECT_GT(max_rate, 2.9 * kDegToRad) << "the rate limit should be active";
     }
   }
+}
+
+// Tests roll tilt coordination for a sustained lateral specific force (a steady turn): the roll
+// settles at asin(a_y/g) (left side up for a left turn's +y force), never turns faster than
+// 3 deg/s, and the platform then delivers the turn's lateral specific force at the head
+// (fs_y = g sin φ), the closed form of tilt coordination.
+TEST(WashoutTest, SustainedSwayTiltsRollToAsinAtLimitedRate) {
+  for (double a : {-0.6, 1.2}) {
+    const double dt = 1e-3;
+    const PlatformSpec platform = MakePw4DofPlatform();
+    ClassicalWashout dut(DefaultWashoutParams(), platform, dt);
+    HeadMotion turn;
+    turn.fs[1] = a;
+    double prev_tilt = 0.0, max_rate = 0.0;
+    std::vector<DofArray> poses;
+    for (int k = 0; k < 60000; ++k) {
+      const McaCommand& c = dut.Step(turn);
+      max_rate = std::max(max_rate, std::abs(c.tilt_roll - prev_tilt) / dt);
+      prev_tilt = c.tilt_roll;
+      if (k >= 59990) poses.push_back(c.pose);
+    }
+    const McaCommand& last = dut.command();
+    EXPECT_NEAR(last.tilt_roll, std::asin(a / kGravity), 0.1 * kDegToRad) << a;
+    EXPECT_NEAR(last.pose[Index(Dof::kRoll)], last.tilt_roll, 1e-6) << a;
+    EXPECT_EQ(last.tilt_pitch, 0.0);
+    EXPECT_LE(max_rate, 3.0 * kDegToRad * (1.0 + 1e-9)) << a;
+    if (std::abs(a) >= 1.0) {
+      EXPECT_GT(max_rate, 2.9 * kDegToRad) << "the rate limit should be active";
+    }
+    const std::vector<HeadMotion> felt = DeliveredHeadMotion(platform, poses, dt);
+    EXPECT_NEAR(felt[5].fs[1], a, 0.02 * std::abs(a)) << a;
+  }
+}
+
+// Tests the yaw washout against its closed form. A yaw rate ramped from 0 to r0 over T, then
+// held (entering a steady turn), through s²/(s+ω)² and 1/s: the pose is
+// Y(s) = r0/T (1 − e^{−sT}) / (s (s+ω)²), i.e. y(t) = r0/T (h(t) − h(t−T)) with
+// h(t) = (1 − e^{−ωt} − ωt e^{−ωt}) / ω². The input is linear between ticks, so the exact FOH
+// discretisation meets it to rounding; inside the limits the limiter passes it unchanged.
+// The sustained turn washes out to neutral.
+TEST(WashoutTest, YawWashoutMatchesClosedFormAndReturnsToNeutral) {
+  const WashoutParams params = DefaultWashoutParams();
+  const double w = params.rotation(Dof::kYaw).hp_omega;
+  ASSERT_EQ(params.rotation(Dof::kYaw).hp_order, 2);
+  ASSERT_EQ(params.rotation(Dof::kYaw).hp_zeta, 1.0);
+  const double dt = 1e-3, r0 = 10.0 * kDegToRad, ramp = 1.0;
+  auto h = [w](double t) { return t <= 0.0 ? 0.0 : (1.0 - std::exp(-w * t) - w * t * std::exp(-w * t)) / (w * w); };
+  ClassicalWashout dut(params, MakePw4DofPlatform(), dt);
+  double worst = 0.0, peak = 0.0;
+  McaCommand c;
+  for (int k = 1; k <= 40000; ++k) {
+    const double t = k * dt;
+    HeadMotion m;
+    m.w[2] = r0 * std::min(t / ramp, 1.0);
+    c = dut.Step(m);
+    const double expected = r0 / ramp * (h(t) - h(t - ramp));
+    worst = std::max(worst, std::abs(c.pose[Index(Dof::kYaw)] - expected));
+    peak = std::max(peak, std::abs(expected));
+    ASSERT_EQ(c.pose[Index(Dof::kPitch)], 0.0);
+    ASSERT_EQ(c.pose[Index(Dof::kRoll)], 0.0);
+  }
+  EXPECT_GT(peak, 5.0 * kDegToRad);  // a real excursion, within the ±25° travel
+  EXPECT_LT(worst, 1e-9);
+  EXPECT_NEAR(c.pose[Index(Dof::kYaw)], 0.0, 1e-6);  // 40 s into the turn: washed out
 }
 
 // Tests that a specific-force step on the rail produces zero final displacement (3rd order).

@@ -103,6 +103,29 @@ TEST_F(PlotTest, WritesPngSvgCsvAndScriptWithThePlottedData) {
     EXPECT_EQ(entry.path().string().find(".partial"), std::string::npos) << entry.path();
 }
 
+// Tests a map panel: equal_axes makes gnuplot keep one metre as long on x as on y, for that
+// panel only (the next panel is free again), and the PNG is drawn.
+TEST_F(PlotTest, EqualAxesPanelKeepsTheAspectRatio) {
+  const fs::path dir = TempDir("map");
+  Figure fig;
+  fig.x_label = "x [m]";
+  Panel map = MakePanel("top view", "y [m]", {});
+  map.series.push_back({"path", {0.0, 4.0, 8.0}, {0.0, 1.0, 0.0}});
+  map.equal_axes = true;
+  fig.panels.push_back(map);
+  Panel free = MakePanel("other", "v [m/s]", {});
+  free.series.push_back({"v", {0.0, 1.0}, {0.0, 1.0}});
+  fig.panels.push_back(free);
+  WriteFigure(dir / "map", fig);
+  const std::string gp = Slurp(dir / "map.gp");
+  const auto ratio = gp.find("set size ratio -1");
+  ASSERT_NE(ratio, std::string::npos);
+  const auto reset = gp.find("set size noratio", ratio);
+  ASSERT_NE(reset, std::string::npos);
+  EXPECT_LT(reset, gp.find("other", ratio));  // before the next panel's title
+  EXPECT_TRUE(fs::exists(dir / "map.png"));
+}
+
 TEST_F(PlotTest, BoxPlotCsvHoldsEveryValuePerGroup) {
   const fs::path dir = TempDir("box");
   Figure fig;

@@ -1,0 +1,146 @@
+#pragma once
+// Circuits: the full-DoF chair driven by a joystick through a room or circuit (pwsim-scene/1,
+// `circuit:` section; docs/circuits.md). Walls, obstacles, the floor height map, a route of
+// gates, where the joystick comes from (a time table, a recorded CSV, or a closed-loop driver
+// that follows a path at a speed), and the runner that steps the chair tick by tick.
+//
+// Contacts. The chair's footprint is a rectangle in V; a tick whose new pose would overlap a
+// wall (a segment with thickness) or an obstacle (circle or oriented box) is not taken: the pose
+// stays, v and ω become 0 (the chair stops at the wall), and a contact is counted once when it
+// begins, with its approach speed (the speed of O_V toward the wall), and lasts until the chair
+// is kContactReleaseGap clear again (pushing on at the wall is one contact). The chair never passes
+// through: a tick moves it by at most v_max dt (2.4 mm at 2.4 m/s, 1 kHz), far less than any
+// wall's thickness (>= 0.02 m, validated).
+//
+// Gates. A gate is a segment from its left post to its right post; it is passed when O_V's
+// path over one tick crosses it. Gates count in order: `gates_passed` is the number passed.
+//
+// Closed-loop driver (pure pursuit on the joystick). At the path point a look-ahead L ahead of
+// the nearest point, with α the bearing of that point in V:
+//   κ = 2 sin α / L,   v_ref = min(v_path, √(a_dec s_left)) · clamp(cos α, 0.2, 1)
+//   shaped f = (v_ref + k_s (v_ref - v)) / v_fwd,   shaped t = κ max(v, v_ref/2) / (ω_max(v_ref) G_t)
+// and the deflections are the controller's shaping inverted (deadband and curve), clamped to
+// [0, 1] forward and [-1, 1] turn: the driver knows the chair it drives. At the path's end the
+// joystick is released.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "engine/controller_profile.h"
+#include "engine/floor_map.h"
+#include "engine/full_chair.h"
+#include "engine/yaml_reader.h"
+
+namespace pwsim {
+
+struct Point2 {
+  double x{0.0}, y{0.0};  ///< [m] in W
+};
+
+struct Wall {
+  Point2 from, to;          ///< centreline [m]
+  double thickness{0.1};    ///< [m] >= 0.02
+  std::string name;
+};
+
+struct Obstacle {
+  enum class Shape { kCircle, kBox };
+  Shape shape{Shape::kCircle};
+  Point2 centre;            ///< [m]
+  double radius{0.2};       ///< circle [m]
+  double half_length{0.2};  ///< box, along its yaw [m]
+  double half_width{0.2};   ///< box, across [m]
+  double yaw{0.0};          ///< box [rad]
+  double height{0.8};       ///< [m] (rendering)
+  std::string name;
+};
+
+struct Gate {
+  std::string name;
+  Point2 left, right;       ///< posts [m]
+};
+
+/// Where the joystick comes from.
+struct JoystickSource {
+  enum class Kind { kTable, kRecorded, kDriver };
+  Kind kind{Kind::kTable};
+  // kTable and kRecorded: knots (t, f, t_turn), rising t; linear between, held at the ends.
+  std::vector<double> t, forward, turn;
+  bool hold{false};                       ///< stepwise instead of linear
+  std::filesystem::path recorded_file;    ///< kRecorded
+  // kDriver
+  std::vector<Point2> path;               ///< polyline to follow [m]
+  double speed{0.8};                      ///< v_path [m/s]
+  double lookahead{0.6};                  ///< L [m]
+  double speed_gain{1.0};                 ///< k_s [-]
+  double end_time{0.0};                   ///< last knot time (tables) [s]
+
+  /// Table deflection at time t [s] (kTable, kRecorded).
+  JoystickInput At(double time) const;
+};
+
+/// Pure-pursuit driver state (kDriver).
+struct DriverState {
+  std::size_t segment{0};   ///< nearest path segment so far (never goes back)
+  double progress{0.0};     ///< [m] along the path
+  bool finished{false};     ///< reached the path's end: joystick released
+};
+
+/// The driver's deflection for the chair's current sample. No allocation.
+JoystickInput DriveAlongPath(const JoystickSource& source, const ControllerProfile& profile,
+                             DriverState& state, const FullChairSample& sample);
+
+struct CircuitSpec {
+  double duration{20.0};              ///< [s]
+  PlanarState start;                  ///< pose at t = 0 (speeds 0)
+  double start_caster_angle{0.0};     ///< δ_0 [rad] of every caster
+  PlanarLayout layout;
+  RollTorqueParams roll_torque;
+  FloorMap floor;
+  std::vector<Wall> walls;
+  std::vector<Obstacle> obstacles;
+  std::vector<Gate> gates;
+  JoystickSource joystick;
+};
+
+/// Reads the `circuit:` section of a scene for `chair` carrying `load_kg`. Overlapping walls,
+/// a route whose gate or driver path crosses a wall, a floor with holes or NaN, a joystick file
+/// with NaN or deflections outside [-1, 1], a profile with negative accelerations: errors naming
+/// file, line, field and what was expected. @throws InputError.
+CircuitSpec ParseCircuit(YamlMap& map, const Chair& chair, double load_kg);
+
+/// Reads a recorded joystick CSV: header `t_s,forward,turn` (any order), rising t_s, every
+/// deflection finite and in [-1, 1]. @throws InputError naming file, line and column.
+JoystickSource ReadRecordedJoystick(const std::filesystem::path& file);
+
+/// Does the footprint of a chair at `pose` (layout's rectangle grown by `margin` [m] on every
+/// side) overlap a wall or obstacle? Returns the index of the first one hit (walls first, then
+/// obstacles offset by walls.size()), or -1.
+int FootprintHit(const CircuitSpec& circuit, const PlanarState& pose, double margin = 0.0);
+
+/// A contact ends when the chair is this far clear of everything it touched [m].
+inline constexpr double kContactReleaseGap = 0.01;
+
+/// Runs one circuit on the clock: sample 0 is the start, then one sample per tick.
+class CircuitRunner {
+ public:
+  CircuitRunner(const Chair& chair, const CircuitSpec& circuit, double load_kg, double dt,
+                PitchTorqueParams pitch_torque = {});
+  const FullChairSample& Start();
+  /// One tick at time t = tick · dt (the joystick sampled at the tick's start).
+  const FullChairSample& Advance(double time);
+  const FullChairSample& sample() const { return simulator_.sample(); }
+  const FullChairSimulator& simulator() const { return simulator_; }
+
+ private:
+  const CircuitSpec& circuit_;
+  FullChairSimulator simulator_;
+  DriverState driver_;
+  bool in_contact_{false};
+  int contact_events_{0};
+  double last_contact_speed_{0.0};
+  int gates_passed_{0};
+};
+
+}  // namespace pwsim

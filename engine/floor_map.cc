@@ -1,0 +1,184 @@
+#include "engine/floor_map.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/input_error.h"
+#include "engine/number_format.h"
+
+namespace pwsim {
+namespace {
+
+/// s(u): 1 inside the interval away from its edges, tapering linearly to 0 over `ramp`.
+double Taper(double u, double lo, double hi, double ramp) {
+  if (u < lo || u > hi) return 0.0;
+  if (ramp <= 0.0) return 1.0;
+  return std::clamp(std::min(u - lo, hi - u) / ramp, 0.0, 1.0);
+}
+
+}  // namespace
+
+double FloorFeature::HeightAt(double x_W, double y_W) const {
+  const double sx = Taper(x_W, x_min, x_max, ramp);
+  if (sx == 0.0) return 0.0;
+  const double sy = Taper(y_W, y_min, y_max, ramp);
+  if (sy == 0.0) return 0.0;
+  if (kind == Kind::kBump) return height * sx * sy;
+  const double xc = has_origin ? origin_x : 0.5 * (x_min + x_max);
+  const double yc = has_origin ? origin_y : 0.5 * (y_min + y_max);
+  return (grade_x * (x_W - xc) + grade_y * (y_W - yc)) * sx * sy;
+}
+
+double HeightGrid::HeightAt(double x_W, double y_W) const {
+  const double u = (x_W - x0) / cell;
+  const double w = (y_W - y0) / cell;
+  if (!(u >= 0.0 && w >= 0.0 && u <= nx - 1 && w <= ny - 1)) return 0.0;
+  const int i = std::min(static_cast<int>(u), nx - 2);
+  const int j = std::min(static_cast<int>(w), ny - 2);
+  const double su = u - i;
+  const double sw = w - j;
+  const double* row0 = z.data() + static_cast<std::size_t>(j) * nx;
+  const double* row1 = row0 + nx;
+  const double lower = row0[i] + su * (row0[i + 1] - row0[i]);
+  const double upper = row1[i] + su * (row1[i + 1] - row1[i]);
+  return lower + sw * (upper - lower);
+}
+
+double FloorMap::HeightAt(double x_W, double y_W) const {
+  double z = profile.HeightAt(x_W);
+  if (features.empty() && !grid) return z;  // the sagittal terrain, bit for bit
+  for (const FloorFeature& feature : features) z += feature.HeightAt(x_W, y_W);
+  if (grid) z += grid->HeightAt(x_W, y_W);
+  return z;
+}
+
+double FloorMap::HeightAtNear(double x_W, double y_W, std::size_t& hint) const {
+  double z = profile.HeightAtNear(x_W, hint);
+  if (features.empty() && !grid) return z;
+  for (const FloorFeature& feature : features) z += feature.HeightAt(x_W, y_W);
+  if (grid) z += grid->HeightAt(x_W, y_W);
+  return z;
+}
+
+double FloorMap::MaxHeightBound() const {
+  double bound = profile.x.empty() ? 0.0 : profile.MaxHeight();
+  for (const FloorFeature& f : features) {
+    if (f.kind == FloorFeature::Kind::kBump) {
+      bound += std::max(0.0, f.height);
+    } else {
+      const double xc = f.has_origin ? f.origin_x : 0.5 * (f.x_min + f.x_max);
+      const double yc = f.has_origin ? f.origin_y : 0.5 * (f.y_min + f.y_max);
+      bound += std::abs(f.grade_x) * std::max(std::abs(f.x_max - xc), std::abs(f.x_min - xc)) +
+               std::abs(f.grade_y) * std::max(std::abs(f.y_max - yc), std::abs(f.y_min - yc));
+    }
+  }
+  if (grid) bound += std::max(0.0, *std::max_element(grid->z.begin(), grid->z.end()));
+  return bound;
+}
+
+FloorMap FloorFromTerrain(const Terrain& terrain) {
+  FloorMap floor;
+  floor.profile = terrain;
+  return floor;
+}
+
+namespace {
+
+void ReadInterval(YamlMap& map, const std::string& key, double& lo, double& hi) {
+  const std::vector<double> pair = map.Numbers(key, Range::Closed(-1000.0, 1000.0, "m"), 2, 2);
+  if (!(pair[1] > pair[0])) {
+    map.Fail(key, "[min, max] with max > min", "[" + FormatDouble(pair[0]) + ", " + FormatDouble(pair[1]) + "]");
+  }
+  lo = pair[0];
+  hi = pair[1];
+}
+
+FloorFeature ParseFeature(const YAML::Node& node, const YamlMap& parent, const std::string& field) {
+  YamlMap entry(node, parent.file(), field, LineOf(node));
+  FloorFeature feature;
+  const bool bump = entry.Has("bump");
+  if (bump == entry.Has("plane")) {
+    entry.Fail(bump ? "plane" : "bump", "exactly one of {bump: {...}} or {plane: {...}}",
+               bump ? "both" : "neither");
+  }
+  YamlMap body = entry.Map(bump ? "bump" : "plane");
+  feature.kind = bump ? FloorFeature::Kind::kBump : FloorFeature::Kind::kPlane;
+  feature.name = body.StringOr("name", "");
+  ReadInterval(body, "x_m", feature.x_min, feature.x_max);
+  ReadInterval(body, "y_m", feature.y_min, feature.y_max);
+  feature.ramp = body.NumberOr("ramp_m", 0.0, Range::Closed(0.0, 50.0, "m"));
+  if (bump) {
+    feature.height = body.Number("height_m", Range::Closed(-0.5, 0.5, "m"));
+  } else {
+    feature.grade_x = body.NumberOr("grade_x", 0.0, Range::Closed(-0.5, 0.5));
+    feature.grade_y = body.NumberOr("grade_y", 0.0, Range::Closed(-0.5, 0.5));
+    if (body.Has("origin_m")) {
+      const std::vector<double> origin = body.Numbers("origin_m", Range::Closed(-1000.0, 1000.0, "m"), 2, 2);
+      feature.has_origin = true;
+      feature.origin_x = origin[0];
+      feature.origin_y = origin[1];
+    }
+  }
+  body.Finish();
+  entry.Finish();
+  return feature;
+}
+
+HeightGrid ParseGrid(YamlMap& map) {
+  HeightGrid grid;
+  const std::vector<double> origin = map.Numbers("origin_m", Range::Closed(-1000.0, 1000.0, "m"), 2, 2);
+  grid.x0 = origin[0];
+  grid.y0 = origin[1];
+  grid.cell = map.Number("cell_m", Range::Closed(0.005, 10.0, "m"));
+  YAML::Node rows = map.Sequence("rows");
+  const std::string field = map.FieldName("rows");
+  const std::string file = map.file().string();
+  if (rows.size() < 2) {
+    throw InputError(file, LineOf(rows), field, "at least 2 rows of heights (y = y0, y0 + cell, ...)",
+                     std::to_string(rows.size()) + " rows");
+  }
+  grid.ny = static_cast<int>(rows.size());
+  for (std::size_t j = 0; j < rows.size(); ++j) {
+    const std::string row_field = field + "[" + std::to_string(j) + "]";
+    if (!rows[j].IsSequence()) {
+      throw InputError(file, LineOf(rows[j]), row_field, "a list of heights in m", "something else");
+    }
+    if (j == 0) {
+      grid.nx = static_cast<int>(rows[j].size());
+      if (grid.nx < 2) {
+        throw InputError(file, LineOf(rows[j]), row_field, "at least 2 heights per row",
+                         std::to_string(grid.nx) + " heights");
+      }
+    } else if (static_cast<int>(rows[j].size()) != grid.nx) {
+      throw InputError(file, LineOf(rows[j]), row_field,
+                       std::to_string(grid.nx) + " heights, as row 0 (a full grid, no holes)",
+                       std::to_string(rows[j].size()) + " heights");
+    }
+    for (std::size_t i = 0; i < rows[j].size(); ++i) {
+      grid.z.push_back(ScalarNumber(rows[j][i], map.file(), row_field + "[" + std::to_string(i) + "]",
+                                    Range::Closed(-1.0, 1.0, "m (a hole or NaN is not a height)")));
+    }
+  }
+  return grid;
+}
+
+}  // namespace
+
+FloorMap ParseFloorMap(YamlMap& map) {
+  FloorMap floor;
+  if (map.Has("profile_m")) floor.profile = ParseTerrainProfile(map);
+  if (map.Has("features")) {
+    YAML::Node list = map.Sequence("features");
+    for (std::size_t k = 0; k < list.size(); ++k) {
+      floor.features.push_back(ParseFeature(list[k], map, map.FieldName("features") + "[" + std::to_string(k) + "]"));
+    }
+  }
+  if (map.Has("grid")) {
+    YamlMap grid = map.Map("grid");
+    floor.grid = ParseGrid(grid);
+    grid.Finish();
+  }
+  return floor;
+}
+
+}  // namespace pwsim

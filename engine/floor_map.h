@@ -1,0 +1,81 @@
+#pragma once
+// FloorMap: the 2.5-D floor of a room or circuit, the ground height z(x, y) in W (x forward
+// along the start heading, y left, z up). It is a sum of three layers, each 0 where absent:
+//
+//   z(x, y) = z_profile(x) + Σ_k f_k(x, y) + z_grid(x, y)
+//
+//   z_profile  the sagittal Terrain of the straight runs (speed cushion), uniform across y;
+//   f_k        features on a rectangle [x_min, x_max] × [y_min, y_max], tapered at its edges
+//              by s(u) = clamp(min(u - u_min, u_max - u) / ramp, 0, 1) (a step when ramp = 0):
+//                bump   f = h · s_x(x) · s_y(y)                        (threshold, kerb, cushion,
+//                                                                      a bump under one side)
+//                plane  f = (g_x (x - x_0) + g_y (y - y_0)) · s_x(x) · s_y(y)
+//                       (x_0, y_0) its origin (the rectangle's centre unless given); a ramp
+//                       (g_x, origin at its foot) or a cross-slope (g_y)
+//   z_grid     a regular height grid, bilinear between nodes, 0 outside it.
+//
+// With only a profile, HeightAt(x, y) returns z_profile(x) bit for bit (the full-DoF chair on a
+// straight run reproduces the sagittal ChairSimulator exactly).
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/terrain.h"
+#include "engine/yaml_reader.h"
+
+namespace pwsim {
+
+struct FloorFeature {
+  enum class Kind { kBump, kPlane };
+  Kind kind{Kind::kBump};
+  std::string name;
+  double x_min{0.0}, x_max{0.0};  ///< [m] rectangle in W
+  double y_min{0.0}, y_max{0.0};  ///< [m]
+  double ramp{0.0};               ///< [m] edge taper inside the rectangle (0: a sharp step)
+  double height{0.0};             ///< bump: plateau height h [m] (negative: a dip)
+  double grade_x{0.0};            ///< plane: rise per metre along x [-]
+  double grade_y{0.0};            ///< plane: rise per metre along y [-] (cross-slope, left up > 0)
+  bool has_origin{false};         ///< plane: (origin_x, origin_y) given, else the centre
+  double origin_x{0.0}, origin_y{0.0};  ///< plane: where f = 0 before tapering [m]
+
+  /// f_k(x, y) [m].
+  double HeightAt(double x_W, double y_W) const;
+};
+
+/// Regular grid of heights: node (i, j) at (x0 + i·cell, y0 + j·cell), z[j·nx + i].
+struct HeightGrid {
+  double x0{0.0}, y0{0.0};  ///< [m] node (0, 0)
+  double cell{0.1};         ///< [m] spacing, both axes
+  int nx{0}, ny{0};         ///< nodes along x and y (>= 2 each)
+  std::vector<double> z;    ///< [m] finite, nx·ny values
+
+  /// Bilinear height [m]; 0 outside the grid.
+  double HeightAt(double x_W, double y_W) const;
+};
+
+struct FloorMap {
+  Terrain profile;                    ///< along x, uniform in y (may be empty: flat)
+  std::vector<FloorFeature> features;
+  std::optional<HeightGrid> grid;
+
+  /// z(x, y) [m].
+  double HeightAt(double x_W, double y_W) const;
+  /// The same, bit for bit, with the profile's breakpoint search started at `hint` (updated).
+  double HeightAtNear(double x_W, double y_W, std::size_t& hint) const;
+  /// Highest point of every layer, summed (an upper bound, for rendering and checks) [m].
+  double MaxHeightBound() const;
+};
+
+/// A floor that is the sagittal terrain alone.
+FloorMap FloorFromTerrain(const Terrain& terrain);
+
+/// Reads `{profile_m: [[x, z], ...], features: [...], grid: {...}}` (every key optional):
+///   features: - {bump: {name, x_m: [min, max], y_m: [min, max], height_m, ramp_m}}
+///             - {plane: {name, x_m: [...], y_m: [...], grade_x, grade_y, origin_m: [x, y], ramp_m}}
+///   grid: {origin_m: [x0, y0], cell_m, rows: [[z at y0 for x0, x0 + cell ...], [next y] ...]}
+/// Holes (null or missing values, ragged rows), NaN and infinities are errors naming the row
+/// and column. @throws InputError (file, line, field, expected).
+FloorMap ParseFloorMap(YamlMap& map);
+
+}  // namespace pwsim

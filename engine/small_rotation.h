@@ -1,0 +1,31 @@
+#pragma once
+// (cos θ, sin θ) carried from tick to tick instead of evaluated: rotating by a small step δ,
+//   cos(θ + δ) = c cos δ - s sin δ,   sin(θ + δ) = s cos δ + c sin δ,
+// with cos δ, sin δ from their Taylor series for |δ| <= 0.01 (terms to δ⁶ and δ⁵: truncation
+// below δ⁷/5040 < 2e-18) and from libm beyond; the pair is renormalised (one Newton step of
+// 1/√(c² + s²) from 1, exact to rounding for a length within 1e-8 of 1) so that rounding does
+// not accumulate in its length. Deterministic: same inputs, same bits.
+
+#include <cmath>
+
+namespace pwsim {
+
+inline void RotateBy(double& c, double& s, double delta) {
+  if (delta == 0.0) return;
+  double cd = 0.0, sd = 0.0;
+  if (std::abs(delta) <= 0.01) {
+    const double d2 = delta * delta;
+    cd = 1.0 - d2 * (0.5 - d2 * (1.0 / 24.0 - d2 * (1.0 / 720.0)));
+    sd = delta * (1.0 - d2 * (1.0 / 6.0 - d2 * (1.0 / 120.0)));
+  } else {
+    cd = std::cos(delta);
+    sd = std::sin(delta);
+  }
+  const double next_c = c * cd - s * sd;
+  const double next_s = s * cd + c * sd;
+  const double inverse_length = 1.5 - 0.5 * (next_c * next_c + next_s * next_s);
+  c = next_c * inverse_length;
+  s = next_s * inverse_length;
+}
+
+}  // namespace pwsim

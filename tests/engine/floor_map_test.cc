@@ -1,0 +1,84 @@
+#include "engine/floor_map.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "engine/input_error.h"
+
+namespace pwsim {
+namespace {
+
+FloorMap Parse(const std::string& text) {
+  const YamlDocument doc = LoadYamlString(text, "floor.yaml");
+  YamlMap map(doc.root, doc.file, "floor");
+  FloorMap floor = ParseFloorMap(map);
+  map.Finish();
+  return floor;
+}
+
+// Tests that a floor of the sagittal terrain alone returns its heights bit for bit at any y.
+TEST(FloorMapTest, ProfileAloneIsTheTerrainBitForBit) {
+  const Terrain cushion = MakeSpeedCushion();
+  const FloorMap floor = FloorFromTerrain(cushion);
+  for (double x = -1.0; x < 13.0; x += 0.0137) {
+    ASSERT_EQ(floor.HeightAt(x, 0.3 * x - 1.0), cushion.HeightAt(x));
+  }
+}
+
+// Tests bumps and planes against their closed forms: a bump is h inside its tapered edges and
+// h·u/ramp on them; a plane is g_x (x - x_c) + g_y (y - y_c); both 0 outside.
+TEST(FloorMapTest, FeaturesFollowTheirClosedForms) {
+  const FloorMap floor = Parse(
+      "features:\n"
+      "  - {bump: {name: kerb, x_m: [2, 6], y_m: [0, 1], height_m: 0.05, ramp_m: 0.02}}\n"
+      "  - {plane: {name: cross, x_m: [10, 20], y_m: [-2, 2], grade_y: 0.05}}\n");
+  EXPECT_DOUBLE_EQ(floor.HeightAt(3.0, 0.5), 0.05);
+  EXPECT_NEAR(floor.HeightAt(2.01, 0.5), 0.05 * 0.01 / 0.02, 1e-15);
+  EXPECT_DOUBLE_EQ(floor.HeightAt(3.0, -0.5), 0.0);
+  EXPECT_DOUBLE_EQ(floor.HeightAt(12.0, 1.5), 0.05 * 1.5);
+  EXPECT_DOUBLE_EQ(floor.HeightAt(12.0, -1.5), -0.05 * 1.5);
+  EXPECT_DOUBLE_EQ(floor.HeightAt(21.0, 1.5), 0.0);
+}
+
+// Tests the grid's bilinear interpolation against the closed form of a bilinear surface
+// z = a + b x + c y + d x y (which bilinear interpolation reproduces exactly).
+TEST(FloorMapTest, GridIsBilinear) {
+  const auto surface = [](double x, double y) { return 0.01 + 0.02 * x - 0.01 * y + 0.005 * x * y; };
+  std::string rows = "grid: {origin_m: [1, -1], cell_m: 0.5, rows: [";
+  for (int j = 0; j < 4; ++j) {
+    rows += j ? ", [" : "[";
+    for (int i = 0; i < 5; ++i) rows += (i ? ", " : "") + std::to_string(surface(1.0 + 0.5 * i, -1.0 + 0.5 * j));
+    rows += "]";
+  }
+  rows += "]}\n";
+  const FloorMap floor = Parse(rows);
+  for (double x = 1.0; x <= 3.0; x += 0.13) {
+    for (double y = -1.0; y <= 0.5; y += 0.11) ASSERT_NEAR(floor.HeightAt(x, y), surface(x, y), 1e-6) << x << " " << y;
+  }
+  EXPECT_EQ(floor.HeightAt(0.9, 0.0), 0.0);
+}
+
+void ExpectError(const std::string& text, const std::string& field, int line) {
+  try {
+    Parse(text);
+    FAIL() << "accepted: " << text;
+  } catch (const InputError& error) {
+    EXPECT_EQ(error.field(), field) << error.what();
+    EXPECT_EQ(error.line(), line) << error.what();
+  }
+}
+
+// Tests that holes and NaN in a height map name the file, the line, the cell and what was expected.
+TEST(FloorMapTest, HolesAndNanAreErrorsNamingTheCell) {
+  ExpectError("grid:\n  origin_m: [0, 0]\n  cell_m: 0.5\n  rows:\n    - [0, 0, 0]\n    - [0, .nan, 0]\n",
+              "floor.grid.rows[1][1]", 6);
+  ExpectError("grid:\n  origin_m: [0, 0]\n  cell_m: 0.5\n  rows:\n    - [0, 0, 0]\n    - [0, ~, 0]\n",
+              "floor.grid.rows[1][1]", 6);
+  ExpectError("grid:\n  origin_m: [0, 0]\n  cell_m: 0.5\n  rows:\n    - [0, 0, 0]\n    - [0, 0]\n",
+              "floor.grid.rows[1]", 6);
+  ExpectError("features:\n  - {bump: {x_m: [2, 1], y_m: [0, 1], height_m: 0.1}}\n", "floor.features[0].bump.x_m", 2);
+}
+
+}  // namespace
+}  // namespace pwsim
