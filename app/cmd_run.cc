@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 #include "app/commands.h"
 #include "app/scene_path.h"
@@ -67,6 +68,7 @@ const CommandSpec& RunSpec() {
           {"png-frames", "", "-", "", "also write DIR/frames/frame_NNNNN.png"},
           {"lossless", "", "-", "", "also write DIR/video_lossless.mkv (exact pixels)"},
           {"no-video", "", "-", "off", "skip rendering (no video.mp4, frames.csv)"},
+          {"mca", "washout|mpc", "-", "", "motion cueing algorithm (overrides the scene's mca.algorithm)"},
       },
       "SCENE  a pwsim-scene/1 YAML file (default: the paper's speed-cushion trial); kind: car runs seed 001's car"};
   return spec;
@@ -81,6 +83,12 @@ int RunCommand(const ParsedArgs& args) {
   if (decimate < 1) throw UsageError("option --decimate: expected an integer >= 1");
 
   const report::RenderStageOptions render_options = RenderOptions(args);
+  std::optional<mca::McaAlgorithm> algorithm;
+  if (args.Has("mca")) {
+    const std::string name = args.Get("mca");
+    if (name != "washout" && name != "mpc") throw UsageError("option --mca: expected washout or mpc, got '" + name + "'");
+    algorithm = name == "mpc" ? mca::McaAlgorithm::kMpc : mca::McaAlgorithm::kWashout;
+  }
 
   // Read once: the scene may come from a pipe (a sweep task reads its scene from a FIFO).
   const YamlDocument scene_document = LoadYamlFile(scene_path);
@@ -92,6 +100,7 @@ int RunCommand(const ParsedArgs& args) {
     car.width = render_options.width_px;
     car.height = render_options.height_px;
     car.fps = render_options.fps;
+    car.algorithm = algorithm;
     const auto written = report::RunCarScene(car_scene, scene_path, car, out_dir);
     std::cout << "pwsim run: car scene '" << car_scene.name << "' (" << scene_path.string() << "), "
               << car_scene.tick_count() << " ticks at " << car_scene.clock.rate_hz << " Hz; wrote:\n";
@@ -103,7 +112,7 @@ int RunCommand(const ParsedArgs& args) {
   const std::vector<ChairSample> samples = SimulateScene(scene);
   TrialTable table = report::ChairColumns(scene, samples);
   nlohmann::ordered_json summary = report::RunSummary(scene, scene_path.string(), table);
-  report::AddMotionCueing(scene, samples, table, summary, out_dir);  // platform, visual, vestibular
+  report::AddMotionCueing(scene, samples, table, summary, out_dir, algorithm);  // platform, visual, vestibular
 
   std::filesystem::create_directories(out_dir);
   table.WriteCsv(out_dir / "trial.csv", static_cast<int>(decimate));

@@ -2,15 +2,6 @@
 
 namespace pwsim::hw {
 
-mca::McaConfig LoadCarMca(const vehicle::CarScene& scene) {
-  mca::McaConfig config;
-  config.platform = mca::MakeCar2DofPlatform();
-  config.platform_source = "built-in car2dof";
-  if (const SceneSection* platform = scene.section("platform")) mca::ParsePlatformSection(*platform, config);
-  if (const SceneSection* section = scene.section("mca")) mca::ParseMcaSection(*section, config);
-  return config;
-}
-
 CarLiveLoop::CarLiveLoop(const vehicle::CarScene& scene, const mca::McaConfig& config)
     : scene_(scene), washout_(config.washout, config.platform, scene.clock.dt()) {
   tick_.sample = vehicle::FirstCarSample(scene);

@@ -4,7 +4,8 @@
 // The same per-tick functions as the offline run (vehicle::NextCarSample, ClassicalWashout::Step,
 // the rail-yaw false cue), so a live drive and `pwsim run` of the same controls agree exactly.
 //
-//   CarLiveLoop loop(scene, LoadCarMca(scene));
+//   CarLiveLoop loop(scene, mca::LoadMcaConfig(scene.section("platform"), scene.section("mca"),
+//                                               mca::CarMcaDefaults()));
 //   while (running) { const CarLiveTick& t = loop.Step(wheel.Poll()); send(t.command.pose); }
 
 #include "engine/vehicle/car_scene.h"
@@ -35,8 +36,5 @@ class CarLiveLoop {
   mca::ClassicalWashout washout_;
   CarLiveTick tick_;
 };
-
-/// The car scene's MCA configuration (platform:, mca: over seed 001's car platform).
-mca::McaConfig LoadCarMca(const vehicle::CarScene& scene);
 
 }  // namespace pwsim::hw

@@ -6,7 +6,7 @@
 #include <cstdio>
 
 #include "engine/atomic_file.h"
-#include "hardware/car_live.h"
+#include "mca/config.h"
 #include "mca/cueing.h"
 #include "mca/rail_yaw.h"
 #include "plot/plot.h"
@@ -67,8 +67,10 @@ TrialTable CarColumns(const vehicle::CarScene& scene, const std::vector<CarSampl
 }
 
 void AddCarCueing(const vehicle::CarScene& scene, const std::vector<CarSample>& samples, TrialTable& table,
-                  nlohmann::ordered_json& summary, const std::filesystem::path& out_dir) {
-  const mca::McaConfig config = hw::LoadCarMca(scene);
+                  nlohmann::ordered_json& summary, const std::filesystem::path& out_dir,
+                  std::optional<mca::McaAlgorithm> algorithm) {
+  mca::McaConfig config = mca::LoadMcaConfig(scene.section("platform"), scene.section("mca"), mca::CarMcaDefaults());
+  if (algorithm) config.algorithm = *algorithm;
   const double dt = scene.clock.dt();
   const std::size_t n = samples.size();
   std::vector<mca::HeadMotion> head(n);
@@ -95,6 +97,7 @@ void AddCarCueing(const vehicle::CarScene& scene, const std::vector<CarSample>& 
   platform_json["usage"] = PlatformUsageJson(report);
   platform_json["within_limits"] = WithinLimits(report);
   nlohmann::ordered_json mca_json;
+  mca_json["algorithm"] = AlgorithmJson(config, trace);
   mca_json["platform"] = platform_json;
   mca_json["consistency"] = ConsistencyJson(report);
   const WrongSignCues wrong = CountWrongSignCues(report);
@@ -270,7 +273,7 @@ std::vector<std::filesystem::path> RunCarScene(const vehicle::CarScene& scene, c
                       {"y_range_m", {y_min, y_max}},
                       {"final_speed_mps", vehicle::Speed(samples.back().state)},
                       {"stalled", stalled}};
-  AddCarCueing(scene, samples, table, summary, out_dir);
+  AddCarCueing(scene, samples, table, summary, out_dir, options.algorithm);
   table.WriteCsv(out_dir / "trial.csv", options.decimate);
   if (options.video) {
     RenderCarTrial(scene, samples, options, summary, out_dir);

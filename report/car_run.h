@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,7 @@ struct CarRunOptions {
   bool video{true};
   int width{0}, height{0};  ///< 0: the scene's render.size
   int fps{0};               ///< 0: the scene's render.fps
+  std::optional<mca::McaAlgorithm> algorithm;  ///< overrides the scene's mca.algorithm
 };
 
 /// The trial.csv columns of the drive itself (no MCA).
@@ -42,7 +44,8 @@ TrialTable CarColumns(const vehicle::CarScene& scene, const std::vector<vehicle:
 /// Head motion -> MCA -> rail + yaw platform -> vestibular; adds columns, summary["mca"] and
 /// DIR/mca.png.
 void AddCarCueing(const vehicle::CarScene& scene, const std::vector<vehicle::CarSample>& samples,
-                  TrialTable& table, nlohmann::ordered_json& summary, const std::filesystem::path& out_dir);
+                  TrialTable& table, nlohmann::ordered_json& summary, const std::filesystem::path& out_dir,
+                  std::optional<mca::McaAlgorithm> algorithm = std::nullopt);
 
 /// The driver's view with the dashboard: DIR/video.mp4 and DIR/frames.csv; summary["render"].
 void RenderCarTrial(const vehicle::CarScene& scene, const std::vector<vehicle::CarSample>& samples,

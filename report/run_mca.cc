@@ -123,9 +123,26 @@ void AddVestibularColumns(const mca::CueingTrace& trace, TrialTable& table) {
   table.Add("mca_fault", Column(n, [&](std::size_t k) { return trace.commands[k].fault ? 1.0 : 0.0; }));
 }
 
+nlohmann::ordered_json AlgorithmJson(const mca::McaConfig& config, const mca::CueingTrace& trace) {
+  nlohmann::ordered_json j;
+  j["name"] = mca::McaAlgorithmName(trace.algorithm);
+  if (trace.algorithm == mca::McaAlgorithm::kMpc) {
+    j["preview"] = trace.preview ? "the whole trial ahead (recorded or simulated)" : "none: the current input is held";
+    j["horizon_s"] = config.mpc.control_period + (config.mpc.BlockCount() - 1) * config.mpc.block;
+    j["control_period_s"] = config.mpc.control_period;
+    j["blocks"] = config.mpc.BlockCount();
+    j["solver"] = std::string("alglib minqp ") + std::string(mca::QpAlgorithmName(config.mpc.solver));
+    j["solves"] = trace.mpc.solves;
+    j["fallbacks_to_washout"] = trace.mpc.fallbacks;
+  }
+  return j;
+}
+
 void AddMotionCueing(const Scene& scene, const std::vector<ChairSample>& samples, TrialTable& table,
-                     nlohmann::ordered_json& summary, const std::filesystem::path& out_dir) {
-  const mca::McaConfig config = mca::LoadMcaConfig(scene);
+                     nlohmann::ordered_json& summary, const std::filesystem::path& out_dir,
+                     std::optional<mca::McaAlgorithm> algorithm) {
+  mca::McaConfig config = mca::LoadMcaConfig(scene);
+  if (algorithm) config.algorithm = *algorithm;
   const double dt = scene.clock.dt();
   const std::size_t n = samples.size();
   std::vector<mca::HeadMotion> head(n);
@@ -145,6 +162,7 @@ void AddMotionCueing(const Scene& scene, const std::vector<ChairSample>& samples
 
   // summary.json
   nlohmann::ordered_json mca_json;
+  mca_json["algorithm"] = AlgorithmJson(config, trace);
   nlohmann::ordered_json platform_json;
   platform_json["name"] = config.platform.name;
   platform_json["source"] = config.platform_source;

@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <optional>
 #include <vector>
 
 #include "engine/chair_simulator.h"
@@ -51,8 +52,14 @@ struct WrongSignCues {
 };
 WrongSignCues CountWrongSignCues(const mca::ConsistencyReport& report);
 
+/// summary["mca"]["algorithm"]: washout or mpc; for the MPC whether it previewed the trial
+/// (or held the current input), its horizon and solver, solves and fallbacks to the washout.
+nlohmann::ordered_json AlgorithmJson(const mca::McaConfig& config, const mca::CueingTrace& trace);
+
+/// `algorithm`, when given, overrides the scene's mca.algorithm (`pwsim run --mca`).
 /// @throws InputError for a bad mca: or platform: section.
 void AddMotionCueing(const Scene& scene, const std::vector<ChairSample>& samples, TrialTable& table,
-                     nlohmann::ordered_json& summary, const std::filesystem::path& out_dir);
+                     nlohmann::ordered_json& summary, const std::filesystem::path& out_dir,
+                     std::optional<mca::McaAlgorithm> algorithm = std::nullopt);
 
 }  // namespace pwsim::report

@@ -13,7 +13,7 @@ TEST(CarLiveLoop, MatchesTheOfflineRunExactly) {
   const vehicle::CarScene scene =
       vehicle::LoadCarScene(std::filesystem::path(PWSIM_SOURCE_DIR) / "scenes/car_lane_change.yaml");
   const std::vector<vehicle::CarSample> offline = vehicle::SimulateCarScene(scene);
-  const mca::McaConfig config = LoadCarMca(scene);
+  const mca::McaConfig config = mca::LoadMcaConfig(scene.section("platform"), scene.section("mca"), mca::CarMcaDefaults());
   std::vector<mca::HeadMotion> truth(offline.size());
   for (std::size_t k = 0; k < offline.size(); ++k) {
     const vehicle::CarHeadMotion m = vehicle::HeadMotionOfCar(offline[k], scene.head_offset);
