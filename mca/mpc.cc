@@ -317,6 +317,7 @@ MpcModel BuildMpcModel(const MpcParams& params, const VestibularParams& vestibul
       plus(slack_col(t, kb)) = 1.0;
       add_con(minus, mk.row(2 * i + 1), -kInf, thr, kb, channel, 1.0);  // + max(0, θ̇_veh)
       add_con(plus, mk.row(2 * i + 1), -thr, kInf, kb, channel, -1.0);  // + min(0, θ̇_veh)
+      model.z_linear_entries.emplace_back(slack_col(t, kb), params.weight_tilt_rate * wt);
       Eigen::RowVectorXd slack = Eigen::RowVectorXd::Zero(nz);
       slack(slack_col(t, kb)) = std::sqrt(params.weight_tilt_rate * wt) + 1e-3;
       add_cost(slack, zero_x);
@@ -343,6 +344,8 @@ MpcModel BuildMpcModel(const MpcParams& params, const VestibularParams& vestibul
     model.con_lo[r] = lo[s];
     model.con_hi[r] = hi[s];
   }
+  model.z_linear = Eigen::VectorXd::Zero(nz);
+  for (const auto& [col, w] : model.z_linear_entries) model.z_linear[col] = w;
   model.z_lo.resize(nz);
   model.z_hi.resize(nz);
   for (int kb = 0; kb < n_blocks; ++kb) {
@@ -383,6 +386,8 @@ MpcCueing::MpcCueing(const MpcParams& params, const WashoutParams& washout,
   c_hi_.resize(model_.con_c.rows());
   dx_.resize(model_.con_c.rows());
   xv_scratch_.resize(model_.vc.cols());
+  xv_next_.resize(model_.vc.cols());
+  x_next_.resize(model_.nx);
   Reset();
 }
 
@@ -408,6 +413,7 @@ void MpcCueing::Reset() {
   stats_ = MpcStats{};
   command_ = McaCommand{};
   washout_.Reset();
+  if (active_set_) active_set_->ResetWarmStart();
 }
 
 namespace {
@@ -448,9 +454,10 @@ void MpcCueing::PredictVehicle() {
       for (double& v : q) v /= static_cast<double>(len);
     }
     const Eigen::Map<const Eigen::Matrix<double, 6, 1>> qv(q.data());
-    xv_scratch_ = model_.vphi[static_cast<std::size_t>(kb)] * xv_scratch_ +
-                  model_.vgamma[static_cast<std::size_t>(kb)] * qv;
-    ref_.col(kb) = model_.vc * xv_scratch_;
+    xv_next_.noalias() = model_.vphi[static_cast<std::size_t>(kb)] * xv_scratch_;
+    xv_next_.noalias() += model_.vgamma[static_cast<std::size_t>(kb)] * qv;
+    xv_scratch_.swap(xv_next_);
+    ref_.col(kb).noalias() = model_.vc * xv_scratch_;
     rate_ref_(0, kb) = q[3];
     rate_ref_(1, kb) = -q[4];
     start += len;
@@ -465,6 +472,7 @@ void MpcCueing::Solve() {
     e_[model_.ref_row[r]] -= model_.ref_scale[r] * ref_(model_.ref_channel[r], model_.ref_block[r]);
   }
   b_.noalias() = model_.cost_et * e_;
+  b_ += model_.z_linear;
   dx_.noalias() = model_.con_dx * x_;
   for (Eigen::Index r = 0; r < c_lo_.size(); ++r) {
     const auto s = static_cast<std::size_t>(r);
@@ -520,12 +528,16 @@ const McaCommand& MpcCueing::Step(const HeadMotion& raw) {
       // accelerations it actually had, then the platform's measured (p, v)
       for (double& v : input_sum_) v /= static_cast<double>(period_ticks_);
       const Eigen::Map<const Eigen::Matrix<double, 6, 1>> q(input_sum_.data());
-      xv_ = model_.vphi_period * xv_ + model_.vgamma_period * q;
+      xv_next_.noalias() = model_.vphi_period * xv_;
+      xv_next_.noalias() += model_.vgamma_period * q;
+      xv_.swap(xv_next_);
       for (int i = 0; i < m; ++i) {
         const auto d = static_cast<std::size_t>(Index(model_.axes[static_cast<std::size_t>(i)]));
         u_[i] = (nominal_rate_[d] - x_[2 * i + 1]) / params_.control_period;
       }
-      x_ = model_.phi_period * x_ + model_.gamma_period * u_;
+      x_next_.noalias() = model_.phi_period * x_;
+      x_next_.noalias() += model_.gamma_period * u_;
+      x_.swap(x_next_);
       for (int i = 0; i < m; ++i) {
         const auto d = static_cast<std::size_t>(Index(model_.axes[static_cast<std::size_t>(i)]));
         x_[2 * i] = nominal_pose_[d];

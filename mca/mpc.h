@@ -17,7 +17,9 @@
 // `block_s` long (move blocking); horizon = period + (N−1)·block ≥ horizon_s.
 // Cost (block k of length h_k, H the horizon; thresholds from mca.vestibular):
 //   Σ_k h_k/H · [ Σ_j w_j ((ŷ_plat,j − ŷ_veh,j)/threshold_j)²
-//                 + Σ_i w_n (p_i/P_i)² + w_r (v_i/V_i)² + w_e (u_i/A_i)² ] + w_t Σ_k s_k²
+//                 + Σ_i w_n (p_i/P_i)² + w_r (v_i/V_i)² + w_e (u_i/A_i)² + w_t (s_k² + s_k) ]
+//   (the linear term on the slack s_k makes the penalty exact: s = 0 whenever the band can
+//   be kept at a marginal cost below w_t)
 //   P_i the travel (π rad for an endless axis), V_i the speed, A_i the acceleration limit.
 // Constraints at every block end, for every axis:
 //   |u_i| ≤ A_i = brake acceleration (the steady one where the drive has one)
@@ -48,6 +50,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "engine/yaml_reader.h"
@@ -113,6 +116,8 @@ struct MpcModel {
   std::vector<int> con_tilt_channel;    ///< which ω channel (0 roll, 1 pitch) and its sign below
   std::vector<double> con_tilt_sign;    ///< +1: upper row (+ max(0, rate)); −1: lower row (+ min(0, rate))
   Eigen::VectorXd z_lo, z_hi;
+  Eigen::VectorXd z_linear;             ///< constant linear cost: the exact (L1) penalty on slacks
+  std::vector<std::pair<int, double>> z_linear_entries;
 };
 
 MpcModel BuildMpcModel(const MpcParams& params, const VestibularParams& vestibular,
@@ -178,7 +183,7 @@ class MpcCueing {
   // scratch
   Eigen::MatrixXd ref_;               ///< 6 × blocks: predicted vehicle perceived outputs
   Eigen::MatrixXd rate_ref_;          ///< 2 × blocks: vehicle roll and pitch (nose-up) rates
-  Eigen::VectorXd e_, b_, c_lo_, c_hi_, dx_, xv_scratch_;
+  Eigen::VectorXd e_, b_, c_lo_, c_hi_, dx_, xv_scratch_, xv_next_, x_next_;
   const std::vector<HeadMotion>* preview_{nullptr};
   MpcStats stats_;
   McaCommand command_;

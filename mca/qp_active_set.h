@@ -22,6 +22,7 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <vector>
 
 #include "mca/qp_alglib.h"  // QpStatus
@@ -39,6 +40,8 @@ class ActiveSetQp {
   QpStatus Solve(const Eigen::VectorXd& b, const Eigen::VectorXd& z_lo, const Eigen::VectorXd& z_hi,
                  const Eigen::VectorXd& a_lo, const Eigen::VectorXd& a_hi, Eigen::VectorXd& z);
 
+  /// Forgets the previous active set (the next solve starts cold).
+  void ResetWarmStart() { std::fill(was_active_.begin(), was_active_.end(), 0); }
   int variables() const { return n_; }
 
  private:

@@ -43,7 +43,7 @@ void FillBound(alglib::real_1d_array& dst, const Eigen::VectorXd& src) {
 }  // namespace
 
 AlglibQp::AlglibQp(QpAlgorithm algorithm, const Eigen::MatrixXd& hessian,
-                   const Eigen::MatrixXd& constraints)
+                   const Eigen::MatrixXd& constraints, double tolerance)
     : algorithm_(algorithm),
       n_(static_cast<int>(hessian.rows())),
       r_(static_cast<int>(constraints.rows())),
@@ -71,9 +71,9 @@ AlglibQp::AlglibQp(QpAlgorithm algorithm, const Eigen::MatrixXd& hessian,
   alglib::minqpsetscale(m.state, scale);
   switch (algorithm_) {
     case QpAlgorithm::kActiveSet: PWSIM_DEMAND(false && "AlglibQp is one of minqp's algorithms"); break;
-    case QpAlgorithm::kBleic: alglib::minqpsetalgobleic(m.state, 0.0, 0.0, 1e-6, 200); break;
-    case QpAlgorithm::kDenseAul: alglib::minqpsetalgodenseaul(m.state, 1e-6, 1e4, 10); break;
-    case QpAlgorithm::kDenseIpm: alglib::minqpsetalgodenseipm(m.state, 1e-6); break;
+    case QpAlgorithm::kBleic: alglib::minqpsetalgobleic(m.state, 0.0, 0.0, tolerance, 200); break;
+    case QpAlgorithm::kDenseAul: alglib::minqpsetalgodenseaul(m.state, tolerance, 1e4, 10); break;
+    case QpAlgorithm::kDenseIpm: alglib::minqpsetalgodenseipm(m.state, tolerance); break;
   }
 }
 

@@ -40,7 +40,9 @@ class AlglibQp {
  public:
   /// @pre hessian square and positive definite; constraints.cols() == hessian.rows();
   /// algorithm is not kActiveSet.
-  AlglibQp(QpAlgorithm algorithm, const Eigen::MatrixXd& hessian, const Eigen::MatrixXd& constraints);
+  /// `tolerance`: the stopping tolerance handed to minqp (the MPC uses 1e-6).
+  AlglibQp(QpAlgorithm algorithm, const Eigen::MatrixXd& hessian, const Eigen::MatrixXd& constraints,
+           double tolerance = 1e-6);
   ~AlglibQp();
   AlglibQp(const AlglibQp&) = delete;
   AlglibQp& operator=(const AlglibQp&) = delete;
