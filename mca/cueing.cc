@@ -17,6 +17,7 @@ CueingTrace RunCueing(const McaConfig& config, const std::vector<HeadMotion>& tr
     MpcCueing mpc(config.mpc, config.washout, config.vestibular, config.platform, dt);
     mpc.SetPreview(&truth);
     trace.preview = mpc.using_preview();
+    trace.whole_trial = config.mpc.whole_trial;
     for (const HeadMotion& input : truth) trace.commands.push_back(mpc.Step(input));
     trace.mpc = mpc.stats();
   } else {

@@ -26,6 +26,7 @@ struct CueingTrace {
   std::vector<Perceived> perceived_platform;
   McaAlgorithm algorithm{McaAlgorithm::kWashout};
   bool preview{false};                 ///< the MPC saw the trial ahead
+  bool whole_trial{false};             ///< the offline ceiling (mca/offline_optimum.h)
   MpcStats mpc;                        ///< solves, fallbacks to the washout (MPC only)
 };
 

@@ -86,7 +86,7 @@ std::string MpcParams::Validate() const {
   if (!std::isfinite(control_period) || control_period <= 0.0) return "control_period_s must be > 0";
   if (!std::isfinite(block) || block < control_period) return "block_s must be >= control_period_s";
   if (!std::isfinite(horizon) || horizon < 1.0) return "horizon_s must be >= 1 s";
-  if (BlockCount() > kMpcMaxBlocks) {
+  if (!whole_trial && BlockCount() > kMpcMaxBlocks) {
     return "horizon_s " + std::to_string(horizon) + " at block_s " + std::to_string(block) + " needs " +
            std::to_string(BlockCount()) + " blocks; the solver meets real time with at most " +
            std::to_string(kMpcMaxBlocks) + " (horizon_s <= " +
@@ -522,7 +522,14 @@ const McaCommand& MpcCueing::Step(const HeadMotion& raw) {
     held_ = raw;
   }
   const auto m = static_cast<int>(model_.axes.size());
-  if (tick_ % period_ticks_ == 0) {
+  if (params_.whole_trial) {
+    if (tick_ == 0) {
+      last_input_ = Channels(input);
+      Solve();
+    }
+    const auto block = std::min<std::int64_t>(tick_ / period_ticks_, model_.blocks - 1);
+    if (!fallback_) u_ = z_.segment(block * m, m);
+  } else if (tick_ % period_ticks_ == 0) {
     if (tick_ > 0) {
       // advance the models over the last period: vehicle with its mean input, platform with the
       // accelerations it actually had, then the platform's measured (p, v)

@@ -80,10 +80,14 @@ struct MpcParams {
   double weight_neutral_rate{0.01}; ///< on (v/V)² [-]
   double weight_effort{1e-3};       ///< on (u/A)² [-]
   double weight_tilt_rate{1.0e4};   ///< on the tilt-rate excess s² [1/(rad/s)²]
+  /// The offline ceiling (mca/offline_optimum.h): one solve at tick 0 over the whole horizon,
+  /// the plan then followed open loop; not a scene key, and not bound by kMpcMaxBlocks.
+  bool whole_trial{false};
   bool operator==(const MpcParams&) const = default;
 
   int BlockCount() const;
-  /// Empty when valid, else which field is wrong and why.
+  /// Empty when valid, else which field is wrong and why (the real-time block limit applies
+  /// unless whole_trial).
   std::string Validate() const;
 };
 

@@ -8,6 +8,7 @@
 #include "engine/atomic_file.h"
 #include "mca/config.h"
 #include "mca/cueing.h"
+#include "mca/offline_optimum.h"
 #include "mca/rail_yaw.h"
 #include "plot/plot.h"
 #include "render/dashboard.h"
@@ -68,9 +69,9 @@ TrialTable CarColumns(const vehicle::CarScene& scene, const std::vector<CarSampl
 
 void AddCarCueing(const vehicle::CarScene& scene, const std::vector<CarSample>& samples, TrialTable& table,
                   nlohmann::ordered_json& summary, const std::filesystem::path& out_dir,
-                  std::optional<mca::McaAlgorithm> algorithm) {
+                  const McaChoice& choice) {
   mca::McaConfig config = mca::LoadMcaConfig(scene.section("platform"), scene.section("mca"), mca::CarMcaDefaults());
-  if (algorithm) config.algorithm = *algorithm;
+  choice.Apply(config);
   const double dt = scene.clock.dt();
   const std::size_t n = samples.size();
   std::vector<mca::HeadMotion> head(n);
@@ -80,7 +81,9 @@ void AddCarCueing(const vehicle::CarScene& scene, const std::vector<CarSample>& 
     head[k].w = m.w;
   }
   const bool rail_yaw = config.platform.Has(Dof::kSurge) && config.platform.Has(Dof::kYaw);
-  const mca::CueingTrace trace = rail_yaw ? mca::RunRailYawCueing(config, head, dt) : mca::RunCueing(config, head, dt);
+  const mca::CueingTrace trace = choice.offline ? mca::RunOfflineOptimum(config, head, dt, rail_yaw)
+                                 : rail_yaw     ? mca::RunRailYawCueing(config, head, dt)
+                                                : mca::RunCueing(config, head, dt);
   const mca::ConsistencyReport report = mca::EvaluateConsistency(config, trace, dt);
   const mca::RailYawFalseCues false_cue = mca::RailYawFalseCue(config.vestibular, trace.commands, dt);
 
@@ -273,7 +276,7 @@ std::vector<std::filesystem::path> RunCarScene(const vehicle::CarScene& scene, c
                       {"y_range_m", {y_min, y_max}},
                       {"final_speed_mps", vehicle::Speed(samples.back().state)},
                       {"stalled", stalled}};
-  AddCarCueing(scene, samples, table, summary, out_dir, options.algorithm);
+  AddCarCueing(scene, samples, table, summary, out_dir, options.mca);
   table.WriteCsv(out_dir / "trial.csv", options.decimate);
   if (options.video) {
     RenderCarTrial(scene, samples, options, summary, out_dir);

@@ -27,6 +27,7 @@
 #include "engine/trial_table.h"
 #include "engine/vehicle/car_scene.h"
 #include "mca/config.h"
+#include "report/run_mca.h"
 
 namespace pwsim::report {
 
@@ -35,7 +36,7 @@ struct CarRunOptions {
   bool video{true};
   int width{0}, height{0};  ///< 0: the scene's render.size
   int fps{0};               ///< 0: the scene's render.fps
-  std::optional<mca::McaAlgorithm> algorithm;  ///< overrides the scene's mca.algorithm
+  McaChoice mca;  ///< what --mca overrides
 };
 
 /// The trial.csv columns of the drive itself (no MCA).
@@ -45,7 +46,7 @@ TrialTable CarColumns(const vehicle::CarScene& scene, const std::vector<vehicle:
 /// DIR/mca.png.
 void AddCarCueing(const vehicle::CarScene& scene, const std::vector<vehicle::CarSample>& samples,
                   TrialTable& table, nlohmann::ordered_json& summary, const std::filesystem::path& out_dir,
-                  std::optional<mca::McaAlgorithm> algorithm = std::nullopt);
+                  const McaChoice& choice = {});
 
 /// The driver's view with the dashboard: DIR/video.mp4 and DIR/frames.csv; summary["render"].
 void RenderCarTrial(const vehicle::CarScene& scene, const std::vector<vehicle::CarSample>& samples,

@@ -1,5 +1,7 @@
 #include "report/run_mca.h"
 
+#include "mca/offline_optimum.h"
+
 #include <cmath>
 #include <string>
 
@@ -123,10 +125,18 @@ void AddVestibularColumns(const mca::CueingTrace& trace, TrialTable& table) {
   table.Add("mca_fault", Column(n, [&](std::size_t k) { return trace.commands[k].fault ? 1.0 : 0.0; }));
 }
 
+void McaChoice::Apply(mca::McaConfig& config) const {
+  if (algorithm) config.algorithm = *algorithm;
+  if (preview) config.mpc.preview = true;
+}
+
 nlohmann::ordered_json AlgorithmJson(const mca::McaConfig& config, const mca::CueingTrace& trace) {
   nlohmann::ordered_json j;
   j["name"] = mca::McaAlgorithmName(trace.algorithm);
-  if (trace.algorithm == mca::McaAlgorithm::kMpc) {
+  if (trace.whole_trial) {
+    j["name"] = "offline";
+    j["what"] = "the whole trial optimised at once, open loop (mca/offline_optimum.h): the ceiling";
+  } else if (trace.algorithm == mca::McaAlgorithm::kMpc) {
     j["preview"] = trace.preview ? "the whole trial ahead (recorded or simulated)" : "none: the current input is held";
     j["horizon_s"] = config.mpc.control_period + (config.mpc.BlockCount() - 1) * config.mpc.block;
     j["control_period_s"] = config.mpc.control_period;
@@ -140,14 +150,15 @@ nlohmann::ordered_json AlgorithmJson(const mca::McaConfig& config, const mca::Cu
 
 void AddMotionCueing(const Scene& scene, const std::vector<ChairSample>& samples, TrialTable& table,
                      nlohmann::ordered_json& summary, const std::filesystem::path& out_dir,
-                     std::optional<mca::McaAlgorithm> algorithm) {
+                     const McaChoice& choice) {
   mca::McaConfig config = mca::LoadMcaConfig(scene);
-  if (algorithm) config.algorithm = *algorithm;
+  choice.Apply(config);
   const double dt = scene.clock.dt();
   const std::size_t n = samples.size();
   std::vector<mca::HeadMotion> head(n);
   for (std::size_t k = 0; k < n; ++k) head[k] = mca::HeadMotionFromChair(samples[k], scene.occupant.head_offset);
-  const mca::CueingTrace trace = mca::RunCueing(config, head, dt);
+  const mca::CueingTrace trace = choice.offline ? mca::RunOfflineOptimum(config, head, dt)
+                                                : mca::RunCueing(config, head, dt);
   const mca::ConsistencyReport report = mca::EvaluateConsistency(config, trace, dt);
 
   // trial.csv columns

@@ -52,14 +52,23 @@ struct WrongSignCues {
 };
 WrongSignCues CountWrongSignCues(const mca::ConsistencyReport& report);
 
+/// What `pwsim run --mca ... [--mca-preview]` asks of the MCA stage.
+struct McaChoice {
+  std::optional<mca::McaAlgorithm> algorithm;  ///< overrides the scene's mca.algorithm
+  bool preview{false};   ///< the MPC previews the trial (mca.mpc.preview)
+  bool offline{false};   ///< the offline ceiling instead (mca/offline_optimum.h)
+  /// Applies the choice to a loaded configuration.
+  void Apply(mca::McaConfig& config) const;
+};
+
 /// summary["mca"]["algorithm"]: washout or mpc; for the MPC whether it previewed the trial
 /// (or held the current input), its horizon and solver, solves and fallbacks to the washout.
 nlohmann::ordered_json AlgorithmJson(const mca::McaConfig& config, const mca::CueingTrace& trace);
 
-/// `algorithm`, when given, overrides the scene's mca.algorithm (`pwsim run --mca`).
+/// `choice`: what `pwsim run --mca` overrides.
 /// @throws InputError for a bad mca: or platform: section.
 void AddMotionCueing(const Scene& scene, const std::vector<ChairSample>& samples, TrialTable& table,
                      nlohmann::ordered_json& summary, const std::filesystem::path& out_dir,
-                     std::optional<mca::McaAlgorithm> algorithm = std::nullopt);
+                     const McaChoice& choice = {});
 
 }  // namespace pwsim::report

@@ -14,6 +14,7 @@
 #include "mca/config.h"
 #include "mca/cueing.h"
 #include "mca/mpc.h"
+#include "mca/offline_optimum.h"
 
 namespace pwsim::mca {
 namespace {
@@ -199,6 +200,33 @@ TEST(MpcTest, LoadTimeErrors) {
   EXPECT_NE(LoadError("  mpc: {horizon_s: 0.5}\n").find("horizon_s"), std::string::npos);
   EXPECT_NE(LoadError("  mpc: {solver: osqp}\n").find("active_set"), std::string::npos);
   EXPECT_NE(LoadError("  algorithm: model_predictive\n").find("algorithm"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace pwsim::mca
+
+namespace pwsim::mca {
+namespace {
+
+// Tests the offline ceiling on the speed cushion: inside every limit, and its perceived surge
+// and pitch-rate errors no worse than the online MPC's with the same preview (the online MPC
+// sees 1 s ahead, the ceiling the whole trial).
+TEST(OfflineOptimumTest, SpeedCushionCeilingInsideLimitsAndNoWorseThanOnline) {
+  const Scene scene = LoadScene(std::filesystem::path(PWSIM_SOURCE_DIR) / "scenes/speed_cushion.yaml");
+  const std::vector<HeadMotion> head = ChairTrial("scenes/speed_cushion.yaml");
+  McaConfig config = LoadMcaConfig(scene);
+  const double dt = scene.clock.dt();
+  const CueingTrace best = RunOfflineOptimum(config, head, dt);
+  ExpectWithinLimits(config.platform, best.commands, "offline");
+  EXPECT_EQ(best.mpc.solves, 1);
+  EXPECT_EQ(best.mpc.fallbacks, 0);
+  config.algorithm = McaAlgorithm::kMpc;
+  config.mpc.preview = true;
+  const CueingTrace online = RunCueing(config, head, dt);
+  const ConsistencyReport b = EvaluateConsistency(config, best, dt);
+  const ConsistencyReport o = EvaluateConsistency(config, online, dt);
+  EXPECT_LT(b.otolith[0].rms_error, 1.1 * o.otolith[0].rms_error);
+  EXPECT_LT(b.canals[1].rms_error, 1.1 * o.canals[1].rms_error);
 }
 
 }  // namespace
