@@ -19,22 +19,13 @@
 #include <string>
 #include <vector>
 
+#include "bench/speed_cushion_inputs.h"
 #include "engine/scene.h"
 #include "mca/head_motion.h"
 #include "mca/mpc.h"
 
 namespace pwsim::mca {
 namespace {
-
-const std::vector<HeadMotion>& TrialInputs() {
-  static const std::vector<HeadMotion> inputs = [] {
-    const Scene scene = LoadScene(DefaultScenePath(PWSIM_SOURCE_DIR));
-    std::vector<HeadMotion> out;
-    for (const ChairSample& s : SimulateScene(scene)) out.push_back(HeadMotionFromChair(s, scene.occupant.head_offset));
-    return out;
-  }();
-  return inputs;
-}
 
 double ThreadCpuMicros() {
   timespec ts{};
@@ -51,7 +42,7 @@ void Percentiles(benchmark::State& state, std::vector<double>& times, const std:
 }
 
 void RunControlStep(benchmark::State& state, const PlatformSpec& platform, QpAlgorithm solver) {
-  const std::vector<HeadMotion>& inputs = TrialInputs();
+  const std::vector<HeadMotion>& inputs = SpeedCushionHeadMotion();
   MpcParams params;
   params.solver = solver;
   MpcCueing mpc(params, DefaultWashoutParams(), VestibularParams{}, platform, 1e-3);

@@ -46,22 +46,27 @@ void ExpectWithinLimits(const PlatformSpec& platform, const std::vector<McaComma
   }
 }
 
-std::vector<HeadMotion> ChairTrial(const char* scene_file) {
-  const Scene scene = LoadScene(std::filesystem::path(PWSIM_SOURCE_DIR) / scene_file);
-  const std::vector<ChairSample> samples = SimulateScene(scene);
+struct Trial {
   std::vector<HeadMotion> head;
-  for (const ChairSample& s : samples) head.push_back(HeadMotionFromChair(s, scene.occupant.head_offset));
-  return head;
+  McaConfig config;  ///< the scene's
+  double dt;
+};
+
+/// The shipped speed-cushion scene, simulated: head motion and MCA configuration.
+Trial SpeedCushion() {
+  const Scene scene = LoadScene(std::filesystem::path(PWSIM_SOURCE_DIR) / "scenes/speed_cushion.yaml");
+  Trial trial{{}, LoadMcaConfig(scene), scene.clock.dt()};
+  for (const ChairSample& s : SimulateScene(scene)) {
+    trial.head.push_back(HeadMotionFromChair(s, scene.occupant.head_offset));
+  }
+  return trial;
 }
 
 // Tests that the MPC, held input and preview alike, keeps the speed cushion's command stream
 // inside every pw4dof limit, without a fallback, and that the preview lowers the perceived
 // surge and heave error below the washout's (the reason to preview; figures in docs/mca.md).
 TEST(MpcTest, SpeedCushionInsideLimitsAndPreviewBeatsWashout) {
-  const Scene scene = LoadScene(std::filesystem::path(PWSIM_SOURCE_DIR) / "scenes/speed_cushion.yaml");
-  const std::vector<HeadMotion> head = ChairTrial("scenes/speed_cushion.yaml");
-  McaConfig config = LoadMcaConfig(scene);
-  const double dt = scene.clock.dt();
+  auto [head, config, dt] = SpeedCushion();
   const CueingTrace washout = RunCueing(config, head, dt);
   config.algorithm = McaAlgorithm::kMpc;
   const CueingTrace held = RunCueing(config, head, dt);
@@ -212,10 +217,7 @@ namespace {
 // and pitch-rate errors no worse than the online MPC's with the same preview (the online MPC
 // sees 1 s ahead, the ceiling the whole trial).
 TEST(OfflineOptimumTest, SpeedCushionCeilingInsideLimitsAndNoWorseThanOnline) {
-  const Scene scene = LoadScene(std::filesystem::path(PWSIM_SOURCE_DIR) / "scenes/speed_cushion.yaml");
-  const std::vector<HeadMotion> head = ChairTrial("scenes/speed_cushion.yaml");
-  McaConfig config = LoadMcaConfig(scene);
-  const double dt = scene.clock.dt();
+  auto [head, config, dt] = SpeedCushion();
   const CueingTrace best = RunOfflineOptimum(config, head, dt);
   ExpectWithinLimits(config.platform, best.commands, "offline");
   EXPECT_EQ(best.mpc.solves, 1);
