@@ -35,7 +35,8 @@
 // threshold, so tilt coordination is not perceived as rotation.
 // Vehicle prediction: without a preview the current input is held over the horizon; with one
 // (SetPreview: a recorded or simulated trial), each block gets that trial's mean input.
-// Each control period one QP (mca/qp_alglib.h) is solved, warm-started from the last plan;
+// Each control period one QP is solved (mca/qp_active_set.h by default, ALGLIB minqp as the
+// alternatives, mca/qp_alglib.h), warm-started from the last active set;
 // every engine tick the planned pose passes the platform limiter (StepLimiter), which never
 // lets a command leave the limits. A failed solve falls back to the classical washout for that
 // period (counted); a non-finite input holds the last finite one for fault.hold_s, then
