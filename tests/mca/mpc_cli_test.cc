@@ -48,7 +48,8 @@ TEST(MpcCliTest, SpeedCushionWithMpc) {
   EXPECT_EQ(washout["algorithm"]["name"], "washout");
 }
 
-// Tests the car's launch and lane change with the MPC and the offline ceiling on the rail + yaw.
+// Tests the car's launch and lane change with the MPC and the offline ceiling on the rail + yaw,
+// the other shipped car scenes with the MPC, and that an unknown --mca value is refused.
 TEST(MpcCliTest, CarScenesWithMpcAndOffline) {
   for (const char* scene : {"car_launch", "car_lane_change"}) {
     const nlohmann::json mpc = RunMca(std::string("scenes/") + scene + ".yaml", "--mca mpc", std::string("mpc_") + scene);
@@ -59,6 +60,11 @@ TEST(MpcCliTest, CarScenesWithMpcAndOffline) {
         RunMca(std::string("scenes/") + scene + ".yaml", "--mca offline", std::string("offline_") + scene);
     ExpectInsideLimits(offline);
     EXPECT_EQ(offline["algorithm"]["name"], "offline") << scene;
+  }
+  for (const char* scene : {"car_recorded_drive", "car_seed_drive"}) {  // the other shipped car scenes
+    const nlohmann::json mpc = RunMca(std::string("scenes/") + scene + ".yaml", "--mca mpc", std::string("mpc_") + scene);
+    ExpectInsideLimits(mpc);
+    EXPECT_EQ(mpc["algorithm"]["fallbacks_to_washout"].get<int>(), 0) << scene;
   }
   EXPECT_NE(std::system(("'" + kBinary.string() + "' run --mca fuzzy --no-video --out /tmp/pwsim_mpc_bad > /dev/null 2>&1").c_str()), 0);
 }
