@@ -165,7 +165,7 @@ int DriveCommand(const ParsedArgs& args) {
   } else {
     scripted = vehicle::SimulateCarScene(scene);  // the scene's own controls
   }
-  hw::CarLiveLoop loop(scene, hw::LoadCarMca(scene));
+  hw::CarLiveLoop loop(scene, mca::LoadMcaConfig(scene.section("platform"), scene.section("mca"), mca::CarMcaDefaults()));
   const std::size_t rows = static_cast<std::size_t>(ticks) + 1;
   std::vector<double> t(rows), x(rows), y(rows), yaw(rows), v(rows), rpm(rows), gear(rows), throttle(rows),
       brake(rows), clutch(rows), steer(rows), rail(rows), turn(rows), cue_x(rows), cue_y(rows), late(rows);

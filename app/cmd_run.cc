@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 #include "app/commands.h"
 #include "app/scene_path.h"
@@ -68,6 +69,8 @@ const CommandSpec& RunSpec() {
           {"png-frames", "", "-", "", "also write DIR/frames/frame_NNNNN.png"},
           {"lossless", "", "-", "", "also write DIR/video_lossless.mkv (exact pixels)"},
           {"no-video", "", "-", "off", "skip rendering (no video.mp4, frames.csv)"},
+          {"mca", "washout|mpc|offline", "-", "", "motion cueing: the washout, the MPC, or the offline ceiling (the whole trial optimised at once); overrides the scene's mca.algorithm"},
+          {"mca-preview", "", "-", "", "the MPC previews the trial ahead (mca.mpc.preview)"},
       },
       "SCENE  a pwsim-scene/1 YAML file (default: the paper's speed-cushion trial); kind: car runs seed 001's car; a circuit: section runs the full-DoF chair through it"};
   return spec;
@@ -82,6 +85,16 @@ int RunCommand(const ParsedArgs& args) {
   if (decimate < 1) throw UsageError("option --decimate: expected an integer >= 1");
 
   const report::RenderStageOptions render_options = RenderOptions(args);
+  report::McaChoice mca_choice;
+  if (args.Has("mca")) {
+    const std::string name = args.Get("mca");
+    if (name != "washout" && name != "mpc" && name != "offline") {
+      throw UsageError("option --mca: expected washout, mpc or offline, got '" + name + "'");
+    }
+    mca_choice.algorithm = name == "washout" ? mca::McaAlgorithm::kWashout : mca::McaAlgorithm::kMpc;
+    mca_choice.offline = name == "offline";
+  }
+  mca_choice.preview = args.Flag("mca-preview");
 
   // Read once: the scene may come from a pipe (a sweep task reads its scene from a FIFO).
   const YamlDocument scene_document = LoadYamlFile(scene_path);
@@ -93,6 +106,7 @@ int RunCommand(const ParsedArgs& args) {
     car.width = render_options.width_px;
     car.height = render_options.height_px;
     car.fps = render_options.fps;
+    car.mca = mca_choice;
     const auto written = report::RunCarScene(car_scene, scene_path, car, out_dir);
     std::cout << "pwsim run: car scene '" << car_scene.name << "' (" << scene_path.string() << "), "
               << car_scene.tick_count() << " ticks at " << car_scene.clock.rate_hz << " Hz; wrote:\n";
@@ -103,7 +117,7 @@ int RunCommand(const ParsedArgs& args) {
   const Scene scene = ParseScene(scene_document);
   if (scene.is_circuit()) {  // the full-DoF chair through a circuit, every platform axis
     const auto written = report::RunCircuitScene(scene, scene_path.string(), static_cast<int>(decimate),
-                                                 render_options, out_dir);
+                                                 render_options, out_dir, mca_choice);
     std::cout << "pwsim run: circuit scene '" << scene.name << "' (" << scene_path.string() << "), "
               << scene.tick_count() << " ticks at " << scene.clock.rate_hz << " Hz; wrote:\n";
     for (const auto& file : written) std::cout << "  " << file.string() << "\n";
@@ -112,7 +126,7 @@ int RunCommand(const ParsedArgs& args) {
   const std::vector<ChairSample> samples = SimulateScene(scene);
   TrialTable table = report::ChairColumns(scene, samples);
   nlohmann::ordered_json summary = report::RunSummary(scene, scene_path.string(), table);
-  report::AddMotionCueing(scene, samples, table, summary, out_dir);  // platform, visual, vestibular
+  report::AddMotionCueing(scene, samples, table, summary, out_dir, mca_choice);  // platform, visual, vestibular
 
   std::filesystem::create_directories(out_dir);
   table.WriteCsv(out_dir / "trial.csv", static_cast<int>(decimate));

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <vector>
 
+#include "bench/speed_cushion_inputs.h"
 #include "engine/scene.h"
 #include "mca/head_motion.h"
 #include "mca/platform.h"
@@ -18,20 +19,8 @@
 namespace pwsim::mca {
 namespace {
 
-const std::vector<HeadMotion>& TrialInputs() {
-  static const std::vector<HeadMotion> inputs = [] {
-    const Scene scene = LoadScene(DefaultScenePath(PWSIM_SOURCE_DIR));
-    std::vector<HeadMotion> out;
-    for (const ChairSample& s : SimulateScene(scene)) {
-      out.push_back(HeadMotionFromChair(s, scene.occupant.head_offset));
-    }
-    return out;
-  }();
-  return inputs;
-}
-
 void RunWashout(benchmark::State& state, const PlatformSpec& platform) {
-  const std::vector<HeadMotion>& inputs = TrialInputs();
+  const std::vector<HeadMotion>& inputs = SpeedCushionHeadMotion();
   ClassicalWashout mca(DefaultWashoutParams(), platform, 1e-3);
   std::size_t k = 0;
   for (auto _ : state) {
@@ -48,7 +37,7 @@ void BM_McaStepCar2Dof(benchmark::State& state) { RunWashout(state, MakeCar2DofP
 BENCHMARK(BM_McaStepCar2Dof);
 
 void BM_VestibularStep(benchmark::State& state) {
-  const std::vector<HeadMotion>& inputs = TrialInputs();
+  const std::vector<HeadMotion>& inputs = SpeedCushionHeadMotion();
   VestibularModel model(VestibularParams{}, 1e-3);
   std::size_t k = 0;
   for (auto _ : state) {

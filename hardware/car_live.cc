@@ -2,17 +2,12 @@
 
 namespace pwsim::hw {
 
-mca::McaConfig LoadCarMca(const vehicle::CarScene& scene) {
-  mca::McaConfig config;
-  config.platform = mca::MakeCar2DofPlatform();
-  config.platform_source = "built-in car2dof";
-  if (const SceneSection* platform = scene.section("platform")) mca::ParsePlatformSection(*platform, config);
-  if (const SceneSection* section = scene.section("mca")) mca::ParseMcaSection(*section, config);
-  return config;
-}
-
 CarLiveLoop::CarLiveLoop(const vehicle::CarScene& scene, const mca::McaConfig& config)
     : scene_(scene), washout_(config.washout, config.platform, scene.clock.dt()) {
+  if (config.algorithm == mca::McaAlgorithm::kMpc) {
+    mpc_ = std::make_unique<mca::MpcCueing>(config.mpc, config.washout, config.vestibular, config.platform,
+                                            scene.clock.dt());
+  }
   tick_.sample = vehicle::FirstCarSample(scene);
   Cue();
 }
@@ -22,7 +17,7 @@ void CarLiveLoop::Cue() {
   mca::HeadMotion head;
   head.fs = m.fs;
   head.w = m.w;
-  tick_.command = washout_.Step(head);
+  tick_.command = mpc_ ? mpc_->Step(head) : washout_.Step(head);
   const auto& c = tick_.command;
   const double x = c.pose[mca::Index(mca::Dof::kSurge)];
   const double r = c.rate[mca::Index(mca::Dof::kYaw)];

@@ -1,14 +1,19 @@
 #pragma once
 // A car driven live, tick by tick: the controls of this tick in (a real wheel through
 // hardware/sdl, or any other source), the car's step and the MCA's platform command out.
-// The same per-tick functions as the offline run (vehicle::NextCarSample, ClassicalWashout::Step,
-// the rail-yaw false cue), so a live drive and `pwsim run` of the same controls agree exactly.
+// The same per-tick functions as the offline run (vehicle::NextCarSample, ClassicalWashout::Step
+// or, with `mca: {algorithm: mpc}`, MpcCueing::Step with the held-input prediction, the rail-yaw
+// false cue), so a live drive and `pwsim run` of the same controls agree exactly.
 //
-//   CarLiveLoop loop(scene, LoadCarMca(scene));
+//   CarLiveLoop loop(scene, mca::LoadMcaConfig(scene.section("platform"), scene.section("mca"),
+//                                               mca::CarMcaDefaults()));
 //   while (running) { const CarLiveTick& t = loop.Step(wheel.Poll()); send(t.command.pose); }
 
 #include "engine/vehicle/car_scene.h"
+#include <memory>
+
 #include "mca/config.h"
+#include "mca/mpc.h"
 #include "mca/washout.h"
 
 namespace pwsim::hw {
@@ -33,10 +38,8 @@ class CarLiveLoop {
 
   const vehicle::CarScene& scene_;
   mca::ClassicalWashout washout_;
+  std::unique_ptr<mca::MpcCueing> mpc_;  ///< when config.algorithm is kMpc
   CarLiveTick tick_;
 };
-
-/// The car scene's MCA configuration (platform:, mca: over seed 001's car platform).
-mca::McaConfig LoadCarMca(const vehicle::CarScene& scene);
 
 }  // namespace pwsim::hw

@@ -1,29 +1,49 @@
 #pragma once
-// The MCA configuration of a scene: the `mca:` section (washout per axis, `vestibular:`) and
-// the `platform:` section (a path relative to the scene file, normally under
-// scenes/platforms/, or an inline platform mapping). Both are optional: without them the
-// defaults of DefaultWashoutParams() and the 4-DoF PW platform apply.
+// The MCA configuration of a scene, chair or car (the one loader of both): the `mca:` section
+// (`algorithm: washout | mpc`, the washout per axis, `mpc:`, `vestibular:`) and the
+// `platform:` section (a path relative to the scene file, normally under scenes/platforms/,
+// or an inline platform mapping). Both are optional: without them the washout with the
+// defaults of DefaultWashoutParams() runs on the vehicle's default platform (the chair's 4-DoF
+// PW platform, the car's rail + yaw).
 //
-//   McaConfig config = LoadMcaConfig(scene);   // @throws InputError
+//   McaConfig config = LoadMcaConfig(scene);                                   // chair
+//   McaConfig car = LoadMcaConfig(car_scene.section("platform"), car_scene.section("mca"),
+//                                 CarMcaDefaults());                           // car
+//   // @throws InputError
 
 #include <filesystem>
 #include <string>
 
 #include "engine/scene.h"
+#include "mca/mpc.h"
 #include "mca/platform.h"
 #include "mca/vestibular.h"
 #include "mca/washout.h"
 
 namespace pwsim::mca {
 
+/// Which controller turns the vehicle's head motion into platform commands.
+enum class McaAlgorithm { kWashout, kMpc };
+/// "washout", "mpc".
+const char* McaAlgorithmName(McaAlgorithm algorithm);
+
 struct McaConfig {
+  McaAlgorithm algorithm{McaAlgorithm::kWashout};
   WashoutParams washout = DefaultWashoutParams();
+  MpcParams mpc;             ///< used when algorithm is kMpc (mca/mpc.h)
   PlatformSpec platform = MakePw4DofPlatform();
   VestibularParams vestibular;
   std::string platform_source{"built-in pw4dof"};  ///< file path or "inline"
 };
 
 McaConfig LoadMcaConfig(const Scene& scene);
+/// Reads `platform:` then `mca:` (either may be null) over `defaults`; with `algorithm: mpc`
+/// also checks that the MPC's first solve from rest is feasible on that platform.
+McaConfig LoadMcaConfig(const SceneSection* platform, const SceneSection* mca, McaConfig defaults);
+/// The car's defaults: seed 001's rail + yaw platform (MakeCar2DofPlatform), the washout.
+McaConfig CarMcaDefaults();
+/// Empty when the MPC can start from rest on config.platform, else why not.
+std::string CheckMpcStart(const McaConfig& config);
 /// Reads `mca:` over `base` from a raw section node.
 void ParseMcaSection(const SceneSection& section, McaConfig& config);
 /// Reads `platform:` (path or inline) from a raw section node.

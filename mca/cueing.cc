@@ -9,14 +9,22 @@ CueingTrace RunCueing(const McaConfig& config, const std::vector<HeadMotion>& tr
   CueingTrace trace;
   trace.truth = truth;
   const std::size_t n = truth.size();
-  ClassicalWashout washout(config.washout, config.platform, dt);
   trace.commands.reserve(n);
   std::vector<DofArray> poses;
   poses.reserve(n);
-  for (const HeadMotion& input : truth) {
-    trace.commands.push_back(washout.Step(input));
-    poses.push_back(trace.commands.back().pose);
+  trace.algorithm = config.algorithm;
+  if (config.algorithm == McaAlgorithm::kMpc) {
+    MpcCueing mpc(config.mpc, config.washout, config.vestibular, config.platform, dt);
+    mpc.SetPreview(&truth);
+    trace.preview = mpc.using_preview();
+    trace.whole_trial = config.mpc.whole_trial;
+    for (const HeadMotion& input : truth) trace.commands.push_back(mpc.Step(input));
+    trace.mpc = mpc.stats();
+  } else {
+    ClassicalWashout washout(config.washout, config.platform, dt);
+    for (const HeadMotion& input : truth) trace.commands.push_back(washout.Step(input));
   }
+  for (const McaCommand& c : trace.commands) poses.push_back(c.pose);
   trace.delivered = DeliveredHeadMotion(config.platform, poses, dt);
   VestibularModel vehicle(config.vestibular, dt);
   VestibularModel platform(config.vestibular, dt);

@@ -1,7 +1,8 @@
 #pragma once
 // A whole trial through the MCA, offline: true head motion in, platform commands, visual
 // channel, delivered head motion, both perceived motions and the consistency metrics out.
-// The per-tick work is ClassicalWashout::Step; this file only collects series.
+// The per-tick work is ClassicalWashout::Step or MpcCueing::Step (config.algorithm; the MPC
+// previews the trial itself when config.mpc.preview); this file only collects series.
 //
 //   CueingTrace trace = RunCueing(config, head_motions, dt);
 //   ConsistencyReport report = EvaluateConsistency(config, trace, dt);
@@ -23,6 +24,10 @@ struct CueingTrace {
   std::vector<HeadMotion> delivered;   ///< what the platform delivers at the head
   std::vector<Perceived> perceived_true;
   std::vector<Perceived> perceived_platform;
+  McaAlgorithm algorithm{McaAlgorithm::kWashout};
+  bool preview{false};                 ///< the MPC saw the trial ahead
+  bool whole_trial{false};             ///< the offline ceiling (mca/offline_optimum.h)
+  MpcStats mpc;                        ///< solves, fallbacks to the washout (MPC only)
 };
 
 CueingTrace RunCueing(const McaConfig& config, const std::vector<HeadMotion>& truth, double dt);

@@ -6,8 +6,9 @@
 #include <cstdio>
 
 #include "engine/atomic_file.h"
-#include "hardware/car_live.h"
+#include "mca/config.h"
 #include "mca/cueing.h"
+#include "mca/offline_optimum.h"
 #include "mca/rail_yaw.h"
 #include "plot/plot.h"
 #include "render/dashboard.h"
@@ -67,8 +68,10 @@ TrialTable CarColumns(const vehicle::CarScene& scene, const std::vector<CarSampl
 }
 
 void AddCarCueing(const vehicle::CarScene& scene, const std::vector<CarSample>& samples, TrialTable& table,
-                  nlohmann::ordered_json& summary, const std::filesystem::path& out_dir) {
-  const mca::McaConfig config = hw::LoadCarMca(scene);
+                  nlohmann::ordered_json& summary, const std::filesystem::path& out_dir,
+                  const McaChoice& choice) {
+  mca::McaConfig config = mca::LoadMcaConfig(scene.section("platform"), scene.section("mca"), mca::CarMcaDefaults());
+  choice.Apply(config);
   const double dt = scene.clock.dt();
   const std::size_t n = samples.size();
   std::vector<mca::HeadMotion> head(n);
@@ -78,7 +81,9 @@ void AddCarCueing(const vehicle::CarScene& scene, const std::vector<CarSample>& 
     head[k].w = m.w;
   }
   const bool rail_yaw = config.platform.Has(Dof::kSurge) && config.platform.Has(Dof::kYaw);
-  const mca::CueingTrace trace = rail_yaw ? mca::RunRailYawCueing(config, head, dt) : mca::RunCueing(config, head, dt);
+  const mca::CueingTrace trace = choice.offline ? mca::RunOfflineOptimum(config, head, dt, rail_yaw)
+                                 : rail_yaw     ? mca::RunRailYawCueing(config, head, dt)
+                                                : mca::RunCueing(config, head, dt);
   const mca::ConsistencyReport report = mca::EvaluateConsistency(config, trace, dt);
   const mca::RailYawFalseCues false_cue = mca::RailYawFalseCue(config.vestibular, trace.commands, dt);
 
@@ -95,6 +100,7 @@ void AddCarCueing(const vehicle::CarScene& scene, const std::vector<CarSample>& 
   platform_json["usage"] = PlatformUsageJson(report);
   platform_json["within_limits"] = WithinLimits(report);
   nlohmann::ordered_json mca_json;
+  mca_json["algorithm"] = AlgorithmJson(config, trace);
   mca_json["platform"] = platform_json;
   mca_json["consistency"] = ConsistencyJson(report);
   const WrongSignCues wrong = CountWrongSignCues(report);
@@ -270,7 +276,7 @@ std::vector<std::filesystem::path> RunCarScene(const vehicle::CarScene& scene, c
                       {"y_range_m", {y_min, y_max}},
                       {"final_speed_mps", vehicle::Speed(samples.back().state)},
                       {"stalled", stalled}};
-  AddCarCueing(scene, samples, table, summary, out_dir);
+  AddCarCueing(scene, samples, table, summary, out_dir, options.mca);
   table.WriteCsv(out_dir / "trial.csv", options.decimate);
   if (options.video) {
     RenderCarTrial(scene, samples, options, summary, out_dir);

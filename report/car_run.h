@@ -20,12 +20,14 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "engine/trial_table.h"
 #include "engine/vehicle/car_scene.h"
 #include "mca/config.h"
+#include "report/run_mca.h"
 
 namespace pwsim::report {
 
@@ -34,6 +36,7 @@ struct CarRunOptions {
   bool video{true};
   int width{0}, height{0};  ///< 0: the scene's render.size
   int fps{0};               ///< 0: the scene's render.fps
+  McaChoice mca;  ///< what --mca overrides
 };
 
 /// The trial.csv columns of the drive itself (no MCA).
@@ -42,7 +45,8 @@ TrialTable CarColumns(const vehicle::CarScene& scene, const std::vector<vehicle:
 /// Head motion -> MCA -> rail + yaw platform -> vestibular; adds columns, summary["mca"] and
 /// DIR/mca.png.
 void AddCarCueing(const vehicle::CarScene& scene, const std::vector<vehicle::CarSample>& samples,
-                  TrialTable& table, nlohmann::ordered_json& summary, const std::filesystem::path& out_dir);
+                  TrialTable& table, nlohmann::ordered_json& summary, const std::filesystem::path& out_dir,
+                  const McaChoice& choice = {});
 
 /// The driver's view with the dashboard: DIR/video.mp4 and DIR/frames.csv; summary["render"].
 void RenderCarTrial(const vehicle::CarScene& scene, const std::vector<vehicle::CarSample>& samples,

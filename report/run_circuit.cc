@@ -202,7 +202,7 @@ nlohmann::ordered_json CircuitSummary(const Scene& scene, const std::vector<Full
 
 void AddCircuitMotionCueing(const Scene& scene, const std::vector<FullChairSample>& samples,
                             TrialTable& table, nlohmann::ordered_json& summary,
-                            const std::filesystem::path& out_dir) {
+                            const std::filesystem::path& out_dir, const McaChoice& mca_choice) {
   // X_WV per tick: (x, y, z) with R = Rz(ψ) Ry(−θ) Rx(φ), the platform's convention (mca/dof.h)
   std::vector<mca::DofArray> body(samples.size());
   VisualPose visual;
@@ -219,7 +219,7 @@ void AddCircuitMotionCueing(const Scene& scene, const std::vector<FullChairSampl
   const std::vector<mca::HeadMotion> head =
       mca::HeadMotionFromBodyTrack(body, scene.occupant.head_offset, scene.clock.dt());
   const std::vector<double> t = table.Column("t_s");  // a copy: the stage adds columns
-  AddMotionCueingStage(scene, t, head, visual, table, summary, out_dir);
+  AddMotionCueingStage(scene, t, head, visual, table, summary, out_dir, mca_choice);
 }
 
 void WriteCircuitFigures(const Scene& scene, const std::vector<FullChairSample>& samples,
@@ -374,7 +374,8 @@ void WriteCircuitFigures(const Scene& scene, const std::vector<FullChairSample>&
 
 std::vector<std::filesystem::path> RunCircuitScene(const Scene& scene, const std::string& scene_path,
                                                    int decimate, const RenderStageOptions& render,
-                                                   const std::filesystem::path& out_dir) {
+                                                   const std::filesystem::path& out_dir,
+                                                   const McaChoice& mca_choice) {
   const std::vector<FullChairSample> samples = SimulateCircuitScene(scene);
   TrialTable table = CircuitColumns(scene, samples);
   nlohmann::ordered_json summary = RunSummary(scene, scene_path, table);
@@ -382,7 +383,7 @@ std::vector<std::filesystem::path> RunCircuitScene(const Scene& scene, const std
   summary["peak_roll"] = Peak(table, "roll_rad", "rad");
   summary["circuit"] = CircuitSummary(scene, samples);
   std::filesystem::create_directories(out_dir);
-  AddCircuitMotionCueing(scene, samples, table, summary, out_dir);  // all four platform axes
+  AddCircuitMotionCueing(scene, samples, table, summary, out_dir, mca_choice);  // all four platform axes
   WriteCircuitFigures(scene, samples, out_dir);
   table.WriteCsv(out_dir / "trial.csv", decimate);
   RenderTrial(scene, table, render, summary, out_dir);  // the occupant's view of the circuit

@@ -36,6 +36,7 @@
 #include "engine/scene.h"
 #include "engine/trial_table.h"
 #include "report/render_stage.h"
+#include "report/run_mca.h"
 
 namespace pwsim::report {
 
@@ -51,7 +52,7 @@ nlohmann::ordered_json CircuitSummary(const Scene& scene, const std::vector<Full
 /// Head motion from the chair's pose track through the MCA: columns, summary["mca"], mca*.png.
 void AddCircuitMotionCueing(const Scene& scene, const std::vector<FullChairSample>& samples,
                             TrialTable& table, nlohmann::ordered_json& summary,
-                            const std::filesystem::path& out_dir);
+                            const std::filesystem::path& out_dir, const McaChoice& mca_choice = {});
 
 /// DIR/top_view.png and DIR/wheels.png (each with .svg, .plot.csv, .gp).
 void WriteCircuitFigures(const Scene& scene, const std::vector<FullChairSample>& samples,
@@ -60,6 +61,7 @@ void WriteCircuitFigures(const Scene& scene, const std::vector<FullChairSample>&
 /// The whole run; returns the files written. @pre scene.is_circuit().
 std::vector<std::filesystem::path> RunCircuitScene(const Scene& scene, const std::string& scene_path,
                                                    int decimate, const RenderStageOptions& render,
-                                                   const std::filesystem::path& out_dir);
+                                                   const std::filesystem::path& out_dir,
+                                                   const McaChoice& mca_choice = {});
 
 }  // namespace pwsim::report

@@ -1,5 +1,7 @@
 #include "report/run_mca.h"
 
+#include "mca/offline_optimum.h"
+
 #include <cmath>
 #include <string>
 
@@ -123,8 +125,32 @@ void AddVestibularColumns(const mca::CueingTrace& trace, TrialTable& table) {
   table.Add("mca_fault", Column(n, [&](std::size_t k) { return trace.commands[k].fault ? 1.0 : 0.0; }));
 }
 
+void McaChoice::Apply(mca::McaConfig& config) const {
+  if (algorithm) config.algorithm = *algorithm;
+  if (preview) config.mpc.preview = true;
+}
+
+nlohmann::ordered_json AlgorithmJson(const mca::McaConfig& config, const mca::CueingTrace& trace) {
+  nlohmann::ordered_json j;
+  j["name"] = mca::McaAlgorithmName(trace.algorithm);
+  if (trace.whole_trial) {
+    j["name"] = "offline";
+    j["what"] = "the whole trial optimised at once, open loop (mca/offline_optimum.h): the ceiling";
+  } else if (trace.algorithm == mca::McaAlgorithm::kMpc) {
+    j["preview"] = trace.preview ? "the whole trial ahead (recorded or simulated)" : "none: the current input is held";
+    j["horizon_s"] = config.mpc.control_period + (config.mpc.BlockCount() - 1) * config.mpc.block;
+    j["control_period_s"] = config.mpc.control_period;
+    j["blocks"] = config.mpc.BlockCount();
+    j["solver"] = std::string("alglib minqp ") + std::string(mca::QpAlgorithmName(config.mpc.solver));
+    j["solves"] = trace.mpc.solves;
+    j["fallbacks_to_washout"] = trace.mpc.fallbacks;
+  }
+  return j;
+}
+
 void AddMotionCueing(const Scene& scene, const std::vector<ChairSample>& samples, TrialTable& table,
-                     nlohmann::ordered_json& summary, const std::filesystem::path& out_dir) {
+                     nlohmann::ordered_json& summary, const std::filesystem::path& out_dir,
+                     const McaChoice& choice) {
   const std::size_t n = samples.size();
   std::vector<mca::HeadMotion> head(n);
   for (std::size_t k = 0; k < n; ++k) head[k] = mca::HeadMotionFromChair(samples[k], scene.occupant.head_offset);
@@ -134,18 +160,20 @@ void AddMotionCueing(const Scene& scene, const std::vector<ChairSample>& samples
   visual.pitch = Column(n, [&](std::size_t k) { return samples[k].lm.pitch; });
   std::vector<double> t(n);
   for (std::size_t k = 0; k < n; ++k) t[k] = scene.clock.TimeAt(samples[k].tick);
-  AddMotionCueingStage(scene, t, head, visual, table, summary, out_dir);
+  AddMotionCueingStage(scene, t, head, visual, table, summary, out_dir, choice);
 }
 
 void AddMotionCueingStage(const Scene& scene, const std::vector<double>& t,
                           const std::vector<mca::HeadMotion>& head, const VisualPose& visual,
                           TrialTable& table, nlohmann::ordered_json& summary,
-                          const std::filesystem::path& out_dir) {
-  const mca::McaConfig config = mca::LoadMcaConfig(scene);
+                          const std::filesystem::path& out_dir, const McaChoice& choice) {
+  mca::McaConfig config = mca::LoadMcaConfig(scene);
+  choice.Apply(config);
   const double dt = scene.clock.dt();
   const std::size_t n = head.size();
   const bool planar = !visual.yaw.empty();  // a chair free in the plane: every axis reported
-  const mca::CueingTrace trace = mca::RunCueing(config, head, dt);
+  const mca::CueingTrace trace = choice.offline ? mca::RunOfflineOptimum(config, head, dt)
+                                                : mca::RunCueing(config, head, dt);
   const mca::ConsistencyReport report = mca::EvaluateConsistency(config, trace, dt);
 
   // trial.csv columns
@@ -163,6 +191,7 @@ void AddMotionCueingStage(const Scene& scene, const std::vector<double>& t,
 
   // summary.json
   nlohmann::ordered_json mca_json;
+  mca_json["algorithm"] = AlgorithmJson(config, trace);
   nlohmann::ordered_json platform_json;
   platform_json["name"] = config.platform.name;
   platform_json["source"] = config.platform_source;

@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <optional>
 #include <vector>
 
 #include "engine/chair_simulator.h"
@@ -51,6 +52,19 @@ struct WrongSignCues {
 };
 WrongSignCues CountWrongSignCues(const mca::ConsistencyReport& report);
 
+/// What `pwsim run --mca ... [--mca-preview]` asks of the MCA stage.
+struct McaChoice {
+  std::optional<mca::McaAlgorithm> algorithm;  ///< overrides the scene's mca.algorithm
+  bool preview{false};   ///< the MPC previews the trial (mca.mpc.preview)
+  bool offline{false};   ///< the offline ceiling instead (mca/offline_optimum.h)
+  /// Applies the choice to a loaded configuration.
+  void Apply(mca::McaConfig& config) const;
+};
+
+/// summary["mca"]["algorithm"]: washout or mpc; for the MPC whether it previewed the trial
+/// (or held the current input), its horizon and solver, solves and fallbacks to the washout.
+nlohmann::ordered_json AlgorithmJson(const mca::McaConfig& config, const mca::CueingTrace& trace);
+
 /// The axes whose peak pose reaches `min_fraction` of their travel (["heave", "roll", ...]).
 nlohmann::ordered_json AxesInUse(const mca::ConsistencyReport& report, double min_fraction = 0.01);
 
@@ -68,11 +82,13 @@ struct VisualPose {
 void AddMotionCueingStage(const Scene& scene, const std::vector<double>& t,
                           const std::vector<mca::HeadMotion>& head, const VisualPose& visual,
                           TrialTable& table, nlohmann::ordered_json& summary,
-                          const std::filesystem::path& out_dir);
+                          const std::filesystem::path& out_dir, const McaChoice& choice = {});
 
 /// The straight run's stage: head motion from the sagittal samples (HeadMotionFromChair).
+/// `choice`: what `pwsim run --mca` overrides.
 /// @throws InputError for a bad mca: or platform: section.
 void AddMotionCueing(const Scene& scene, const std::vector<ChairSample>& samples, TrialTable& table,
-                     nlohmann::ordered_json& summary, const std::filesystem::path& out_dir);
+                     nlohmann::ordered_json& summary, const std::filesystem::path& out_dir,
+                     const McaChoice& choice = {});
 
 }  // namespace pwsim::report

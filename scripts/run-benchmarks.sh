@@ -5,7 +5,7 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$root/build}
-for name in chair_model_bench mca_bench render_bench can_codec_bench vehicle_bench; do
+for name in chair_model_bench mca_bench mpc_bench render_bench can_codec_bench vehicle_bench; do
   echo "== $name"
   "$build/bench/$name" --benchmark_min_time=0.5
 done

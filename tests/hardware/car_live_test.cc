@@ -9,11 +9,12 @@
 namespace pwsim::hw {
 namespace {
 
-TEST(CarLiveLoop, MatchesTheOfflineRunExactly) {
+void ExpectLiveMatchesOffline(mca::McaAlgorithm algorithm) {
   const vehicle::CarScene scene =
       vehicle::LoadCarScene(std::filesystem::path(PWSIM_SOURCE_DIR) / "scenes/car_lane_change.yaml");
   const std::vector<vehicle::CarSample> offline = vehicle::SimulateCarScene(scene);
-  const mca::McaConfig config = LoadCarMca(scene);
+  mca::McaConfig config = mca::LoadMcaConfig(scene.section("platform"), scene.section("mca"), mca::CarMcaDefaults());
+  config.algorithm = algorithm;
   std::vector<mca::HeadMotion> truth(offline.size());
   for (std::size_t k = 0; k < offline.size(); ++k) {
     const vehicle::CarHeadMotion m = vehicle::HeadMotionOfCar(offline[k], scene.head_offset);
@@ -32,6 +33,11 @@ TEST(CarLiveLoop, MatchesTheOfflineRunExactly) {
     ASSERT_EQ(t.false_cue_sway, cues.sway[k]) << "tick " << k;
   }
 }
+
+TEST(CarLiveLoop, MatchesTheOfflineRunExactly) { ExpectLiveMatchesOffline(mca::McaAlgorithm::kWashout); }
+
+// Tests the live loop with the MPC (held input, as live): the same commands as `pwsim run --mca mpc`.
+TEST(CarLiveLoop, MatchesTheOfflineRunExactlyWithTheMpc) { ExpectLiveMatchesOffline(mca::McaAlgorithm::kMpc); }
 
 }  // namespace
 }  // namespace pwsim::hw
