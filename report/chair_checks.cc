@@ -185,15 +185,7 @@ nlohmann::ordered_json Roll(const Chair& chair, double load, const std::filesyst
   double worst = 0.0;
   for (double grade = 0.0; grade <= 0.0801; grade += 0.01) {
     FloorMap floor;
-    FloorFeature slope;
-    slope.kind = FloorFeature::Kind::kPlane;
-    slope.x_min = 1.0;
-    slope.x_max = 20.0;
-    slope.y_min = -3.0;
-    slope.y_max = 3.0;
-    slope.ramp = 1.0;
-    slope.grade_y = grade;
-    floor.features = {slope};
+    floor.features = {PlaneFeature(1.0, 20.0, -3.0, 3.0, 0.0, grade, 1.0)};
     FullChairSimulator sim(chair, layout, floor, load, kDt, {}, torque);
     sim.Start({});
     Hold(sim, {0.6, 0.0}, 6.0);
@@ -261,14 +253,7 @@ nlohmann::ordered_json Tip(const Chair& chair, double load, const std::filesyste
   const double h = variant.cm_height;
   const auto tips_at = [&](double grade, const PlanarLayout& l, double* front_load) {
     FloorMap floor;
-    FloorFeature ramp;
-    ramp.kind = FloorFeature::Kind::kPlane;
-    ramp.x_min = -5.0;
-    ramp.x_max = 5.0;
-    ramp.y_min = -5.0;
-    ramp.y_max = 5.0;
-    ramp.grade_x = grade;
-    floor.features = {ramp};
+    floor.features = {PlaneFeature(-5.0, 5.0, -5.0, 5.0, grade, 0.0, 0.0)};
     FullChairSimulator sim(variant, l, floor, load, kDt);
     const FullChairSample& s = sim.Start({});
     if (front_load) *front_load = s.contacts[0].load + s.contacts[1].load;

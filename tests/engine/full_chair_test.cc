@@ -199,15 +199,7 @@ TEST(FullChairTest, RearDriveChairStartedWithCastersAcrossPullsTowardThem) {
 TEST(FullChairTest, StaticRollOnACrossSlope) {
   Rig rig;
   const double grade = 0.06;
-  FloorFeature slope;
-  slope.kind = FloorFeature::Kind::kPlane;
-  slope.x_min = 1.0;
-  slope.x_max = 20.0;
-  slope.y_min = -3.0;
-  slope.y_max = 3.0;
-  slope.ramp = 1.0;
-  slope.grade_y = grade;
-  rig.floor.features = {slope};
+  rig.floor.features = {PlaneFeature(1.0, 20.0, -3.0, 3.0, 0.0, grade, 1.0)};
   RollTorqueParams roll;
   const double mass = rig.chair.mass + rig.load;
   roll.gravity_lever = mass * rig.chair.cm_height;
@@ -266,14 +258,7 @@ TEST(FullChairTest, TipOverSlopeMatchesItsGeometricClosedForm) {
   const double critical = (layout.cm_x - chair.wheels[1].x) / h;
   const auto state_on = [&](double grade, const PlanarLayout& l) {
     FloorMap floor;
-    FloorFeature ramp;
-    ramp.kind = FloorFeature::Kind::kPlane;
-    ramp.x_min = -5.0;
-    ramp.x_max = 5.0;
-    ramp.y_min = -5.0;
-    ramp.y_max = 5.0;
-    ramp.grade_x = grade;
-    floor.features = {ramp};
+    floor.features = {PlaneFeature(-5.0, 5.0, -5.0, 5.0, grade, 0.0, 0.0)};
     FullChairSimulator sim(chair, l, floor, 80.0, 1e-3);
     return sim.Start({});  // at rest: the static loads
   };
@@ -299,14 +284,8 @@ TEST(FullChairTest, TipOverSlopeMatchesItsGeometricClosedForm) {
 // crossing, then returns level; the right contacts stay on the floor (z = 0).
 TEST(FullChairTest, BumpUnderOneSideRollsTheChair) {
   Rig rig;
-  FloorFeature bump;
-  bump.x_min = 2.0;  // plateau 2.1-2.2: only one row on it at a time (rows 0.38 m apart)
-  bump.x_max = 2.3;
-  bump.y_min = 0.1;
-  bump.y_max = 1.0;
-  bump.ramp = 0.1;
-  bump.height = 0.04;
-  rig.floor.features = {bump};
+  // plateau 2.1-2.2: only one row on it at a time (rows 0.38 m apart)
+  rig.floor.features = {BumpFeature(2.0, 2.3, 0.1, 1.0, 0.04, 0.1)};
   FullChairSimulator sim(rig.chair, rig.layout, rig.floor, rig.load, 1e-3);
   sim.Start({});
   double max_roll_gm = 0.0, max_right_z = 0.0, max_roll = 0.0;
