@@ -63,7 +63,10 @@ struct FullChairRig {
 // casters (implicit swivel), constrained planar dynamics, 6 floor lookups, GM + 3-axis LM, loads.
 void BM_FullChairStep(benchmark::State& state) {
   const FullChairRig rig;
-  FullChairSimulator simulator(rig.chair, rig.layout, rig.floor, 100.0, 1e-3);
+  RollTorqueParams roll;  // the circuits' rigid load: Γ_φ = M d (g sin φ + a_y)
+  roll.gravity_lever = MovingMass(rig.chair, 100.0) * rig.chair.cm_height;
+  roll.per_lateral_accel = roll.gravity_lever;
+  FullChairSimulator simulator(rig.chair, rig.layout, rig.floor, 100.0, 1e-3, {}, roll);
   simulator.Start({});
   std::int64_t k = 0;
   for (auto _ : state) {
