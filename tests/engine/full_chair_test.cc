@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -300,6 +301,46 @@ TEST(FullChairTest, BumpUnderOneSideRollsTheChair) {
   EXPECT_GT(max_roll, 0.5 * max_roll_gm);
   EXPECT_EQ(max_right_z, 0.0);
   EXPECT_LT(std::abs(sim.sample().roll), 1e-4);
+}
+
+}  // namespace
+}  // namespace pwsim
+
+namespace pwsim {
+namespace {
+
+// Tests rear, mid and front drive on the 6-wheel chair (the drive row chosen by the layout):
+// in a steady turn the drive-axle midpoint D runs on a circle of radius v/ω (circumradius
+// abc / (4 area) of three of its positions, 1.5 s apart, to 0.5 %), and held straight the chair
+// keeps its heading exactly (a left-right symmetric chair).
+TEST(FullChairTest, RearMidAndFrontDriveTurnOnCirclesOfRadiusSpeedOverYawRate) {
+  const Chair chair = MakeTableOneChair();
+  const FloorMap floor;
+  for (const char* drive : {"rear", "mid", "front"}) {
+    const YamlDocument doc = LoadYamlString(std::string("{drive: ") + drive + "}", "layout.yaml");
+    YamlMap map(doc.root, doc.file, "");
+    const PlanarLayout layout = ParsePlanarLayout(map, chair);
+    map.Finish();
+    FullChairSimulator sim(chair, layout, floor, 100.0, 1e-3);
+    sim.Start({});
+    Hold(sim, {0.6, 0.0}, 5.0);
+    EXPECT_EQ(sim.sample().planar.yaw, 0.0) << drive;
+    EXPECT_EQ(sim.sample().planar.y, 0.0) << drive;
+    Hold(sim, {0.6, 0.5}, 12.0);
+    std::array<std::array<double, 2>, 3> d{};
+    for (auto& point : d) {
+      Hold(sim, {0.6, 0.5}, 1.5);
+      const PlanarState& p = sim.sample().planar;
+      point = {p.x + std::cos(p.yaw) * sim.drive_x(), p.y + std::sin(p.yaw) * sim.drive_x()};
+    }
+    const double a = std::hypot(d[1][0] - d[0][0], d[1][1] - d[0][1]);
+    const double b = std::hypot(d[2][0] - d[1][0], d[2][1] - d[1][1]);
+    const double c = std::hypot(d[2][0] - d[0][0], d[2][1] - d[0][1]);
+    const double area = 0.5 * std::abs((d[1][0] - d[0][0]) * (d[2][1] - d[0][1]) - (d[2][0] - d[0][0]) * (d[1][1] - d[0][1]));
+    const double radius = a * b * c / (4.0 * area);
+    const PlanarState& p = sim.sample().planar;
+    EXPECT_NEAR(radius, p.v / p.yaw_rate, 0.005 * radius) << drive;
+  }
 }
 
 }  // namespace
