@@ -19,6 +19,7 @@ const std::vector<Command>& AllCommands() {
       {&PlatformSpec(), &PlatformCommand},
       {&DriveSpec(), &DriveCommand},
       {&CarChecksSpec(), &CarChecksCommand},
+      {&ChairChecksSpec(), &ChairChecksCommand},
   };
   return commands;
 }

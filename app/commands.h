@@ -46,6 +46,8 @@ const CommandSpec& PlatformSpec();
 int PlatformCommand(const ParsedArgs& args);
 const CommandSpec& CarChecksSpec();
 int CarChecksCommand(const ParsedArgs& args);
+const CommandSpec& ChairChecksSpec();
+int ChairChecksCommand(const ParsedArgs& args);
 const CommandSpec& DriveSpec();
 int DriveCommand(const ParsedArgs& args);
 

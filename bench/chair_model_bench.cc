@@ -55,22 +55,7 @@ struct FullChairRig {
   FloorMap floor;
   FullChairRig() {
     floor.profile = MakeSpeedCushion();
-    FloorFeature slope;
-    slope.kind = FloorFeature::Kind::kPlane;
-    slope.x_min = 8.0;
-    slope.x_max = 14.0;
-    slope.y_min = -4.0;
-    slope.y_max = 4.0;
-    slope.ramp = 1.0;
-    slope.grade_y = 0.05;
-    FloorFeature bump;
-    bump.x_min = 3.0;
-    bump.x_max = 3.4;
-    bump.y_min = 0.05;
-    bump.y_max = 2.0;
-    bump.ramp = 0.1;
-    bump.height = 0.03;
-    floor.features = {slope, bump};
+    floor.features = {PlaneFeature(8.0, 14.0, -4.0, 4.0, 0.0, 0.05, 1.0), BumpFeature(3.0, 3.4, 0.05, 2.0, 0.03, 0.1)};
   }
 };
 
@@ -78,7 +63,10 @@ struct FullChairRig {
 // casters (implicit swivel), constrained planar dynamics, 6 floor lookups, GM + 3-axis LM, loads.
 void BM_FullChairStep(benchmark::State& state) {
   const FullChairRig rig;
-  FullChairSimulator simulator(rig.chair, rig.layout, rig.floor, 100.0, 1e-3);
+  RollTorqueParams roll;  // the circuits' rigid load: Γ_φ = M d (g sin φ + a_y)
+  roll.gravity_lever = MovingMass(rig.chair, 100.0) * rig.chair.cm_height;
+  roll.per_lateral_accel = roll.gravity_lever;
+  FullChairSimulator simulator(rig.chair, rig.layout, rig.floor, 100.0, 1e-3, {}, roll);
   simulator.Start({});
   std::int64_t k = 0;
   for (auto _ : state) {

@@ -2,17 +2,14 @@
 
 #include <algorithm>
 #include <array>
-#include <charconv>
 #include <cmath>
-#include <fstream>
-#include <map>
 #include <numbers>
-#include <sstream>
 
 #include "engine/check.h"
 #include "engine/input_error.h"
 #include "engine/interpolate.h"
 #include "engine/number_format.h"
+#include "engine/numeric_csv.h"
 
 namespace pwsim {
 namespace {
@@ -216,66 +213,20 @@ JoystickInput DriveAlongPath(const JoystickSource& source, const ControllerProfi
 }
 
 JoystickSource ReadRecordedJoystick(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  if (!in) throw InputError(file.string(), 0, "", "a readable CSV file", "cannot open");
-  std::string line;
-  if (!std::getline(in, line)) throw InputError(file.string(), 1, "header", "a header row t_s,forward,turn", "an empty file");
-  const std::vector<std::string> wanted = {"t_s", "forward", "turn"};
-  std::vector<std::string> header;
-  {
-    std::stringstream ss(line);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) {
-      while (!cell.empty() && (cell.back() == '\r' || cell.back() == ' ')) cell.pop_back();
-      header.push_back(cell);
-    }
-  }
-  std::map<std::string, std::size_t> column;
-  for (std::size_t i = 0; i < header.size(); ++i) {
-    if (std::find(wanted.begin(), wanted.end(), header[i]) == wanted.end()) {
-      throw InputError(file.string(), 1, header[i], "one of t_s, forward, turn", "an unknown column");
-    }
-    column[header[i]] = i;
-  }
-  for (const std::string& name : wanted) {
-    if (!column.count(name)) throw InputError(file.string(), 1, name, "a column named " + name, "missing");
-  }
+  const NumericCsv csv = ReadNumericCsv(
+      file, {"t_s", "forward", "turn"}, [](std::size_t k, double value, const NumericCsv& so_far) -> std::string {
+        const std::vector<double>& t = so_far.columns[0];
+        if (k == 0 && value < 0.0) return "t_s >= 0";
+        if (k == 0 && !t.empty() && !(value > t.back())) return "t_s rising strictly";
+        if (k > 0 && (value < -1.0 || value > 1.0)) return "a deflection in [-1, 1]";
+        return "";
+      });
   JoystickSource source;
   source.kind = JoystickSource::Kind::kRecorded;
   source.recorded_file = file;
-  int line_number = 1;
-  while (std::getline(in, line)) {
-    ++line_number;
-    if (line.empty() || line == "\r") continue;
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) cells.push_back(cell);
-    if (cells.size() != header.size()) {
-      throw InputError(file.string(), line_number, "row", std::to_string(header.size()) + " cells",
-                       std::to_string(cells.size()) + " cells");
-    }
-    std::array<double, 3> values{};
-    for (std::size_t k = 0; k < wanted.size(); ++k) {
-      std::string text = cells[column[wanted[k]]];
-      while (!text.empty() && (text.back() == '\r' || text.back() == ' ')) text.pop_back();
-      while (!text.empty() && text.front() == ' ') text.erase(text.begin());
-      double value = 0.0;
-      const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-      const bool ok = ec == std::errc() && ptr == text.data() + text.size() && std::isfinite(value);
-      std::string expected;
-      if (!ok) expected = "a finite number";
-      else if (k == 0 && !source.t.empty() && !(value > source.t.back())) expected = "t_s rising strictly";
-      else if (k == 0 && value < 0.0) expected = "t_s >= 0";
-      else if (k > 0 && (value < -1.0 || value > 1.0)) expected = "a deflection in [-1, 1]";
-      if (!expected.empty()) throw InputError(file.string(), line_number, wanted[k], expected, "\"" + text + "\"");
-      values[k] = value;
-    }
-    source.t.push_back(values[0]);
-    source.forward.push_back(values[1]);
-    source.turn.push_back(values[2]);
-  }
-  if (source.t.empty()) throw InputError(file.string(), line_number, "rows", "at least one row", "none");
+  source.t = csv.columns[0];
+  source.forward = csv.columns[1];
+  source.turn = csv.columns[2];
   source.end_time = source.t.back();
   return source;
 }

@@ -29,6 +29,27 @@ double FloorFeature::HeightAt(double x_W, double y_W) const {
   return (grade_x * (x_W - xc) + grade_y * (y_W - yc)) * sx * sy;
 }
 
+FloorFeature BumpFeature(double x_min, double x_max, double y_min, double y_max, double height, double ramp) {
+  FloorFeature f;
+  f.kind = FloorFeature::Kind::kBump;
+  f.x_min = x_min;
+  f.x_max = x_max;
+  f.y_min = y_min;
+  f.y_max = y_max;
+  f.height = height;
+  f.ramp = ramp;
+  return f;
+}
+
+FloorFeature PlaneFeature(double x_min, double x_max, double y_min, double y_max, double grade_x,
+                          double grade_y, double ramp) {
+  FloorFeature f = BumpFeature(x_min, x_max, y_min, y_max, 0.0, ramp);
+  f.kind = FloorFeature::Kind::kPlane;
+  f.grade_x = grade_x;
+  f.grade_y = grade_y;
+  return f;
+}
+
 double HeightGrid::HeightAt(double x_W, double y_W) const {
   const double u = (x_W - x0) / cell;
   const double w = (y_W - y0) / cell;

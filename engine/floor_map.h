@@ -43,6 +43,12 @@ struct FloorFeature {
   double HeightAt(double x_W, double y_W) const;
 };
 
+/// A bump of height `height` [m] on [x_min, x_max] × [y_min, y_max] tapered over `ramp` [m].
+FloorFeature BumpFeature(double x_min, double x_max, double y_min, double y_max, double height, double ramp);
+/// A plane of grades (g_x, g_y) about the rectangle's centre, tapered over `ramp` [m].
+FloorFeature PlaneFeature(double x_min, double x_max, double y_min, double y_max, double grade_x,
+                          double grade_y, double ramp);
+
 /// Regular grid of heights: node (i, j) at (x0 + i·cell, y0 + j·cell), z[j·nx + i].
 struct HeightGrid {
   double x0{0.0}, y0{0.0};  ///< [m] node (0, 0)

@@ -317,13 +317,11 @@ void FullChairSimulator::ContactsAt(const PlanarState& pose) {
   const double tan_roll = (sample_.contacts[2 * drive_row_].z - sample_.contacts[2 * drive_row_ + 1].z) * inv_track_;
   if (tan_pitch != floor_tan_pitch_) {
     floor_tan_pitch_ = tan_pitch;
-    floor_pitch_ = std::atan(tan_pitch);
     floor_cos_pitch_ = 1.0 / std::sqrt(1.0 + tan_pitch * tan_pitch);
     floor_sin_pitch_ = tan_pitch * floor_cos_pitch_;
   }
   if (tan_roll != floor_tan_roll_) {
     floor_tan_roll_ = tan_roll;
-    floor_roll_ = std::atan(tan_roll);
     floor_cos_roll_ = 1.0 / std::sqrt(1.0 + tan_roll * tan_roll);
     floor_sin_roll_ = tan_roll * floor_cos_roll_;
   }

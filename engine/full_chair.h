@@ -258,7 +258,7 @@ class FullChairSimulator {
   int drive_row_{0};
   double front_x_{0.0}, rear_x_{0.0};  ///< first and last rows' x [m]
   double along_x0_{0.0}, along_y0_{0.0}, along_c_{1.0}, along_s_{0.0};  ///< AdvanceAlong line
-  double floor_pitch_{0.0}, floor_roll_{0.0};  ///< inclination of the floor under the chair [rad]
+  // inclination of the floor under the chair: tan from the contacts, cos and sin from the tan
   double floor_tan_pitch_{0.0}, floor_tan_roll_{0.0};
   double yaw_cos_{1.0}, yaw_sin_{0.0};
   CasterStepConstants caster_constants_;

@@ -37,7 +37,11 @@ GeometricOutput GeometricModel::Evaluate(std::span<const double> z_O) const {
   GeometricOutput out;
   for (std::size_t i = 0; i < alpha_.size(); ++i) out.z += alpha_[i] * z_O[i];
   for (const Pair& pair : pairs_) {
-    const double sine = std::clamp((z_O[pair.i] - z_O[pair.j]) * pair.inv_dx, -1.0, 1.0);
+    const double rise = z_O[pair.i] - z_O[pair.j];
+    // a level pair adds weight · asin(0) = ±0, which leaves the sum's bits as they are (the sum
+    // starts at +0 and never becomes -0): skip the asin
+    if (rise == 0.0) continue;
+    const double sine = std::clamp(rise * pair.inv_dx, -1.0, 1.0);
     out.pitch += pair.weight * std::asin(sine);
   }
   return out;

@@ -9,6 +9,7 @@
 
 #include "engine/input_error.h"
 #include "engine/number_format.h"
+#include "engine/numeric_csv.h"
 
 namespace pwsim::vehicle {
 
@@ -97,69 +98,24 @@ InputTables ParseInputTables(YamlMap& map, int gear_count) {
 }
 
 InputTables ReadRecordedDrive(const std::filesystem::path& file, int gear_count) {
-  std::ifstream in(file);
-  if (!in) throw InputError(file.string(), 0, "", "a readable CSV file", "cannot open");
-  std::string line;
-  if (!std::getline(in, line)) throw InputError(file.string(), 1, "header", "a header row", "empty file");
-  const std::vector<std::string> wanted = {"t_s", "throttle", "brake", "clutch", "gear", "steer_rad"};
-  std::vector<std::string> header;
-  {
-    std::stringstream ss(line);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) {
-      while (!cell.empty() && (cell.back() == '\r' || cell.back() == ' ')) cell.pop_back();
-      header.push_back(cell);
-    }
-  }
-  std::map<std::string, std::size_t> column;
-  for (std::size_t i = 0; i < header.size(); ++i) {
-    if (std::find(wanted.begin(), wanted.end(), header[i]) == wanted.end()) {
-      throw InputError(file.string(), 1, header[i], "one of t_s, throttle, brake, clutch, gear, steer_rad",
-                       "unknown column");
-    }
-    column[header[i]] = i;
-  }
-  for (const std::string& name : wanted) {
-    if (!column.count(name)) throw InputError(file.string(), 1, name, "a column named " + name, "missing");
-  }
+  const NumericCsv csv = ReadNumericCsv(
+      file, {"t_s", "throttle", "brake", "clutch", "gear", "steer_rad"},
+      [gear_count](std::size_t k, double value, const NumericCsv& so_far) -> std::string {
+        const std::vector<double>& t = so_far.columns[0];
+        if (k == 0 && !t.empty() && !(value > t.back())) return "t_s rising strictly";
+        if ((k >= 1 && k <= 3) && (value < 0.0 || value > 1.0)) return "a number in [0, 1]";
+        if (k == 4 && (value != std::round(value) || value < -1.0 || value > gear_count)) {
+          return "an integer gear in [-1, " + std::to_string(gear_count) + "]";
+        }
+        return "";
+      });
   InputTables tables;
   tables.gear.hold = true;
   Channel* channels[] = {nullptr, &tables.throttle, &tables.brake, &tables.clutch, &tables.gear, &tables.steer};
-  std::vector<double> t;
-  int line_number = 1;
-  while (std::getline(in, line)) {
-    ++line_number;
-    if (line.empty() || line == "\r") continue;
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) cells.push_back(cell);
-    if (cells.size() != header.size()) {
-      throw InputError(file.string(), line_number, "row", std::to_string(header.size()) + " cells",
-                       std::to_string(cells.size()) + " cells");
-    }
-    for (std::size_t k = 0; k < wanted.size(); ++k) {
-      std::string text = cells[column[wanted[k]]];
-      while (!text.empty() && (text.back() == '\r' || text.back() == ' ')) text.pop_back();
-      double value = 0.0;
-      const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-      const bool ok = ec == std::errc() && ptr == text.data() + text.size() && std::isfinite(value);
-      std::string expected;
-      if (!ok) expected = "a number";
-      else if (k == 0 && !t.empty() && !(value > t.back())) expected = "t_s rising strictly";
-      else if ((k >= 1 && k <= 3) && (value < 0.0 || value > 1.0)) expected = "a number in [0, 1]";
-      else if (k == 4 && (value != std::round(value) || value < -1.0 || value > gear_count)) {
-        expected = "an integer gear in [-1, " + std::to_string(gear_count) + "]";
-      }
-      if (!expected.empty()) throw InputError(file.string(), line_number, wanted[k], expected, "\"" + text + "\"");
-      if (k == 0) t.push_back(value);
-      else {
-        channels[k]->t.push_back(t.back());
-        channels[k]->value.push_back(value);
-      }
-    }
+  for (std::size_t k = 1; k < csv.columns.size(); ++k) {
+    channels[k]->t = csv.columns[0];
+    channels[k]->value = csv.columns[k];
   }
-  if (t.empty()) throw InputError(file.string(), line_number, "rows", "at least one data row", "none");
   return tables;
 }
 

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -44,6 +45,8 @@ TEST(FullChairTest, StraightRunReproducesTheSagittalChairSimulator) {
     ASSERT_EQ(full[k].roll, 0.0);
   }
   EXPECT_LE(worst, 1e-9);
+  // by construction the same operations on the same numbers: identical bits
+  EXPECT_EQ(worst, 0.0);
   EXPECT_GT(std::abs(sagittal[3000].lm.pitch), 1e-3);  // the cushion was really crossed
 }
 
@@ -199,15 +202,7 @@ TEST(FullChairTest, RearDriveChairStartedWithCastersAcrossPullsTowardThem) {
 TEST(FullChairTest, StaticRollOnACrossSlope) {
   Rig rig;
   const double grade = 0.06;
-  FloorFeature slope;
-  slope.kind = FloorFeature::Kind::kPlane;
-  slope.x_min = 1.0;
-  slope.x_max = 20.0;
-  slope.y_min = -3.0;
-  slope.y_max = 3.0;
-  slope.ramp = 1.0;
-  slope.grade_y = grade;
-  rig.floor.features = {slope};
+  rig.floor.features = {PlaneFeature(1.0, 20.0, -3.0, 3.0, 0.0, grade, 1.0)};
   RollTorqueParams roll;
   const double mass = rig.chair.mass + rig.load;
   roll.gravity_lever = mass * rig.chair.cm_height;
@@ -266,14 +261,7 @@ TEST(FullChairTest, TipOverSlopeMatchesItsGeometricClosedForm) {
   const double critical = (layout.cm_x - chair.wheels[1].x) / h;
   const auto state_on = [&](double grade, const PlanarLayout& l) {
     FloorMap floor;
-    FloorFeature ramp;
-    ramp.kind = FloorFeature::Kind::kPlane;
-    ramp.x_min = -5.0;
-    ramp.x_max = 5.0;
-    ramp.y_min = -5.0;
-    ramp.y_max = 5.0;
-    ramp.grade_x = grade;
-    floor.features = {ramp};
+    floor.features = {PlaneFeature(-5.0, 5.0, -5.0, 5.0, grade, 0.0, 0.0)};
     FullChairSimulator sim(chair, l, floor, 80.0, 1e-3);
     return sim.Start({});  // at rest: the static loads
   };
@@ -299,14 +287,8 @@ TEST(FullChairTest, TipOverSlopeMatchesItsGeometricClosedForm) {
 // crossing, then returns level; the right contacts stay on the floor (z = 0).
 TEST(FullChairTest, BumpUnderOneSideRollsTheChair) {
   Rig rig;
-  FloorFeature bump;
-  bump.x_min = 2.0;  // plateau 2.1-2.2: only one row on it at a time (rows 0.38 m apart)
-  bump.x_max = 2.3;
-  bump.y_min = 0.1;
-  bump.y_max = 1.0;
-  bump.ramp = 0.1;
-  bump.height = 0.04;
-  rig.floor.features = {bump};
+  // plateau 2.1-2.2: only one row on it at a time (rows 0.38 m apart)
+  rig.floor.features = {BumpFeature(2.0, 2.3, 0.1, 1.0, 0.04, 0.1)};
   FullChairSimulator sim(rig.chair, rig.layout, rig.floor, rig.load, 1e-3);
   sim.Start({});
   double max_roll_gm = 0.0, max_right_z = 0.0, max_roll = 0.0;
@@ -319,6 +301,46 @@ TEST(FullChairTest, BumpUnderOneSideRollsTheChair) {
   EXPECT_GT(max_roll, 0.5 * max_roll_gm);
   EXPECT_EQ(max_right_z, 0.0);
   EXPECT_LT(std::abs(sim.sample().roll), 1e-4);
+}
+
+}  // namespace
+}  // namespace pwsim
+
+namespace pwsim {
+namespace {
+
+// Tests rear, mid and front drive on the 6-wheel chair (the drive row chosen by the layout):
+// in a steady turn the drive-axle midpoint D runs on a circle of radius v/ω (circumradius
+// abc / (4 area) of three of its positions, 1.5 s apart, to 0.5 %), and held straight the chair
+// keeps its heading exactly (a left-right symmetric chair).
+TEST(FullChairTest, RearMidAndFrontDriveTurnOnCirclesOfRadiusSpeedOverYawRate) {
+  const Chair chair = MakeTableOneChair();
+  const FloorMap floor;
+  for (const char* drive : {"rear", "mid", "front"}) {
+    const YamlDocument doc = LoadYamlString(std::string("{drive: ") + drive + "}", "layout.yaml");
+    YamlMap map(doc.root, doc.file, "");
+    const PlanarLayout layout = ParsePlanarLayout(map, chair);
+    map.Finish();
+    FullChairSimulator sim(chair, layout, floor, 100.0, 1e-3);
+    sim.Start({});
+    Hold(sim, {0.6, 0.0}, 5.0);
+    EXPECT_EQ(sim.sample().planar.yaw, 0.0) << drive;
+    EXPECT_EQ(sim.sample().planar.y, 0.0) << drive;
+    Hold(sim, {0.6, 0.5}, 12.0);
+    std::array<std::array<double, 2>, 3> d{};
+    for (auto& point : d) {
+      Hold(sim, {0.6, 0.5}, 1.5);
+      const PlanarState& p = sim.sample().planar;
+      point = {p.x + std::cos(p.yaw) * sim.drive_x(), p.y + std::sin(p.yaw) * sim.drive_x()};
+    }
+    const double a = std::hypot(d[1][0] - d[0][0], d[1][1] - d[0][1]);
+    const double b = std::hypot(d[2][0] - d[1][0], d[2][1] - d[1][1]);
+    const double c = std::hypot(d[2][0] - d[0][0], d[2][1] - d[0][1]);
+    const double area = 0.5 * std::abs((d[1][0] - d[0][0]) * (d[2][1] - d[0][1]) - (d[2][0] - d[0][0]) * (d[1][1] - d[0][1]));
+    const double radius = a * b * c / (4.0 * area);
+    const PlanarState& p = sim.sample().planar;
+    EXPECT_NEAR(radius, p.v / p.yaw_rate, 0.005 * radius) << drive;
+  }
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <filesystem>
 
 #include "engine/input_error.h"
@@ -41,6 +42,29 @@ TEST(TerrainTest, FileRoundTrip) {
   EXPECT_EQ(read.x, original.x);
   EXPECT_EQ(read.z, original.z);
   std::filesystem::remove(file);
+}
+
+}  // namespace
+}  // namespace pwsim
+
+namespace pwsim {
+namespace {
+
+// Tests that the hinted lookup of the per-tick paths (ChairSimulator, the full chair) returns
+// HeightAt's bits exactly, for queries that creep forward, jump, go back, sit on breakpoints and
+// leave the profile at both ends.
+TEST(TerrainTest, HintedLookupIsHeightAtBitForBit) {
+  const Terrain cushion = MakeSpeedCushion();
+  std::size_t hint = 0;
+  double x = -0.5;
+  std::uint64_t state = 12345;
+  for (int k = 0; k < 200000; ++k) {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;  // a local LCG: determinism
+    const double u = static_cast<double>(state >> 11) / 9007199254740992.0;
+    x = k % 1000 == 0 ? -1.0 + 14.0 * u : x + 0.002 * (u - 0.1);
+    const double query = k % 777 == 0 ? cushion.x[static_cast<std::size_t>(k) % cushion.x.size()] : x;
+    ASSERT_EQ(cushion.HeightAtNear(query, hint), cushion.HeightAt(query)) << query;
+  }
 }
 
 }  // namespace
