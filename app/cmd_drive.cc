@@ -90,7 +90,7 @@ std::unique_ptr<hw::JoystickSource> OpenJoystick(const std::string& spec, int ra
 /// The drive as a live session: joystick -> car -> MCA -> supervisor -> CAN, eye pose -> HMD.
 int DriveSession(const ParsedArgs& args, const vehicle::CarScene& scene, hw::JoystickSource& joystick,
                  double duration) {
-  const mca::McaConfig mca_config = hw::LoadCarMca(scene);
+  const mca::McaConfig mca_config = mca::LoadCarMcaConfig(scene);
   if (!mca_config.platform.Has(mca::Dof::kSurge) || !mca_config.platform.Has(mca::Dof::kYaw))
     throw UsageError("car scene platform '" + mca_config.platform.name + "' lacks surge or yaw");
   SessionSetup setup;
@@ -165,7 +165,7 @@ int DriveCommand(const ParsedArgs& args) {
   } else {
     scripted = vehicle::SimulateCarScene(scene);  // the scene's own controls
   }
-  hw::CarLiveLoop loop(scene, mca::LoadMcaConfig(scene.section("platform"), scene.section("mca"), mca::CarMcaDefaults()));
+  hw::CarLiveLoop loop(scene, mca::LoadCarMcaConfig(scene));
   const std::size_t rows = static_cast<std::size_t>(ticks) + 1;
   std::vector<double> t(rows), x(rows), y(rows), yaw(rows), v(rows), rpm(rows), gear(rows), throttle(rows),
       brake(rows), clutch(rows), steer(rows), rail(rows), turn(rows), cue_x(rows), cue_y(rows), late(rows);

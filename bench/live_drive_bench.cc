@@ -37,7 +37,7 @@ void BM_CarDriveCycle(benchmark::State& state) {
   const vehicle::CarScene scene = vehicle::LoadCarScene(kSource / "scenes/car_launch.yaml");
   const std::vector<CandumpRecord> records = ReadCandumpFile(kSource / "assets/rnet/joystick_synthetic.log");
   RnetLogJoystick joystick(records, scene.clock.rate_hz, {-1, 100}, "log");
-  const mca::McaConfig mca = LoadCarMca(scene);
+  const mca::McaConfig mca = mca::LoadCarMcaConfig(scene);
   std::optional<CarDriveSource> source(std::in_place, scene, mca, joystick);
   SessionInputs in;
   std::int64_t tick = 0;

@@ -5,8 +5,7 @@
 // or, with `mca: {algorithm: mpc}`, MpcCueing::Step with the held-input prediction, the rail-yaw
 // false cue), so a live drive and `pwsim run` of the same controls agree exactly.
 //
-//   CarLiveLoop loop(scene, mca::LoadMcaConfig(scene.section("platform"), scene.section("mca"),
-//                                               mca::CarMcaDefaults()));
+//   CarLiveLoop loop(scene, mca::LoadCarMcaConfig(scene));
 //   while (running) { const CarLiveTick& t = loop.Step(wheel.Poll()); send(t.command.pose); }
 
 #include "engine/vehicle/car_scene.h"

@@ -35,7 +35,7 @@ Pose CarCameraPose(const std::array<double, 3>& p, double yaw, double pitch, dou
 
 SessionStreams BuildCarSessionStreams(const vehicle::CarScene& scene, const SessionConfig& config,
                                       std::string* description) {
-  const mca::McaConfig mca_config = mca::LoadMcaConfig(scene.section("platform"), scene.section("mca"), mca::CarMcaDefaults());
+  const mca::McaConfig mca_config = mca::LoadCarMcaConfig(scene);
   if (!mca_config.platform.Has(mca::Dof::kSurge) || !mca_config.platform.Has(mca::Dof::kYaw)) {
     throw std::invalid_argument("car scene platform '" + mca_config.platform.name +
                                 "' lacks surge or yaw; the session drives seed 001's rail + yaw platform");

@@ -7,8 +7,7 @@
 // PW platform, the car's rail + yaw).
 //
 //   McaConfig config = LoadMcaConfig(scene);                                   // chair
-//   McaConfig car = LoadMcaConfig(car_scene.section("platform"), car_scene.section("mca"),
-//                                 CarMcaDefaults());                           // car
+//   McaConfig car = LoadCarMcaConfig(car_scene);                               // car
 //   // @throws InputError
 
 #include <filesystem>
@@ -42,6 +41,12 @@ McaConfig LoadMcaConfig(const Scene& scene);
 McaConfig LoadMcaConfig(const SceneSection* platform, const SceneSection* mca, McaConfig defaults);
 /// The car's defaults: seed 001's rail + yaw platform (MakeCar2DofPlatform), the washout.
 McaConfig CarMcaDefaults();
+/// A car scene's settings: its platform: and mca: sections over CarMcaDefaults(). Any scene type
+/// with `const SceneSection* section(const std::string&) const` (vehicle::CarScene).
+template <class CarSceneT>
+McaConfig LoadCarMcaConfig(const CarSceneT& scene) {
+  return LoadMcaConfig(scene.section("platform"), scene.section("mca"), CarMcaDefaults());
+}
 /// Empty when the MPC can start from rest on config.platform, else why not.
 std::string CheckMpcStart(const McaConfig& config);
 /// Reads `mca:` over `base` from a raw section node.

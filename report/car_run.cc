@@ -70,7 +70,7 @@ TrialTable CarColumns(const vehicle::CarScene& scene, const std::vector<CarSampl
 void AddCarCueing(const vehicle::CarScene& scene, const std::vector<CarSample>& samples, TrialTable& table,
                   nlohmann::ordered_json& summary, const std::filesystem::path& out_dir,
                   const McaChoice& choice) {
-  mca::McaConfig config = mca::LoadMcaConfig(scene.section("platform"), scene.section("mca"), mca::CarMcaDefaults());
+  mca::McaConfig config = mca::LoadCarMcaConfig(scene);
   choice.Apply(config);
   const double dt = scene.clock.dt();
   const std::size_t n = samples.size();

@@ -83,7 +83,7 @@ class ScriptedJoystick final : public JoystickSource {
 TEST(CarDriveSource, StepsTheCarOverEveryTickLikeThePerTickLoop) {
   const vehicle::CarScene scene =
       vehicle::LoadCarScene(std::filesystem::path(PWSIM_SOURCE_DIR) / "scenes/car_launch.yaml");
-  const mca::McaConfig mca = LoadCarMca(scene);
+  const mca::McaConfig mca = mca::LoadCarMcaConfig(scene);
   ScriptedJoystick joystick;
   CarDriveSource source(scene, mca, joystick);
   // The truth: the per-tick loop with the reading held between session steps.
@@ -120,7 +120,7 @@ TEST(CarDriveSource, TheShippedRnetLogDrivesTheCarAndItsLossBrakes) {
       vehicle::LoadCarScene(std::filesystem::path(PWSIM_SOURCE_DIR) / "scenes/car_launch.yaml");
   RnetLogJoystick joystick(ReadCandumpFile(std::filesystem::path(PWSIM_SOURCE_DIR) / "assets/rnet/joystick_synthetic.log"),
                            scene.clock.rate_hz, {-1, WatchdogTicks(100.0, scene.clock.rate_hz)}, "log");
-  CarDriveSource source(scene, LoadCarMca(scene), joystick);
+  CarDriveSource source(scene, mca::LoadCarMcaConfig(scene), joystick);
   SessionInputs in;
   double v_at_loss = 0.0;
   for (std::int64_t tick = 0; tick <= 3300; tick += 2) {

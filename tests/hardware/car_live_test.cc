@@ -13,7 +13,7 @@ void ExpectLiveMatchesOffline(mca::McaAlgorithm algorithm) {
   const vehicle::CarScene scene =
       vehicle::LoadCarScene(std::filesystem::path(PWSIM_SOURCE_DIR) / "scenes/car_lane_change.yaml");
   const std::vector<vehicle::CarSample> offline = vehicle::SimulateCarScene(scene);
-  mca::McaConfig config = mca::LoadMcaConfig(scene.section("platform"), scene.section("mca"), mca::CarMcaDefaults());
+  mca::McaConfig config = mca::LoadCarMcaConfig(scene);
   config.algorithm = algorithm;
   std::vector<mca::HeadMotion> truth(offline.size());
   for (std::size_t k = 0; k < offline.size(); ++k) {

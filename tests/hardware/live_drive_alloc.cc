@@ -12,7 +12,7 @@ namespace pwsim::hw {
 long LiveDriveFillAllocations(std::atomic<bool>& counting, std::atomic<long>& allocations, double* speed) {
   const vehicle::CarScene scene =
       vehicle::LoadCarScene(std::filesystem::path(PWSIM_SOURCE_DIR) / "scenes/car_launch.yaml");
-  const mca::McaConfig mca = LoadCarMca(scene);
+  const mca::McaConfig mca = mca::LoadCarMcaConfig(scene);
   RnetLogJoystick log(ReadCandumpFile(std::filesystem::path(PWSIM_SOURCE_DIR) / "assets/rnet/joystick_synthetic.log"),
                       scene.clock.rate_hz, {-1, 100}, "log");
   InProcessBus hub;
