@@ -34,6 +34,7 @@
 #include <vector>
 
 #include "sysid/diagnose/greybox_fit.h"
+#include "sysid/diagnose/noise_model.h"
 #include "sysid/diagnose/residual_analysis.h"
 #include "sysid/diagnose/verdict.h"
 #include "sysid/effects/effect_catalog.h"
@@ -122,16 +123,25 @@ struct Cause {
   double heldout_gain_pct{0.0};   ///< [%] share of the report trials' error above noise removed
   double selection_gain{0.0};     ///< [-] share of the selection error removed when added
   double delta_bic{0.0};          ///< vs the model before it
+  /// The report trials confirm it: the one-sided 95 % lower confidence bound (Student t over
+  /// report trials) of the mean per-trial reduction of the weighted mean square error is > 0.
+  bool confirmed{false};
+  double heldout_gain_lcb_pct{0.0};  ///< [%] that bound, as a share of the base excess
+  std::size_t report_trials{0};      ///< report trials judged
+  std::size_t report_trials_improved{0};  ///< of them, those whose error it reduced
 };
 
 struct Diagnosis {
-  std::string cause{"none"};
+  DiagnoseOptions options;         ///< the options of the run (its limits)
+  std::string cause{"none"};       ///< the first confirmed cause; none when none is confirmed
   Verdict verdict{Verdict::kUnexplained};
   std::vector<Cause> causes;       ///< in the order found
   FitPct noise_floor;              ///< [%] on the report trials
-  double sigma_z{0.0}, sigma_pitch{0.0};  ///< σ̂ [m], [rad]
-  NoiseCheck base_check, extended_check;  ///< selection + report trials
-  FitResult extended;              ///< the joint fit of every cause (base when none)
+  NoiseModel noise;                ///< from the training + selection trials (noise_model.h)
+  double sigma_z{0.0}, sigma_pitch{0.0};  ///< σ̂ [m], [rad] (noise.z.sigma, noise.pitch.sigma)
+  NoiseCheck base_check, extended_check;  ///< selection + report trials, read at the end
+  FitResult selected;              ///< the joint fit forward selection ended with (base: none)
+  FitResult extended;              ///< `selected`, or the base model when the verdict is adequate
   std::vector<std::pair<std::string, double>> extended_parameters;  ///< its parameters, named
   std::vector<std::string> selection_trials;
   std::vector<RankEntry> ranking;  ///< best first

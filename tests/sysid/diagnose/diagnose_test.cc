@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <ostream>
+#include <random>
 #include <string>
 
 #include "synth/effect_truth_model.h"
@@ -77,6 +79,55 @@ TEST(DiagnoseTest, OneSetOfTrialsGivesOneDiagnosisWhateverTheirOrder) {
   EXPECT_EQ(a.heldout_trials, b.heldout_trials);
   EXPECT_EQ(a.extended_heldout.z, b.extended_heldout.z);
   EXPECT_EQ(a.extended_heldout.pitch, b.extended_heldout.pitch);
+}
+
+// Every choice is made on the training and selection trials: the report trials are read once,
+// at the end, to report. Changing the report trials' data (an offset, a slow wave and extra
+// noise on both channels) must leave every choice and every fitted parameter unchanged to the
+// bit, while the report's figures do change.
+TEST(DiagnoseTest, ReportTrialsTakeNoPartInAnyChoice) {
+  for (const auto& [effect, seed] : {std::pair{EffectId::kTyreCompliance, 21u},
+                                     std::pair{EffectId::kCushionCompliance, 23u}}) {
+    const effects::SyntheticSet set = MakeSet(effect, 1.0, seed);
+    const Diagnosis a = Diagnose(set.trials);
+    ASSERT_FALSE(a.heldout_trials.empty());
+    std::vector<effects::TrialRecord> changed = set.trials;
+    std::mt19937_64 rng(99);
+    std::normal_distribution<double> noise(0.0, 1.0);
+    for (auto& r : changed) {
+      if (std::find(a.heldout_trials.begin(), a.heldout_trials.end(), r.name) == a.heldout_trials.end())
+        continue;
+      for (std::size_t k = 0; k < r.t.size(); ++k) {
+        r.z[k] += 0.01 + 2e-3 * std::sin(3.0 * r.t[k]) + 5e-4 * noise(rng);
+        r.pitch[k] += 0.02 + 4e-3 * std::sin(2.0 * r.t[k]) + 1e-3 * noise(rng);
+      }
+    }
+    const Diagnosis b = Diagnose(changed);
+    EXPECT_EQ(a.heldout_trials, b.heldout_trials);
+    EXPECT_EQ(a.sigma_z, b.sigma_z);
+    EXPECT_EQ(a.sigma_pitch, b.sigma_pitch);
+    EXPECT_EQ(a.noise.z.acf, b.noise.z.acf);
+    EXPECT_EQ(a.noise.pitch.acf, b.noise.pitch.acf);
+    EXPECT_EQ(a.base.params.lm.k_z, b.base.params.lm.k_z);
+    EXPECT_EQ(a.base.params.lm.c_theta, b.base.params.lm.c_theta);
+    ASSERT_EQ(a.ranking.size(), b.ranking.size());
+    for (std::size_t k = 0; k < a.ranking.size(); ++k) {
+      EXPECT_EQ(a.ranking[k].effect, b.ranking[k].effect);
+      EXPECT_EQ(a.ranking[k].earns, b.ranking[k].earns);
+      EXPECT_EQ(a.ranking[k].delta_bic, b.ranking[k].delta_bic);
+      EXPECT_EQ(a.ranking[k].selection_gain, b.ranking[k].selection_gain);
+      EXPECT_EQ(a.ranking[k].parameters, b.ranking[k].parameters);
+    }
+    // The causes forward selection found and their joint fit.
+    EXPECT_FALSE(a.selected.effects.empty());
+    EXPECT_EQ(a.selected.effects, b.selected.effects);
+    EXPECT_EQ(a.selected.effect_values, b.selected.effect_values);
+    EXPECT_EQ(a.selected.params.lm.k_theta, b.selected.params.lm.k_theta);
+    EXPECT_EQ(a.selected.bic, b.selected.bic);
+    // ... while the report, read on the changed trials, does change.
+    EXPECT_NE(a.base_heldout.z, b.base_heldout.z);
+    EXPECT_NE(a.base_heldout.pitch, b.base_heldout.pitch);
+  }
 }
 
 struct HiddenCase {
