@@ -123,10 +123,12 @@ struct Cause {
   double heldout_gain_pct{0.0};   ///< [%] share of the report trials' error above noise removed
   double selection_gain{0.0};     ///< [-] share of the selection error removed when added
   double delta_bic{0.0};          ///< vs the model before it
-  /// The report trials confirm it: the one-sided 95 % lower confidence bound (Student t over
-  /// report trials) of the mean per-trial reduction of the weighted mean square error is > 0.
+  /// The report trials confirm it: in blocks of 1 s of the report trials, the reduction of the
+  /// weighted mean square error from the model before it to the model with it; confirmed when
+  /// the one-sided 95 % lower confidence bound (Student t over blocks) of its mean is > 0.
   bool confirmed{false};
-  double heldout_gain_lcb_pct{0.0};  ///< [%] that bound, as a share of the base excess
+  double heldout_gain_lcb_pct{0.0};  ///< [%] that bound, relative to the mean error before
+  std::size_t report_blocks{0};      ///< blocks judged
   std::size_t report_trials{0};      ///< report trials judged
   std::size_t report_trials_improved{0};  ///< of them, those whose error it reduced
 };

@@ -51,7 +51,7 @@ double SlopeOf(const std::vector<double>& x, const std::vector<double>& y) {
 ChannelCheck CheckChannel(const std::vector<ResidualRecord>& records, bool pitch,
                           const ChannelNoise& noise, const VerdictOptions& o) {
   ChannelCheck c;
-  const double sigma = noise.sigma;
+  const double sigma = noise.sigma_upper > 0.0 ? noise.sigma_upper : noise.sigma;
   c.sigma = sigma;
   const double clip = o.clip_sigma * sigma;
   auto square = [&](double v) { return sigma > 0.0 ? std::min(v * v, clip * clip) : v * v; };

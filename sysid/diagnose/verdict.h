@@ -13,7 +13,8 @@
 // A residual e is "noise-like" when, in both channels, none of these tests fails
 // (ρ = structured RMS in units of σ̂; structure S and white noise σ add in power):
 // The noise model (σ̂ and the noise's autocorrelation r_n) comes from the data (noise_model.h);
-// |e| beyond clip_sigma σ̂ (5) is clipped to it in (a) and (b) (outliers of the mocap).
+// |e| beyond clip_sigma σ̂ (5) is clipped to it in (a) and (b) (outliers of the mocap). σ̂ in
+// (a) and (b) is the noise level's one-sided 95 % upper bound (ChannelNoise::sigma_upper).
 //  (a) magnitude: ρ = sqrt(max(0, mean e² - σ̂²)) / σ̂ > rho_max (0.75) fails;
 //  (b) position (on the terrain, in the trial): in windows of `window_s`, the structured RMS
 //      beyond the χ² allowance, ρ_w = sqrt(max(0, mean_w e² - σ̂² q_w)) / σ̂ with
@@ -82,7 +83,7 @@ struct VerdictOptions {
 };
 
 struct ChannelCheck {
-  double sigma{0.0};           ///< σ̂ used
+  double sigma{0.0};           ///< σ̂ used (the noise model's upper bound)
   double rho{0.0};             ///< (a)
   double rho_local{0.0};       ///< (b) worst window
   std::string local_trial;     ///< (b) where
