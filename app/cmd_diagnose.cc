@@ -67,7 +67,7 @@ const CommandSpec& DiagnoseSpec() {
           {"window-s", "S", "s", "0.5", "verdict (b): window length"},
           {"input-r-max", "R", "-", "0.4", "verdict (d): correlation with the GM input allowed"},
           {"clip-sigma", "C", "sigma", "5", "verdict (a),(b): residuals clipped at C noise stds (outliers)"},
-          {"threads", "N", "-", "2", "solver threads"},
+          {"threads", "N", "-", "2", "threads for the candidate fits (results identical for any N)"},
           {"max-plots", "N", "-", "3", "held-out trials to plot"},
       },
       "TRIAL_DIR  measured trial folders (trial.yaml, chair, terrain, mocap), at least 2"};
@@ -104,7 +104,7 @@ int DiagnoseCommand(const ParsedArgs& args) {
   options.verdict.clip_sigma = ranged("clip-sigma", 1.0, 1e6);
   const long long threads = args.GetInt("threads");
   if (threads < 1 || threads > 64) throw UsageError("option --threads: expected 1..64");
-  options.fit.threads = static_cast<int>(threads);
+  options.threads = static_cast<int>(threads);
   const long long max_plots = args.GetInt("max-plots");
   if (max_plots < 0) throw UsageError("option --max-plots: expected an integer >= 0");
 

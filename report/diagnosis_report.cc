@@ -83,7 +83,6 @@ nlohmann::ordered_json DiagnosisJson(const Diagnosis& d, const std::string& base
                            {"delta_bic", JsonNumber(c.delta_bic)},
                            {"confirmed", c.confirmed},
                            {"heldout_gain_lcb_pct", JsonNumber(c.heldout_gain_lcb_pct)},
-                           {"report_blocks", c.report_blocks},
                            {"report_trials", c.report_trials},
                            {"report_trials_improved", c.report_trials_improved}});
   }
@@ -207,9 +206,8 @@ std::string DiagnosisMarkdown(const Diagnosis& d, const std::string& base_source
     md += "- `" + std::string(effects::EffectName(c.effect)) + "` (" +
           (c.confirmed ? "confirmed" : "**not confirmed**") + " by the report trials): " +
           effects::EffectDescription(c.effect) + "; removes " + Fixed(c.heldout_gain_pct, 1) +
-          " % of the held-out error above the noise (95 % lower bound of its gain over " +
-          std::to_string(c.report_blocks) + " blocks of 1 s: " + Fixed(c.heldout_gain_lcb_pct, 1) +
-          " %; " + std::to_string(c.report_trials_improved) + " of " +
+          " % of the held-out error above the noise (95 % lower bound of the error it removes: " +
+          Fixed(c.heldout_gain_lcb_pct, 1) + " %; " + std::to_string(c.report_trials_improved) + " of " +
           std::to_string(c.report_trials) + " report trials improved; chosen on the selection "
           "trials, where it removed " + Fixed(100.0 * c.selection_gain, 1) + " % of the error).\n";
   }

@@ -46,12 +46,15 @@ namespace pwsim::diagnose {
 struct DiagnoseOptions {
   double min_heldout_gain{0.10};  ///< share of the held-out error an extension must remove
   double bic_threshold{-10.0};    ///< ΔBIC (extended - base) an extension must beat
-  FitOptions fit;
+  FitOptions fit;  ///< threads 1 per fit: the candidates run concurrently (`threads`)
   std::vector<effects::EffectId> candidates{effects::AllEffects().begin(),
                                             effects::AllEffects().end()};
   double rest_window{0.25};  ///< [s] initial window that centres each channel
   int max_causes{3};         ///< forward selection stops after this many
   int screen_iterations{6};  ///< solver iterations of the joint fits compared in rounds ≥ 2
+  /// Candidate fits run concurrently on this many threads (each fit single-threaded: the
+  /// results are the same to the bit whatever the count).
+  int threads{2};
   VerdictOptions verdict;
 };
 
@@ -123,12 +126,11 @@ struct Cause {
   double heldout_gain_pct{0.0};   ///< [%] share of the report trials' error above noise removed
   double selection_gain{0.0};     ///< [-] share of the selection error removed when added
   double delta_bic{0.0};          ///< vs the model before it
-  /// The report trials confirm it: in blocks of 1 s of the report trials, the reduction of the
-  /// weighted mean square error from the model before it to the model with it; confirmed when
-  /// the one-sided 95 % lower confidence bound (Student t over blocks) of its mean is > 0.
+  /// The report trials confirm it: the one-sided 95 % lower bound of the reduction of their
+  /// weighted squared error, from the model before it to the model with it, is positive (its
+  /// uncertainty: Newey-West over the samples of each trial; diagnose.cc ConfirmOnReport).
   bool confirmed{false};
-  double heldout_gain_lcb_pct{0.0};  ///< [%] that bound, relative to the mean error before
-  std::size_t report_blocks{0};      ///< blocks judged
+  double heldout_gain_lcb_pct{0.0};  ///< [%] that bound, relative to the error before
   std::size_t report_trials{0};      ///< report trials judged
   std::size_t report_trials_improved{0};  ///< of them, those whose error it reduced
 };

@@ -82,6 +82,27 @@ TEST(DiagnoseTest, OneSetOfTrialsGivesOneDiagnosisWhateverTheirOrder) {
   EXPECT_EQ(a.extended_heldout.pitch, b.extended_heldout.pitch);
 }
 
+// The candidate fits run concurrently; each writes its own slot and the slots are reduced in
+// order, so one thread and three give the same diagnosis to the bit.
+TEST(DiagnoseTest, SameDiagnosisWhateverTheThreadCount) {
+  const effects::SyntheticSet set = MakeSet(EffectId::kInertialPitch, 1.0, 24);
+  DiagnoseOptions one, three;
+  one.threads = 1;
+  three.threads = 3;
+  const Diagnosis a = Diagnose(set.trials, one);
+  const Diagnosis b = Diagnose(set.trials, three);
+  ASSERT_EQ(a.ranking.size(), b.ranking.size());
+  for (std::size_t k = 0; k < a.ranking.size(); ++k) {
+    EXPECT_EQ(a.ranking[k].effect, b.ranking[k].effect);
+    EXPECT_EQ(a.ranking[k].delta_bic, b.ranking[k].delta_bic);
+    EXPECT_EQ(a.ranking[k].parameters, b.ranking[k].parameters);
+  }
+  EXPECT_EQ(a.selected.effects, b.selected.effects);
+  EXPECT_EQ(a.selected.effect_values, b.selected.effect_values);
+  EXPECT_EQ(a.selected.bic, b.selected.bic);
+  EXPECT_EQ(a.extended_heldout.pitch, b.extended_heldout.pitch);
+}
+
 // Every choice is made on the training and selection trials: the report trials are read once,
 // at the end, to report. Changing the report trials' data (an offset, a slow wave and extra
 // noise on both channels) must leave every choice and every fitted parameter unchanged to the
