@@ -183,9 +183,9 @@ int main(int argc, char** argv) {
     // and the two diagnoses must agree to the bit.
     pwsim::diagnose::DiagnoseOptions one;
     one.threads = 1;
-    const auto t1 = std::chrono::steady_clock::now();
+    const auto t_one = std::chrono::steady_clock::now();
     const Diagnosis d1 = Diagnose(set.trials, one);
-    const double seconds_one = Seconds(t1);
+    const double seconds_one = Seconds(t_one);
     pwsim::diagnose::DiagnoseOptions two;
     two.threads = 2;
     const auto t0 = std::chrono::steady_clock::now();
