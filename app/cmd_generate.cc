@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
@@ -16,23 +17,30 @@
 namespace pwsim::app {
 namespace {
 
+/// The whole of `text` as a finite number, or nothing.
+std::optional<double> ParseNumber(const std::string& text) {
+  std::size_t used = 0;
+  double value = 0.0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  if (used == 0 || used != text.size() || !std::isfinite(value)) return std::nullopt;
+  return value;
+}
+
 std::vector<double> ParseList(const std::string& option, const std::string& text) {
   std::vector<double> values;
   std::stringstream stream(text);
   std::string item;
   while (std::getline(stream, item, ',')) {
-    std::size_t used = 0;
-    double value = 0.0;
-    try {
-      value = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != item.size()) {
+    const std::optional<double> value = ParseNumber(item);
+    if (!value) {
       throw UsageError("option --" + option +
                                   ": expected comma-separated numbers, got \"" + text + "\"");
     }
-    values.push_back(value);
+    values.push_back(*value);
   }
   if (values.empty()) throw UsageError("option --" + option + ": expected a list");
   return values;
@@ -76,19 +84,12 @@ std::map<std::string, double> ParseEffectParams(const std::string& text) {
       throw UsageError("option --effect-params: expected NAME=VALUE,... with VALUE a number, got '" +
                        item + "'");
     }
-    const std::string value = item.substr(eq + 1);
-    std::size_t used = 0;
-    double number = 0.0;
-    try {
-      number = std::stod(value, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != value.size() || !std::isfinite(number)) {
+    const std::optional<double> number = ParseNumber(item.substr(eq + 1));
+    if (!number) {
       throw UsageError("option --effect-params: expected NAME=VALUE,... with VALUE a number, got '" +
                        item + "'");
     }
-    overrides[item.substr(0, eq)] = number;
+    overrides[item.substr(0, eq)] = *number;
   }
   return overrides;
 }

@@ -5,28 +5,32 @@
 //
 //  1. Split, three ways: `report` trials (one speed level, the middle one, as the paper
 //     validates at 1.2 m/s; with one speed level, one load level; else every third trial)
-//     are held out of every fit AND of every choice: the gains and fitness reported come from
-//     them. Of the rest, a `selection` share (every third by speed and load, rotating the
-//     load) decides which extensions earn; the remaining `training` trials are fitted.
+//     are held out of every fit AND of every choice: they are read once, at the end, to
+//     report. Of the rest, a `selection` share (every third by speed and load, rotating the
+//     load) decides; the remaining `training` trials are fitted.
 //  2. Base: GM from the chair (or identified on training + selection trials when the chair has
 //     none, sysid/identify/), LM re-identified by output error on the training trials.
-//  3. Noise level σ̂ and noise floor from the data alone (verdict.h). The base model's residual
-//     on the selection + report trials is tested against σ̂ (verdict.h (a)-(e): magnitude,
-//     position, whiteness, input correlation, speed and load). Noise-like → `adequate`.
-//  4. Residual analysis of the base model (residual_analysis.h): evidence lines per effect.
-//  5. Every extension fitted alone on the training trials (the ranking); then forward
-//     selection: the extension with the largest gain on the SELECTION trials earns when
+//  3. Noise model from the training + selection trials (noise_model.h): a level per channel
+//     and the noise's colour, from the rest before each trial's start.
+//  4. The base model's residual on the selection trials tested against it (verdict.h (a)-(e)):
+//     noise-like → no cause is looked for.
+//  5. Residual analysis of the base model (residual_analysis.h): evidence lines per effect.
+//  6. Every extension fitted alone on the training trials (the ranking; concurrently); then
+//     forward selection: the extension with the largest gain on the SELECTION trials earns when
 //     ΔBIC < bic_threshold (training) AND it removes ≥ min_heldout_gain of the selection
 //     error; it is added, every further candidate (those with ΔBIC < bic_threshold alone) is
-//     fitted JOINTLY with the ones found (starting where its fit alone ended; compared after
-//     screen_iterations, the winner solved on), and so on while one earns and the residual is
-//     not yet noise-like (at most max_causes). A marker lever, once found in a set whose GM
-//     came from the trials, has the GM identified again on the tracks corrected for it
+//     fitted JOINTLY with the ones found (concurrently; starting where its fit alone ended,
+//     only its own discrete member copied; compared after screen_iterations, the winner solved
+//     on), and so on while one earns, at most max_causes, stopping when the residual on the
+//     selection trials is noise-like. A marker lever, once found in a set whose GM came from
+//     the trials, has the GM identified again on the tracks corrected for it
 //     (GeometryUnderMarkerLever), alternating with the fit, and a_x taken from O_V's x.
-//  6. Report trials: fitness of base and extended model, each cause's gain as the share of
-//     the base model's error above the noise that adding it removed; the extended model's
-//     residual tested as in 3: noise-like → `explained`, else `partly_explained`; no cause →
-//     `unexplained` (with the failing tests as evidence).
+//  7. Report (ReportOnHeldOut in diagnose.cc): fitness of base and extended model on the
+//     report trials, each cause's gain as the share of the base model's error above the noise
+//     that adding it removed, and whether the report trials confirm it (Cause::confirmed); the
+//     residual tests on the selection + report trials: base noise-like → `adequate`; a
+//     confirmed cause and the extended model noise-like → `explained`, else
+//     `partly_explained`; no confirmed cause → `unexplained`.
 // Nothing tells the diagnosis which effect (if any) is hidden.
 
 #include <optional>

@@ -12,14 +12,6 @@ namespace {
 
 constexpr double kMadToSigma = 1.4826;
 
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  const std::size_t mid = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + static_cast<long>(mid), v.end());
-  double m = v[mid];
-  if (v.size() % 2 == 0) m = 0.5 * (m + *std::max_element(v.begin(), v.begin() + static_cast<long>(mid)));
-  return m;
-}
 
 /// r at lag k (0 beyond the model's lags).
 double R(const std::vector<double>& acf, std::size_t k) { return k < acf.size() ? acf[k] : 0.0; }
@@ -34,6 +26,15 @@ double DoubleSum(const std::vector<double>& acf, std::size_t n, F f) {
 }
 
 }  // namespace
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  const std::size_t mid = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + static_cast<long>(mid), v.end());
+  double m = v[mid];
+  if (v.size() % 2 == 0) m = 0.5 * (m + *std::max_element(v.begin(), v.begin() + static_cast<long>(mid)));
+  return m;
+}
 
 double ColourAutocorrelation(NoiseColour form, double tau, std::size_t k) {
   if (k == 0) return 1.0;

@@ -32,6 +32,9 @@
 
 namespace pwsim::diagnose {
 
+/// Median of `v` (the mean of the two middle values for an even count; 0 when empty).
+double Median(std::vector<double> v);
+
 enum class NoiseColour { kFirstOrder, kSecondOrder };
 
 /// r(k) of the colour form with correlation time τ [samples] (0: white).
