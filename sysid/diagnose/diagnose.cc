@@ -318,6 +318,61 @@ void RegeometryUnderLever(const std::vector<effects::TrialRecord>& records,
   }
 }
 
+/// Round 1: every candidate fitted alone on the training trials (concurrently, each in its own
+/// slot), judged on the selection trials; earning ones first, then by selection gain.
+std::vector<RankEntry> Rank(const Splits& splits, const FitResult& base, double base_sel,
+                            const ChannelWeights& w, const DiagnoseOptions& options) {
+  std::vector<RankEntry> ranking(options.candidates.size());
+  ParallelFor(options.candidates.size(), options.threads, [&](std::size_t i) {
+    RankEntry& e = ranking[i];
+    e.effect = options.candidates[i];
+    e.fit = FitModel(splits.training, e.effect, base.params.lm, w, options.fit);
+    e.delta_bic = e.fit.bic - base.bic;
+    const double sel = HeldOutError(splits.selection, e.fit.params, w);
+    e.selection_gain = base_sel > 0.0 ? 1.0 - sel / base_sel : 0.0;
+    e.earns = e.delta_bic < options.bic_threshold && e.selection_gain >= options.min_heldout_gain;
+    e.parameters = NamedParameters(e.fit);
+  });
+  std::stable_sort(ranking.begin(), ranking.end(), [](const RankEntry& a, const RankEntry& b) {
+    if (a.earns != b.earns) return a.earns;
+    return a.selection_gain > b.selection_gain;
+  });
+  return ranking;
+}
+
+/// Forward selection: adds the best earning candidate (BestAlone, then BestJoint) while one
+/// earns, at most max_causes, stopping when the residual on the selection trials is
+/// noise-like; `models` gets the model after each cause, `dx.causes` the causes.
+void ForwardSelect(const std::vector<effects::TrialRecord>& records, const std::vector<bool>& report,
+                   std::deque<Splits>& geometries, double base_sel, const ChannelWeights& w,
+                   std::vector<Stage>& models, Diagnosis& dx) {
+  const DiagnoseOptions& options = dx.options;
+  FitResult current = models.back().fit;
+  double current_sel = base_sel;
+  std::vector<EffectId> found;
+  while (static_cast<int>(found.size()) < options.max_causes) {
+    std::optional<Candidate> best =
+        found.empty() ? BestAlone(dx.ranking, base_sel)
+                      : BestJoint(geometries.back(), dx.ranking, found, current, current_sel, w, options);
+    if (!best) break;
+    if (records.front().gm_from_trials && best->fit.effects.back() == EffectId::kMarkerOffset)
+      RegeometryUnderLever(records, report, geometries, *best, current_sel, w, options, dx);
+    Cause c;
+    c.effect = best->fit.effects.back();
+    c.selection_gain = best->gain;
+    c.delta_bic = best->fit.bic - current.bic;
+    found.push_back(c.effect);
+    dx.causes.push_back(c);
+    current = std::move(best->fit);
+    current_sel = best->selection_error;
+    models.push_back({current, &geometries.back()});
+    const Splits& now = geometries.back();
+    if (Check(now.selection, records, now.selection_index, current.params, dx.noise, options.verdict)
+            .NoiseLike())
+      break;  // the stop: the residual on the selection trials is noise-like
+  }
+}
+
 /// The report: every figure read on the report trials, once, after every choice is made.
 /// The verdict's residual tests run on the selection + report trials (the report trials alone
 /// when there is no selection share); a cause counts for the verdict only when confirmed.
@@ -449,57 +504,12 @@ Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records_given,
   dx.trials = BaseAnalysis(records, report, first.all, dx.base.params);
   dx.residuals = Analyse(dx.trials, dx.chair, records);
 
-  // Round 1: every extension alone (the ranking), chosen on training + selection.
-  // The candidates' fits are independent: run concurrently, each in its own slot.
+  // Every extension alone (the ranking), then forward selection, on training + selection.
   const double base_sel = HeldOutError(first.selection, dx.base.params, w);
-  dx.ranking.resize(options.candidates.size());
-  ParallelFor(options.candidates.size(), options.threads, [&](std::size_t i) {
-    RankEntry& e = dx.ranking[i];
-    e.effect = options.candidates[i];
-    e.fit = FitModel(first.training, e.effect, dx.base.params.lm, w, options.fit);
-    e.delta_bic = e.fit.bic - dx.base.bic;
-    const double sel = HeldOutError(first.selection, e.fit.params, w);
-    e.selection_gain = base_sel > 0.0 ? 1.0 - sel / base_sel : 0.0;
-    e.earns = e.delta_bic < options.bic_threshold && e.selection_gain >= options.min_heldout_gain;
-    e.parameters = NamedParameters(e.fit);
-  });
-  std::stable_sort(dx.ranking.begin(), dx.ranking.end(), [](const RankEntry& a, const RankEntry& b) {
-    if (a.earns != b.earns) return a.earns;
-    return a.selection_gain > b.selection_gain;
-  });
-
-  // Forward selection on training + selection (skipped when the base model is noise-like there).
+  dx.ranking = Rank(first, dx.base, base_sel, w, options);
   std::vector<Stage> models{{dx.base, &first}};  // the model after each cause
-  if (!base_selection.NoiseLike()) {
-    FitResult current = dx.base;
-    double current_sel = base_sel;
-    std::vector<EffectId> found;
-    while (static_cast<int>(found.size()) < options.max_causes) {
-      std::optional<Candidate> best =
-          found.empty() ? BestAlone(dx.ranking, base_sel)
-                        : BestJoint(geometries.back(), dx.ranking, found, current, current_sel, w, options);
-      if (!best) break;
-      if (records.front().gm_from_trials && best->fit.effects.back() == EffectId::kMarkerOffset)
-        RegeometryUnderLever(records, report, geometries, *best, current_sel, w, options, dx);
-      Cause c;
-      c.effect = best->fit.effects.back();
-      c.selection_gain = best->gain;
-      c.delta_bic = best->fit.bic - current.bic;
-      found.push_back(c.effect);
-      dx.causes.push_back(c);
-      current = std::move(best->fit);
-      current_sel = best->selection_error;
-      models.push_back({current, &geometries.back()});
-      const Splits& now = geometries.back();
-      if (Check(now.selection, records, now.selection_index, current.params, dx.noise,
-                options.verdict).NoiseLike())
-        break;  // the stop: the residual on the selection trials is noise-like
-    }
-    dx.extended = current;
-  } else {
-    dx.extended = dx.base;
-  }
-
+  if (!base_selection.NoiseLike()) ForwardSelect(records, report, geometries, base_sel, w, models, dx);
+  dx.extended = models.back().fit;
   dx.selected = dx.extended;
   ReportOnHeldOut(records, models, w, noise_ms, dx);
   return dx;
