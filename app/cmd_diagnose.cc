@@ -60,7 +60,14 @@ const CommandSpec& DiagnoseSpec() {
           {"effects", "LIST", "-", "all", "candidate effect ids, comma separated"},
           {"min-gain", "G", "-", "0.10", "share of the held-out error an extension must remove"},
           {"bic-threshold", "B", "-", "-10", "ΔBIC an extension must beat (training trials)"},
-          {"threads", "N", "-", "2", "solver threads"},
+          {"max-causes", "N", "-", "3", "forward selection stops after this many causes"},
+          {"rest-window", "S", "s", "0.25", "initial window taken as rest (centring; least noise window)"},
+          {"rho-max", "R", "sigma", "0.75", "verdict (a),(c): structured RMS allowed, in noise stds"},
+          {"rho-local", "R", "sigma", "1.5", "verdict (b): structured RMS allowed in the worst window"},
+          {"window-s", "S", "s", "0.5", "verdict (b): window length"},
+          {"input-r-max", "R", "-", "0.4", "verdict (d): correlation with the GM input allowed"},
+          {"clip-sigma", "C", "sigma", "5", "verdict (a),(b): residuals clipped at C noise stds (outliers)"},
+          {"threads", "N", "-", "2", "threads for the candidate fits (results identical for any N)"},
           {"max-plots", "N", "-", "3", "held-out trials to plot"},
       },
       "TRIAL_DIR  measured trial folders (trial.yaml, chair, terrain, mocap), at least 2"};
@@ -76,9 +83,28 @@ int DiagnoseCommand(const ParsedArgs& args) {
   if (!(options.min_heldout_gain >= 0.0 && options.min_heldout_gain < 1.0))
     throw UsageError("option --min-gain: expected a number in [0, 1)");
   options.bic_threshold = args.GetDouble("bic-threshold");
+  auto ranged = [&](const std::string& name, double lo, double hi) {
+    const double v = args.GetDouble(name);
+    if (!(v >= lo && v <= hi)) {
+      std::ostringstream message;
+      message << "option --" << name << ": expected a number in [" << lo << ", " << hi << "], got "
+              << args.Get(name);
+      throw UsageError(message.str());
+    }
+    return v;
+  };
+  const long long max_causes = args.GetInt("max-causes");
+  if (max_causes < 0 || max_causes > 8) throw UsageError("option --max-causes: expected 0..8");
+  options.max_causes = static_cast<int>(max_causes);
+  options.rest_window = ranged("rest-window", 0.02, 5.0);
+  options.verdict.rho_max = ranged("rho-max", 0.0, 100.0);
+  options.verdict.rho_local = ranged("rho-local", 0.0, 100.0);
+  options.verdict.window_s = ranged("window-s", 0.05, 10.0);
+  options.verdict.input_r_max = ranged("input-r-max", 0.0, 1.0);
+  options.verdict.clip_sigma = ranged("clip-sigma", 1.0, 1e6);
   const long long threads = args.GetInt("threads");
   if (threads < 1 || threads > 64) throw UsageError("option --threads: expected 1..64");
-  options.fit.threads = static_cast<int>(threads);
+  options.threads = static_cast<int>(threads);
   const long long max_plots = args.GetInt("max-plots");
   if (max_plots < 0) throw UsageError("option --max-plots: expected an integer >= 0");
 
@@ -100,7 +126,12 @@ int DiagnoseCommand(const ParsedArgs& args) {
 
   std::cout << "pwsim diagnose: " << trials.size() << " trials, verdict: "
             << diagnose::VerdictName(d.verdict) << ", cause: " << d.cause;
-  for (std::size_t k = 1; k < d.causes.size(); ++k) std::cout << " + " << effects::EffectName(d.causes[k].effect);
+  if (!d.causes.empty()) {
+    std::cout << " (found:";
+    for (const diagnose::Cause& c : d.causes)
+      std::cout << " " << effects::EffectName(c.effect) << (c.confirmed ? "" : " unconfirmed");
+    std::cout << ")";
+  }
   std::cout << "\n"
             << "  held-out fit (base -> extended): Z " << Fixed(d.base_heldout.z, 1) << " -> "
             << Fixed(d.extended_heldout.z, 1) << " %, pitch " << Fixed(d.base_heldout.pitch, 1)

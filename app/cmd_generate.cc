@@ -1,8 +1,10 @@
 // pwsim generate --out DIR [options]: synthetic measured trials in the folder format of
 // measured-trials.md (synth/generate.h), from a truth chair and the paper's protocol.
 
+#include <cmath>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
@@ -15,26 +17,81 @@
 namespace pwsim::app {
 namespace {
 
+/// The whole of `text` as a finite number, or nothing.
+std::optional<double> ParseNumber(const std::string& text) {
+  std::size_t used = 0;
+  double value = 0.0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  if (used == 0 || used != text.size() || !std::isfinite(value)) return std::nullopt;
+  return value;
+}
+
 std::vector<double> ParseList(const std::string& option, const std::string& text) {
   std::vector<double> values;
   std::stringstream stream(text);
   std::string item;
   while (std::getline(stream, item, ',')) {
-    std::size_t used = 0;
-    double value = 0.0;
-    try {
-      value = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != item.size()) {
+    const std::optional<double> value = ParseNumber(item);
+    if (!value) {
       throw UsageError("option --" + option +
                                   ": expected comma-separated numbers, got \"" + text + "\"");
     }
-    values.push_back(value);
+    values.push_back(*value);
   }
   if (values.empty()) throw UsageError("option --" + option + ": expected a list");
   return values;
+}
+
+/// A number option in [lo, hi] (NaN refused), else a usage error naming it, its range and unit.
+double RangedDouble(const ParsedArgs& args, const std::string& option, double lo, double hi,
+                    const std::string& unit) {
+  const double value = args.GetDouble(option);
+  if (!(value >= lo && value <= hi)) {
+    std::ostringstream message;
+    message << "option --" << option << ": expected a number in [" << lo << ", " << hi << "]"
+            << (unit.empty() ? "" : " " + unit) << ", got " << args.Get(option);
+    throw UsageError(message.str());
+  }
+  return value;
+}
+
+/// Every value of a list option in [lo, hi].
+std::vector<double> RangedList(const ParsedArgs& args, const std::string& option, double lo,
+                               double hi, const std::string& unit) {
+  std::vector<double> values = ParseList(option, args.Get(option));
+  for (double v : values) {
+    if (!(v >= lo && v <= hi)) {
+      std::ostringstream message;
+      message << "option --" << option << ": expected numbers in [" << lo << ", " << hi << "] "
+              << unit << ", got " << v;
+      throw UsageError(message.str());
+    }
+  }
+  return values;
+}
+
+/// --effect-params: NAME=VALUE,... with VALUE a number.
+std::map<std::string, double> ParseEffectParams(const std::string& text) {
+  std::map<std::string, double> overrides;
+  std::stringstream items(text);
+  for (std::string item; std::getline(items, item, ',');) {
+    const std::size_t eq = item.find('=');
+    if (eq == std::string::npos || eq == 0) {
+      throw UsageError("option --effect-params: expected NAME=VALUE,... with VALUE a number, got '" +
+                       item + "'");
+    }
+    const std::optional<double> number = ParseNumber(item.substr(eq + 1));
+    if (!number) {
+      throw UsageError("option --effect-params: expected NAME=VALUE,... with VALUE a number, got '" +
+                       item + "'");
+    }
+    overrides[item.substr(0, eq)] = *number;
+  }
+  return overrides;
 }
 
 }  // namespace
@@ -56,6 +113,9 @@ const CommandSpec& GenerateSpec() {
           {"rate-max-hz", "HZ", "Hz", "0", "if above --rate-hz: a random rate per trial in between"},
           {"noise-mm", "MM", "mm", "0.3", "std of mocap position noise"},
           {"noise-pitch-mrad", "MRAD", "mrad", "0.5", "std of mocap pitch noise"},
+          {"noise-low-pass-hz", "HZ", "Hz", "0", "mocap noise through a 2nd-order Butterworth low-pass (0: white)"},
+          {"noise-drift", "D", "-", "0", "random-walk drift of the mocap noise, in noise stds after 1 s"},
+          {"noise-outliers", "F", "-", "0", "share of frames with an outlier of 10 noise stds"},
           {"drop-fraction", "F", "-", "0", "share of frames where the body is not tracked"},
           {"z-offset-m", "M", "m", "0", "altitude of the tracked origin on the flat floor"},
           {"mocap-format", "FMT", "-", "both", "csv | qtm-6d-tsv | both | alternate"},
@@ -81,8 +141,8 @@ int GenerateCommand(const ParsedArgs& args) {
       throw UsageError("option --truth: the chair needs gm and lm");
     }
   }
-  config.speeds = ParseList("speeds", args.Get("speeds"));
-  config.loads = ParseList("loads", args.Get("loads"));
+  config.speeds = RangedList(args, "speeds", 0.05, 4.0, "m/s");
+  config.loads = RangedList(args, "loads", 0.0, 300.0, "kg");
   const std::string cushion = args.Get("cushion");
   if (cushion != "with" && cushion != "without" && cushion != "both") {
     throw UsageError("option --cushion: expected with, without or both");
@@ -92,13 +152,17 @@ int GenerateCommand(const ParsedArgs& args) {
   const long long repeats = args.GetInt("repeats");
   if (repeats < 1 || repeats > 100) throw UsageError("option --repeats: 1..100");
   config.repeats = static_cast<int>(repeats);
-  config.accel = args.GetDouble("accel");
-  config.rate_hz = args.GetDouble("rate-hz");
-  config.rate_max_hz = args.GetDouble("rate-max-hz");
-  config.noise_position = args.GetDouble("noise-mm") * 1e-3;
-  config.noise_pitch = args.GetDouble("noise-pitch-mrad") * 1e-3;
-  config.drop_fraction = args.GetDouble("drop-fraction");
-  config.z_offset = args.GetDouble("z-offset-m");
+  config.accel = RangedDouble(args, "accel", 0.05, 5.0, "m/s^2");
+  config.rate_hz = RangedDouble(args, "rate-hz", 10.0, 2000.0, "Hz");
+  config.rate_max_hz = RangedDouble(args, "rate-max-hz", 0.0, 2000.0, "Hz");
+  config.noise_position = RangedDouble(args, "noise-mm", 0.0, 100.0, "mm") * 1e-3;
+  config.noise_pitch = RangedDouble(args, "noise-pitch-mrad", 0.0, 100.0, "mrad") * 1e-3;
+  config.noise_process.sigma = 1.0;  // scaled per channel by the generator
+  config.noise_process.low_pass_hz = RangedDouble(args, "noise-low-pass-hz", 0.0, 0.45 * config.rate_hz, "Hz");
+  config.noise_process.drift_per_sqrt_s = RangedDouble(args, "noise-drift", 0.0, 100.0, "");
+  config.noise_process.outlier_rate = RangedDouble(args, "noise-outliers", 0.0, 0.2, "");
+  config.drop_fraction = RangedDouble(args, "drop-fraction", 0.0, 0.49, "");
+  config.z_offset = RangedDouble(args, "z-offset-m", -10.0, 10.0, "m");
   config.mocap_format = ParseMocapFormat(args.Get("mocap-format"));
   config.body = args.Get("body");
   config.name_prefix = args.Get("prefix");
@@ -115,15 +179,7 @@ int GenerateCommand(const ParsedArgs& args) {
     if (!(strength >= 0.0 && strength <= 10.0)) {
       throw UsageError("option --strength: expected a number in [0, 10]");
     }
-    std::map<std::string, double> overrides;
-    std::stringstream items(args.Get("effect-params"));
-    for (std::string item; std::getline(items, item, ',');) {
-      const std::size_t eq = item.find('=');
-      if (eq == std::string::npos) {
-        throw UsageError("option --effect-params: expected NAME=VALUE, got '" + item + "'");
-      }
-      overrides[item.substr(0, eq)] = std::stod(item.substr(eq + 1));
-    }
+    const std::map<std::string, double> overrides = ParseEffectParams(args.Get("effect-params"));
     config.truth_model = effects::MakeEffectTruthModel(*effect, strength, config.truth, overrides);
   }
 

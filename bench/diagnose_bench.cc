@@ -179,10 +179,23 @@ int main(int argc, char** argv) {
     config.trials = timing_trials;
     config.speeds = {0.6, 0.9, 1.2, 1.5, 1.8, 2.1, 2.4, 1.0, 2.0, 1.4};
     const auto set = pwsim::effects::MakeSyntheticTrials(config);
+    // On one thread and on two: the candidate fits run concurrently (DiagnoseOptions::threads),
+    // and the two diagnoses must agree to the bit.
+    pwsim::diagnose::DiagnoseOptions one;
+    one.threads = 1;
+    const auto t_one = std::chrono::steady_clock::now();
+    const Diagnosis d1 = Diagnose(set.trials, one);
+    const double seconds_one = Seconds(t_one);
+    pwsim::diagnose::DiagnoseOptions two;
+    two.threads = 2;
     const auto t0 = std::chrono::steady_clock::now();
-    const Diagnosis d = Diagnose(set.trials);
-    std::printf("\nTime to diagnose %zu trials: %.2f s (same-model generator, cause: %s, verdict: %s)\n",
-                set.trials.size(), Seconds(t0), d.cause.c_str(), pwsim::diagnose::VerdictName(d.verdict));
+    const Diagnosis d = Diagnose(set.trials, two);
+    const double seconds_two = Seconds(t0);
+    const bool same = d.selected.effect_values == d1.selected.effect_values && d.selected.bic == d1.selected.bic;
+    std::printf("\nTime to diagnose %zu trials: %.2f s on 2 threads, %.2f s on 1 (ratio %.2f; results %s) "
+                "(same-model generator, cause: %s, verdict: %s)\n",
+                set.trials.size(), seconds_two, seconds_one, seconds_one / seconds_two,
+                same ? "identical" : "DIFFER", d.cause.c_str(), pwsim::diagnose::VerdictName(d.verdict));
 #ifdef PWSIM_HAVE_INDEPENDENT_TRUTH
     // The same on 30 trials of the independent truth (tests/truth/), two effects hidden, the base
     // model identified from the trials first (as `pwsim diagnose` does for a chair without gm/lm):

@@ -18,7 +18,40 @@ nlohmann::ordered_json FitJson(const diagnose::FitPct& fit) {
   return {{"z", JsonNumber(fit.z)}, {"pitch", JsonNumber(fit.pitch)}};
 }
 
+nlohmann::ordered_json NoiseJson(const diagnose::ChannelNoise& n) {
+  nlohmann::ordered_json acf = nlohmann::ordered_json::array();
+  for (double r : n.acf) acf.push_back(JsonNumber(r));
+  return {{"sigma", JsonNumber(n.sigma)}, {"sigma_hf", JsonNumber(n.sigma_hf)},
+          {"from_rest", n.from_rest}, {"rest_samples", n.rest_samples}, {"acf", acf}};
+}
+
+nlohmann::ordered_json ChannelCheckJson(const diagnose::ChannelCheck& c) {
+  return {{"rho", JsonNumber(c.rho)},
+          {"rho_local", JsonNumber(c.rho_local)},
+          {"whiteness", JsonNumber(c.whiteness)},
+          {"whiteness_noise", JsonNumber(c.whiteness_noise)},
+          {"whiteness_bound", JsonNumber(c.whiteness_bound)},
+          {"input_r", JsonNumber(c.input_r)},
+          {"input_bound", JsonNumber(c.input_bound)},
+          {"noise_like", c.NoiseLike()}};
+}
+
+nlohmann::ordered_json CheckJson(const diagnose::NoiseCheck& c) {
+  return {{"z", ChannelCheckJson(c.z)}, {"pitch", ChannelCheckJson(c.pitch)}, {"noise_like", c.NoiseLike()}};
+}
+
 }  // namespace
+
+nlohmann::ordered_json VerdictInputsJson(const Diagnosis& d) {
+  const diagnose::VerdictOptions& o = d.options.verdict;
+  return {{"limits", {{"rho_max", o.rho_max}, {"rho_local", o.rho_local}, {"window_s", o.window_s},
+                      {"alpha", o.alpha}, {"input_r_max", o.input_r_max}, {"clip_sigma", o.clip_sigma},
+                      {"bic_threshold", d.options.bic_threshold},
+                      {"min_selection_gain", d.options.min_heldout_gain}}},
+          {"noise", {{"z", NoiseJson(d.noise.z)}, {"pitch", NoiseJson(d.noise.pitch)}}},
+          {"base", CheckJson(d.base_check)},
+          {"extended", CheckJson(d.extended_check)}};
+}
 
 nlohmann::ordered_json DiagnosisJson(const Diagnosis& d, const std::string& base_source,
                                      double seconds) {
@@ -47,7 +80,11 @@ nlohmann::ordered_json DiagnosisJson(const Diagnosis& d, const std::string& base
     j["causes"].push_back({{"effect", effects::EffectName(c.effect)},
                            {"heldout_gain_pct", JsonNumber(c.heldout_gain_pct)},
                            {"selection_gain_pct", JsonNumber(100.0 * c.selection_gain)},
-                           {"delta_bic", JsonNumber(c.delta_bic)}});
+                           {"delta_bic", JsonNumber(c.delta_bic)},
+                           {"confirmed", c.confirmed},
+                           {"heldout_gain_lcb_pct", JsonNumber(c.heldout_gain_lcb_pct)},
+                           {"report_trials", c.report_trials},
+                           {"report_trials_improved", c.report_trials_improved}});
   }
   j["noise_floor_fit_pct"] = FitJson(d.noise_floor);
   if (d.verdict == diagnose::Verdict::kUnexplained || d.verdict == diagnose::Verdict::kPartlyExplained) {
@@ -56,6 +93,7 @@ nlohmann::ordered_json DiagnosisJson(const Diagnosis& d, const std::string& base
   }
   // Additions beyond the contract's minimum (allowed: add, never rename).
   j["noise_sigma"] = {{"z_m", JsonNumber(d.sigma_z)}, {"pitch_rad", JsonNumber(d.sigma_pitch)}};
+  j["verdict_inputs"] = VerdictInputsJson(d);
   j["residual_tests"] = {{"base", d.base_check.Evidence()}, {"extended", d.extended_check.Evidence()}};
   j["selection_trials"] = d.selection_trials;
   j["training_trials"] = d.training_trials;
@@ -165,12 +203,16 @@ std::string DiagnosisMarkdown(const Diagnosis& d, const std::string& base_source
       break;
   }
   for (const diagnose::Cause& c : d.causes) {
-    md += "- `" + std::string(effects::EffectName(c.effect)) + "`: " +
+    md += "- `" + std::string(effects::EffectName(c.effect)) + "` (" +
+          (c.confirmed ? "confirmed" : "**not confirmed**") + " by the report trials): " +
           effects::EffectDescription(c.effect) + "; removes " + Fixed(c.heldout_gain_pct, 1) +
-          " % of the held-out error above the noise (chosen on the selection trials, where it "
-          "removed " + Fixed(100.0 * c.selection_gain, 1) + " % of the error).\n";
+          " % of the held-out error above the noise (95 % lower bound of the error it removes: " +
+          Fixed(c.heldout_gain_lcb_pct, 1) + " %; " + std::to_string(c.report_trials_improved) + " of " +
+          std::to_string(c.report_trials) + " report trials improved; chosen on the selection "
+          "trials, where it removed " + Fixed(100.0 * c.selection_gain, 1) + " % of the error).\n";
   }
-  md += "\nNoise (from the data, 4th differences): Z " + Significant(1e3 * d.sigma_z, 3) + " mm, pitch " +
+  md += std::string("\nNoise (from the data: ") +
+        (d.noise.z.from_rest ? "rest windows, variogram and MAD" : "4th differences, white") + "): Z " + Significant(1e3 * d.sigma_z, 3) + " mm, pitch " +
         Significant(1e3 * d.sigma_pitch, 3) + " mrad; noise floor on the held-out trials: Z " +
         Fixed(d.noise_floor.z, 1) + " %, pitch " + Fixed(d.noise_floor.pitch, 1) + " %.\n\n";
   md += "- Base model, residual tests (selection + held-out trials): " + d.base_check.Evidence() + "\n";
@@ -181,9 +223,10 @@ std::string DiagnosisMarkdown(const Diagnosis& d, const std::string& base_source
   md += "| extended model (" + d.cause + ") | " + Fixed(d.extended_heldout.z, 1) + " | " +
         Fixed(d.extended_heldout.pitch, 1) + " |\n\n";
   md += "(The paper reports 79.3 % for Z and 57.6 % for pitch on its real chair.)\n\n";
-  md += "## Ranking\n\nEach extension alone. It earns its parameters when ΔBIC (training) < -10 "
-        "and it removes at least 10 % of the error of the selection trials; the held-out gain is "
-        "measured on trials that played no part in the choice.\n\n";
+  md += "## Ranking\n\nEach extension alone. It earns its parameters when ΔBIC (training) < " +
+        Fixed(d.options.bic_threshold, 0) + " and it removes at least " +
+        Fixed(100.0 * d.options.min_heldout_gain, 0) + " % of the error of the selection trials; the "
+        "held-out gain is measured on trials that played no part in the choice.\n\n";
   md += "| # | effect | earns | held-out gain | ΔBIC | held-out fit Z / pitch [%] | parameters | evidence |\n";
   md += "|---|---|---|---|---|---|---|---|\n";
   int rank = 1;

@@ -17,6 +17,11 @@ namespace pwsim::report {
 nlohmann::ordered_json DiagnosisJson(const diagnose::Diagnosis& d, const std::string& base_source,
                                      double seconds);
 
+/// The verdict's inputs, tidy (diagnosis.json's `verdict_inputs`): the limits of the run, the
+/// noise model per channel (σ̂, the 4th-difference σ̂, its autocorrelation), and each residual
+/// test's statistic and bound for the base and the extended model.
+nlohmann::ordered_json VerdictInputsJson(const diagnose::Diagnosis& d);
+
 /// diagnosis.md's content; `plots` are paths relative to the report, located residual first.
 std::string DiagnosisMarkdown(const diagnose::Diagnosis& d, const std::string& base_source,
                               const std::vector<std::string>& plots, double seconds);

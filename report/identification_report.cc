@@ -1,12 +1,15 @@
 #include "report/identification_report.h"
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
+#include <thread>
 
 #include "engine/atomic_file.h"
 #include "plot/plot.h"
 #include "report/format.h"
+#include "sysid/diagnose/parallel_for.h"
 
 namespace pwsim::report {
 namespace {
@@ -159,12 +162,15 @@ std::vector<ParameterRow> WriteIdentificationReport(const std::filesystem::path&
     plot_order.resize(static_cast<std::size_t>(std::max(0LL, max_plots)));
   }
   std::vector<std::string> plot_files(trials.size());
-  for (std::size_t k : plot_order) {
+  for (std::size_t k : plot_order) plot_files[k] = "plots/" + trials[k].name + ".png";
+  // One gnuplot process per figure: the figures are drawn concurrently (each its own files).
+  const int workers = static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 2u, 8u));
+  diagnose::ParallelFor(plot_order.size(), workers, [&](std::size_t i) {
+    const std::size_t k = plot_order[i];
     const TrialComparison cmp =
         CompareTrial(trials[k], result.chair, options.simulation, options.offset_window);
-    plot_files[k] = "plots/" + trials[k].name + ".png";
     PlotTrial(trials[k], result.chair, cmp, out / plot_files[k]);
-  }
+  });
 
   const std::vector<ParameterRow> rows = ParameterRows(result.chair, truth);
   WriteFileAtomically(out / "identified-chair.yaml", ChairToYaml(result.chair));

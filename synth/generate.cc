@@ -1,6 +1,7 @@
 #include "synth/generate.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 #include <sstream>
@@ -170,13 +171,27 @@ TrialSet GenerateTrialSet(const GenerateConfig& config) {
           measured.mocap_format = trial.write_tsv ? "qtm-6d-tsv" : "csv";
           measured.mocap_body = trial.write_tsv ? config.body : "";
           trial.frames.resize(frames);
+          // Coloured / drifting / outlier noise drawn per channel beforehand; white noise frame
+          // by frame (the draws of the white default unchanged).
+          const bool white = config.noise_process.White();
+          std::array<std::vector<double>, 4> coloured;  // x, y, z, pitch
+          if (!white) {
+            synth::NoiseProcess position = config.noise_process, angle = config.noise_process;
+            position.sigma = config.noise_position;
+            angle.sigma = config.noise_pitch;
+            for (std::size_t c = 0; c < 4; ++c)
+              coloured[c] = synth::DrawNoise(c < 3 ? position : angle, frames, trial.rate_hz, rng);
+          }
+          auto noise = [&](std::size_t channel, std::size_t k, double sigma) {
+            return white ? sigma * gauss(rng) : coloured[channel][k];
+          };
           for (std::size_t k = 0; k < frames; ++k) {
             MocapFrame& f = trial.frames[k];
             f.t = t[k];
-            f.x = x[k] + config.noise_position * gauss(rng);
-            f.y = 0.004 * std::sin(0.4 * t[k] + lateral_phase) + config.noise_position * gauss(rng);
-            f.z = truth.z[k] + config.z_offset + config.noise_position * gauss(rng);
-            f.pitch = truth.pitch[k] + config.noise_pitch * gauss(rng);
+            f.x = x[k] + noise(0, k, config.noise_position);
+            f.y = 0.004 * std::sin(0.4 * t[k] + lateral_phase) + noise(1, k, config.noise_position);
+            f.z = truth.z[k] + config.z_offset + noise(2, k, config.noise_position);
+            f.pitch = truth.pitch[k] + noise(3, k, config.noise_pitch);
             const bool edge = k == 0 || k + 1 == frames;
             f.tracked = edge || !(uniform(rng) < config.drop_fraction);
             if (!f.tracked) {

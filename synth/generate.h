@@ -18,6 +18,7 @@
 #include "engine/chair.h"
 #include "sysid/measured/measured_trial.h"
 #include "sysid/measured/mocap.h"
+#include "synth/measurement_noise.h"
 #include "synth/truth_model.h"
 #include "engine/terrain.h"
 
@@ -45,6 +46,9 @@ struct GenerateConfig {
   double rate_max_hz{0.0};      ///< [Hz] upper end of a random rate; ≤ rate_hz: fixed rate
   double noise_position{0.3e-3};  ///< [m] std of mocap position noise (x, y, z)
   double noise_pitch{0.5e-3};     ///< [rad] std of mocap pitch noise
+  /// Colour, drift and outliers of the mocap noise (measurement_noise.h; its sigma is taken from
+  /// noise_position / noise_pitch). White (the default): Gaussian noise drawn frame by frame.
+  synth::NoiseProcess noise_process;
   double drop_fraction{0.0};      ///< [-] share of frames where the body is not tracked
   double z_offset{0.0};           ///< [m] altitude of the tracked origin at rest on flat floor
   std::uint64_t seed{1};

@@ -109,10 +109,25 @@ SyntheticSet MakeSyntheticTrials(const SyntheticConfig& config) {
     rec.x.resize(t.size());
     rec.z.resize(t.size());
     rec.pitch.resize(t.size());
-    for (std::size_t i = 0; i < t.size(); ++i) {
-      rec.x[i] = x[i] + config.noise_xz * unit(rng);
-      rec.z[i] = out.z[i] + z_offset + config.noise_xz * unit(rng);
-      rec.pitch[i] = out.pitch[i] + pitch_offset + config.noise_pitch * unit(rng);
+    if (config.noise_process.White()) {
+      for (std::size_t i = 0; i < t.size(); ++i) {
+        rec.x[i] = x[i] + config.noise_xz * unit(rng);
+        rec.z[i] = out.z[i] + z_offset + config.noise_xz * unit(rng);
+        rec.pitch[i] = out.pitch[i] + pitch_offset + config.noise_pitch * unit(rng);
+      }
+    } else {
+      synth::NoiseProcess position = config.noise_process, angle = config.noise_process;
+      position.sigma = config.noise_xz;
+      angle.sigma = config.noise_pitch;
+      const double rate = config.rate_hz;
+      const std::vector<double> nx = synth::DrawNoise(position, t.size(), rate, rng);
+      const std::vector<double> nz = synth::DrawNoise(position, t.size(), rate, rng);
+      const std::vector<double> np = synth::DrawNoise(angle, t.size(), rate, rng);
+      for (std::size_t i = 0; i < t.size(); ++i) {
+        rec.x[i] = x[i] + nx[i];
+        rec.z[i] = out.z[i] + z_offset + nz[i];
+        rec.pitch[i] = out.pitch[i] + pitch_offset + np[i];
+      }
     }
     set.trials.push_back(std::move(rec));
   }

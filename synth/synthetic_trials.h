@@ -11,6 +11,7 @@
 
 #include "sysid/effects/effect_catalog.h"
 #include "sysid/effects/effect_model.h"
+#include "synth/measurement_noise.h"
 
 namespace pwsim::effects {
 
@@ -25,6 +26,9 @@ struct SyntheticConfig {
   double noise_xz{3e-4};     ///< [m] position noise (x and z), 1σ
   double noise_pitch{6e-4};  ///< [rad], 1σ
   bool randomize_chair{true};  ///< perturb Table I chair (geometry, masses, K, C)
+  /// The noise's colour, drift and outliers (measurement_noise.h; sigma taken from noise_xz /
+  /// noise_pitch). White (the default): Gaussian noise drawn as before.
+  synth::NoiseProcess noise_process;
 };
 
 struct SyntheticSet {

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <deque>
 #include <map>
+
 
 #include "engine/check.h"
 #include "sysid/identify/fitness.h"
@@ -11,6 +13,7 @@
 #include "engine/input_error.h"
 #include "sysid/diagnose/base_residuals.h"
 #include "sysid/diagnose/format_text.h"
+#include "sysid/diagnose/parallel_for.h"
 
 namespace pwsim::diagnose {
 namespace {
@@ -85,6 +88,379 @@ std::vector<ResidualRecord> ResidualRecords(const std::vector<FitTrial>& trials,
 
 }  // namespace
 
+namespace {
+
+/// The splits as fit trials for one chair (its GM; the records' own when null). Every candidate
+/// is simulated on identification's grid (FitStep), so each split but the training one (the
+/// fits put it there themselves) is put on it once and serves the base model and every
+/// extension alike. Rebuilt when the GM is identified again under a marker lever, and then
+/// with a_x estimated from O_V's x rather than the marker's (a lever r_z turns a pitch
+/// oscillation into a swing of the measured x).
+struct Splits {
+  std::vector<FitTrial> training, selection, report, all;
+  std::vector<std::size_t> selection_index, report_index;  ///< their records
+};
+
+Splits MakeSplits(const std::vector<effects::TrialRecord>& records, const std::vector<bool>& report,
+                  const std::vector<bool>& selection, const Chair* chair,
+                  const effects::EffectParams* lever, double rest_window) {
+  Splits out;
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    std::vector<double> accel;
+    if (lever) {
+      const TrackUnderLever o = TrackUnderMarkerLever(records[i], lever->marker_lever_x,
+                                                      lever->marker_lever_z, rest_window);
+      accel = effects::EstimateAcceleration(records[i].t, o.x);
+    }
+    FitTrial f = MakeFitTrial(records[i], chair ? *chair : records[i].chair, rest_window, std::move(accel));
+    out.all.push_back(f);
+    if (report[i]) {
+      out.report.push_back(std::move(f));
+      out.report_index.push_back(i);
+    } else if (selection[i]) {
+      out.selection.push_back(std::move(f));
+      out.selection_index.push_back(i);
+    } else {
+      out.training.push_back(std::move(f));
+    }
+  }
+  if (out.selection.empty()) {  // too few trials: choose on the training ones
+    out.selection = out.training;
+    for (std::size_t i = 0; i < records.size(); ++i)
+      if (!report[i]) out.selection_index.push_back(i);
+  }
+  out.report = WithFitStep(out.report, std::nullopt);
+  out.selection = WithFitStep(out.selection, std::nullopt);
+  out.all = WithFitStep(out.all, std::nullopt);
+  return out;
+}
+
+/// The residual tests (verdict.h) of `params` on `trials` (records `index`).
+NoiseCheck Check(const std::vector<FitTrial>& trials, const std::vector<effects::TrialRecord>& records,
+                 const std::vector<std::size_t>& index, const effects::ExtendedParams& params,
+                 const NoiseModel& noise, const VerdictOptions& options) {
+  return CheckResidual(ResidualRecords(trials, records, index, params), noise, options);
+}
+
+/// Per report trial, the weighted mean square of the residual of `params`.
+std::vector<double> PerTrialMeanSquare(const std::vector<FitTrial>& trials,
+                                       const effects::ExtendedParams& params, const ChannelWeights& w) {
+  std::vector<double> out;
+  for (const FitTrial& t : trials) out.push_back(MeanSquareError({t}, params, w));
+  return out;
+}
+
+/// Confirms `cause` on the report trials: the model before it (`before`) against the model
+/// with it (`after`). With e_b, e_a the weighted residuals of both channels and Δm = e_b − e_a
+/// the change of the model's output, the reduction of the squared error is
+///   D = Σ_k (e_b,k² − e_a,k²) = Σ_k Δm_k² + Σ_k u_k,   u_k = 2 e_a,k Δm_k.
+/// Σ Δm² ≥ 0 is what the change explains; Σ u_k is what the residual left (noise and any
+/// structure) does with it: near 0 when e_a is noise, negative when the change only moved
+/// structure around. Its standard deviation s is the Newey-West (HAC) estimate over each trial
+/// and channel with a bandwidth of 25 samples (the residual's colour). Confirmed when the
+/// one-sided 95 % lower bound D − 1.645 s is positive; the bound is reported as a share of the
+/// error before, Σ e_b² [%]. A single localised gain (a wheel at the obstacle in one report
+/// trial) counts by its size against the noise, not as one sample of a few.
+void ConfirmOnReport(const std::vector<FitTrial>& before_trials, const effects::ExtendedParams& before,
+                     const std::vector<FitTrial>& after_trials, const effects::ExtendedParams& after,
+                     const ChannelWeights& w, Cause& cause) {
+  constexpr std::size_t kBandwidth = 25;
+  double reduction = 0.0, error_before = 0.0, variance = 0.0;
+  for (std::size_t i = 0; i < std::min(before_trials.size(), after_trials.size()); ++i) {
+    const TrialResidual rb = ComputeResidual(before_trials[i], before);
+    const TrialResidual ra = ComputeResidual(after_trials[i], after);
+    if (!rb.finite || !ra.finite) continue;
+    for (int channel = 0; channel < 2; ++channel) {
+      const std::vector<double>& eb = channel == 0 ? rb.e_z : rb.e_pitch;
+      const std::vector<double>& ea = channel == 0 ? ra.e_z : ra.e_pitch;
+      const double wc = channel == 0 ? w.z : w.pitch;
+      const std::size_t n = std::min(eb.size(), ea.size());
+      std::vector<double> u(n);
+      for (std::size_t k = 0; k < n; ++k) {
+        const double b = wc * eb[k], a = wc * ea[k];
+        reduction += b * b - a * a;
+        error_before += b * b;
+        u[k] = 2.0 * a * (b - a);
+      }
+      for (std::size_t lag = 0; lag <= std::min(kBandwidth, n); ++lag) {
+        double g = 0.0;
+        for (std::size_t k = 0; k + lag < n; ++k) g += u[k] * u[k + lag];
+        variance += lag == 0 ? g : 2.0 * (1.0 - static_cast<double>(lag) / (kBandwidth + 1.0)) * g;
+      }
+    }
+  }
+  const double lcb = reduction - 1.6448536269514722 * std::sqrt(std::max(0.0, variance));
+  cause.heldout_gain_lcb_pct = error_before > 0.0 ? 100.0 * lcb / error_before : 0.0;
+  cause.confirmed = lcb > 0.0;
+}
+
+/// A model and the splits (GM) it was fitted under.
+struct Stage {
+  FitResult fit;
+  const Splits* splits;
+};
+
+/// Base-model residuals of every trial, for the residual analysis and the report's figures.
+std::vector<TrialAnalysis> BaseAnalysis(const std::vector<effects::TrialRecord>& records,
+                                        const std::vector<bool>& report,
+                                        const std::vector<FitTrial>& all,
+                                        const effects::ExtendedParams& base) {
+  std::vector<TrialAnalysis> out;
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    const TrialResidual r = ComputeResidual(all[i], base);
+    TrialAnalysis a;
+    a.name = records[i].name;
+    a.heldout = report[i];
+    a.speed = records[i].speed;
+    a.load_kg = records[i].load_kg;
+    a.t = records[i].t;
+    a.x = records[i].x;
+    a.accel = all[i].prepared.accel;
+    a.z = records[i].z;
+    a.pitch = records[i].pitch;
+    a.z_base = a.z_ext = r.z_model;
+    a.pitch_base = a.pitch_ext = r.pitch_model;
+    a.z_gm = r.model.z_gm;
+    a.pitch_gm = r.model.pitch_gm;
+    out.push_back(std::move(a));
+  }
+  return out;
+}
+
+/// A forward-selection candidate: its fit, the share of the selection error it removes, and
+/// the selection error left.
+struct Candidate {
+  FitResult fit;
+  double gain{0.0};
+  double selection_error{0.0};
+};
+
+/// Round 1: the earning extension of the ranking with the largest selection gain.
+std::optional<Candidate> BestAlone(const std::vector<RankEntry>& ranking, double base_sel) {
+  std::optional<Candidate> best;
+  for (const RankEntry& e : ranking)
+    if (e.earns && (!best || e.selection_gain > best->gain))
+      best = Candidate{e.fit, e.selection_gain, base_sel * (1.0 - e.selection_gain)};
+  return best;
+}
+
+/// Rounds ≥ 2: every further extension that improved the training fit alone (ΔBIC below the
+/// threshold) fitted jointly with the causes found, starting where its fit alone ended (only
+/// its own discrete member copied), screened after `screen_iterations`; the winner that earns
+/// is solved on to the full iterations (kept when it still earns).
+std::optional<Candidate> BestJoint(const Splits& splits, const std::vector<RankEntry>& ranking,
+                                   const std::vector<EffectId>& found, const FitResult& current,
+                                   double current_sel, const ChannelWeights& w,
+                                   const DiagnoseOptions& options) {
+  auto judge = [&](FitResult f) {
+    const double sel = HeldOutError(splits.selection, f.params, w);
+    const double gain = current_sel > 0.0 ? 1.0 - sel / current_sel : 0.0;
+    const bool earns = f.bic - current.bic < options.bic_threshold && gain >= options.min_heldout_gain;
+    return earns ? std::optional<Candidate>(Candidate{std::move(f), gain, sel}) : std::nullopt;
+  };
+  FitOptions screen = options.fit;
+  screen.max_iterations = std::min(options.fit.max_iterations, options.screen_iterations);
+  screen.multi_start = false;
+  std::vector<const RankEntry*> tried;
+  for (const RankEntry& solo : ranking)
+    if (std::find(found.begin(), found.end(), solo.effect) == found.end() &&
+        solo.delta_bic < options.bic_threshold)
+      tried.push_back(&solo);
+  std::vector<std::optional<Candidate>> joint(tried.size());  // fitted concurrently
+  ParallelFor(tried.size(), options.threads, [&](std::size_t i) {
+    std::vector<EffectId> list = found;
+    list.push_back(tried[i]->effect);
+    effects::ExtendedParams from = current.params;
+    effects::CopyEffect(tried[i]->effect, tried[i]->fit.params.fx, from.fx);
+    joint[i] = judge(FitModelJoint(splits.training, list, from, w, screen));
+  });
+  std::optional<Candidate> best;
+  for (std::optional<Candidate>& c : joint)  // in ranking order: the first of equal gains
+    if (c && (!best || c->gain > best->gain)) best = std::move(c);
+  if (best && screen.max_iterations < options.fit.max_iterations) {
+    FitOptions full = options.fit;
+    full.multi_start = false;
+    if (std::optional<Candidate> solved = judge(FitModelJoint(splits.training, best->fit.effects,
+                                                              best->fit.params, w, full)))
+      best = std::move(solved);
+  }
+  return best;
+}
+
+/// A marker lever found in a set whose GM was identified on the measured x: that GM saw the
+/// wheels where the marker was, not where they were. The GM is identified again on the tracks
+/// corrected for the lever, and the causes so far re-fitted with it, alternating GM and fit
+/// while the selection error improves (by more than 1 % to go on; at most six rounds). Without
+/// this, a later extension that can move the GM (the tyre family's suspension plane) earns by
+/// mending the GM instead of its own effect.
+void RegeometryUnderLever(const std::vector<effects::TrialRecord>& records,
+                          const std::vector<bool>& report, std::deque<Splits>& geometries,
+                          Candidate& best, double current_sel, const ChannelWeights& w,
+                          const DiagnoseOptions& options, Diagnosis& dx) {
+  FitOptions refine = options.fit;
+  refine.multi_start = false;
+  for (int round = 0; round < 6; ++round) {
+    Chair regeometry = dx.chair;
+    regeometry.gm = GeometryUnderMarkerLever(records, dx.chair, best.fit.params.lm,
+                                             best.fit.params.fx.marker_lever_x,
+                                             best.fit.params.fx.marker_lever_z, options.rest_window);
+    Splits next = MakeSplits(records, report, dx.selection, &regeometry, &best.fit.params.fx,
+                             options.rest_window);
+    FitResult refit = FitModelJoint(next.training, best.fit.effects, best.fit.params, w, refine);
+    const double sel = HeldOutError(next.selection, refit.params, w);
+    if (!(sel < best.selection_error)) break;
+    const bool small = sel > 0.99 * best.selection_error;
+    geometries.push_back(std::move(next));
+    dx.chair = regeometry;
+    dx.gm_under_marker = true;
+    best = Candidate{std::move(refit), current_sel > 0.0 ? 1.0 - sel / current_sel : best.gain, sel};
+    if (small) break;
+  }
+}
+
+/// Round 1: every candidate fitted alone on the training trials (concurrently, each in its own
+/// slot), judged on the selection trials; earning ones first, then by selection gain.
+std::vector<RankEntry> Rank(const Splits& splits, const FitResult& base, double base_sel,
+                            const ChannelWeights& w, const DiagnoseOptions& options) {
+  std::vector<RankEntry> ranking(options.candidates.size());
+  ParallelFor(options.candidates.size(), options.threads, [&](std::size_t i) {
+    RankEntry& e = ranking[i];
+    e.effect = options.candidates[i];
+    e.fit = FitModel(splits.training, e.effect, base.params.lm, w, options.fit);
+    e.delta_bic = e.fit.bic - base.bic;
+    const double sel = HeldOutError(splits.selection, e.fit.params, w);
+    e.selection_gain = base_sel > 0.0 ? 1.0 - sel / base_sel : 0.0;
+    e.earns = e.delta_bic < options.bic_threshold && e.selection_gain >= options.min_heldout_gain;
+    e.parameters = NamedParameters(e.fit);
+  });
+  std::stable_sort(ranking.begin(), ranking.end(), [](const RankEntry& a, const RankEntry& b) {
+    if (a.earns != b.earns) return a.earns;
+    return a.selection_gain > b.selection_gain;
+  });
+  return ranking;
+}
+
+/// Forward selection: adds the best earning candidate (BestAlone, then BestJoint) while one
+/// earns, at most max_causes, stopping when the residual on the selection trials is
+/// noise-like; `models` gets the model after each cause, `dx.causes` the causes.
+void ForwardSelect(const std::vector<effects::TrialRecord>& records, const std::vector<bool>& report,
+                   std::deque<Splits>& geometries, double base_sel, const ChannelWeights& w,
+                   std::vector<Stage>& models, Diagnosis& dx) {
+  const DiagnoseOptions& options = dx.options;
+  FitResult current = models.back().fit;
+  double current_sel = base_sel;
+  std::vector<EffectId> found;
+  while (static_cast<int>(found.size()) < options.max_causes) {
+    std::optional<Candidate> best =
+        found.empty() ? BestAlone(dx.ranking, base_sel)
+                      : BestJoint(geometries.back(), dx.ranking, found, current, current_sel, w, options);
+    if (!best) break;
+    if (records.front().gm_from_trials && best->fit.effects.back() == EffectId::kMarkerOffset)
+      RegeometryUnderLever(records, report, geometries, *best, current_sel, w, options, dx);
+    Cause c;
+    c.effect = best->fit.effects.back();
+    c.selection_gain = best->gain;
+    c.delta_bic = best->fit.bic - current.bic;
+    found.push_back(c.effect);
+    dx.causes.push_back(c);
+    current = std::move(best->fit);
+    current_sel = best->selection_error;
+    models.push_back({current, &geometries.back()});
+    const Splits& now = geometries.back();
+    if (Check(now.selection, records, now.selection_index, current.params, dx.noise, options.verdict)
+            .NoiseLike())
+      break;  // the stop: the residual on the selection trials is noise-like
+  }
+}
+
+/// The report: every figure read on the report trials, once, after every choice is made.
+/// The verdict's residual tests run on the selection + report trials (the report trials alone
+/// when there is no selection share); a cause counts for the verdict only when confirmed.
+void ReportOnHeldOut(const std::vector<effects::TrialRecord>& records,
+                     const std::vector<Stage>& models, const ChannelWeights& w, double noise_ms,
+                     Diagnosis& dx) {
+  const DiagnoseOptions& options = dx.options;
+  const Splits& base_splits = *models.front().splits;
+  const effects::ExtendedParams& base = models.front().fit.params;
+  const double base_error = HeldOutError(base_splits.report, base, w);
+  dx.base_heldout = PooledFitPct(base_splits.report, base);
+  {
+    std::vector<std::vector<double>> z, p;
+    for (std::size_t i : base_splits.report_index) {
+      z.push_back(records[i].z);
+      p.push_back(records[i].pitch);
+    }
+    dx.noise_floor = {NoiseFloorFitPct(z, dx.sigma_z), NoiseFloorFitPct(p, dx.sigma_pitch)};
+  }
+  for (RankEntry& e : dx.ranking) {
+    const double err = HeldOutError(base_splits.report, e.fit.params, w);
+    e.heldout_gain = base_error > 0.0 ? 1.0 - err / base_error : 0.0;
+    e.heldout = PooledFitPct(base_splits.report, e.fit.params);
+    e.evidence = dx.residuals.evidence[static_cast<int>(e.effect)] +
+                 Format("; extension removes %.0f %% of the selection error (earns at ≥ %.0f %% "
+                        "and ΔBIC < %.0f), %.0f %% of the held-out error",
+                        100.0 * e.selection_gain, 100.0 * options.min_heldout_gain,
+                        options.bic_threshold, 100.0 * e.heldout_gain);
+  }
+  // The tests of the verdict: selection + report trials under the last GM.
+  auto checked = [&](const Stage& s) {
+    const Splits& sp = *s.splits;
+    std::vector<FitTrial> trials = sp.report;
+    std::vector<std::size_t> index = sp.report_index;
+    if (!dx.selection_trials.empty()) {
+      trials.insert(trials.end(), sp.selection.begin(), sp.selection.end());
+      index.insert(index.end(), sp.selection_index.begin(), sp.selection_index.end());
+    }
+    return Check(trials, records, index, s.fit.params, dx.noise, options.verdict);
+  };
+  dx.base_check = checked(models.front());
+  dx.extended_check = checked(models.back());
+  // Each cause: its gain on the report trials (share of the base model's error above the noise)
+  // and whether the report trials confirm it.
+  const double base_excess = std::max(0.0, MeanSquareError(base_splits.report, base, w) - noise_ms);
+  std::size_t confirmed = 0;
+  for (std::size_t k = 0; k < dx.causes.size(); ++k) {
+    const Stage& before = models[k];
+    const Stage& after = models[k + 1];
+    const double e0 = std::max(0.0, MeanSquareError(before.splits->report, before.fit.params, w) - noise_ms);
+    const double e1 = std::max(0.0, MeanSquareError(after.splits->report, after.fit.params, w) - noise_ms);
+    Cause& c = dx.causes[k];
+    c.heldout_gain_pct = base_excess > 0.0 ? 100.0 * (e0 - e1) / base_excess : 0.0;
+    ConfirmOnReport(before.splits->report, before.fit.params, after.splits->report,
+                    after.fit.params, w, c);
+    const std::vector<double> ms0 = PerTrialMeanSquare(before.splits->report, before.fit.params, w);
+    const std::vector<double> ms1 = PerTrialMeanSquare(after.splits->report, after.fit.params, w);
+    c.report_trials = ms0.size();
+    for (std::size_t i = 0; i < ms0.size(); ++i) c.report_trials_improved += ms1[i] < ms0[i];
+    confirmed += c.confirmed;
+  }
+  dx.verdict = Decide(dx.base_check, confirmed, dx.extended_check);
+  dx.extended_heldout = dx.base_heldout;
+  if (dx.verdict == Verdict::kAdequate) {
+    dx.causes.clear();
+    dx.extended = models.front().fit;
+  }
+  for (const Cause& c : dx.causes) {
+    if (c.confirmed) {
+      dx.cause = effects::EffectName(c.effect);
+      break;
+    }
+  }
+  if (!dx.causes.empty()) {
+    const Splits& last = *models.back().splits;
+    dx.extended_heldout = PooledFitPct(last.report, dx.extended.params);
+    for (std::size_t i = 0; i < last.all.size(); ++i) {
+      const TrialResidual r = ComputeResidual(last.all[i], dx.extended.params);
+      if (!r.finite) continue;
+      dx.trials[i].z_ext = r.z_model;
+      dx.trials[i].pitch_ext = r.pitch_model;
+    }
+  }
+  dx.extended_parameters = NamedParameters(dx.extended);
+}
+
+}  // namespace
+
 Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records_given,
                    const DiagnoseOptions& options) {
   PWSIM_DEMAND(records_given.size() >= 2);
@@ -93,264 +469,49 @@ Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records_given,
     return a.name < b.name;
   });
   Diagnosis dx;
+  dx.options = options;
   dx.chair = records.front().chair;
   PWSIM_DEMAND(dx.chair.gm.has_value());
-  const std::vector<bool> held = ChooseHeldOut(records, &dx.split);
-  dx.selection = ChooseSelection(records, held);
+  const std::vector<bool> report = ChooseHeldOut(records, &dx.split);
+  dx.selection = ChooseSelection(records, report);
   for (std::size_t i = 0; i < records.size(); ++i) {
-    if (held[i]) dx.heldout_trials.push_back(records[i].name);
+    if (report[i]) dx.heldout_trials.push_back(records[i].name);
     else if (dx.selection[i]) dx.selection_trials.push_back(records[i].name);
     else dx.training_trials.push_back(records[i].name);
   }
-  // The splits as fit trials for `chair` (its GM; the records' own when null). Every candidate
-  // is simulated on identification's grid (FitStep), so each split but the training one (the
-  // fits put it there themselves) is put on it once here and serves the base model and every
-  // extension alike. Rebuilt when the GM is identified again under a marker lever, and then
-  // with a_x estimated from O_V's x rather than the marker's (a lever r_z turns a pitch
-  // oscillation into a swing of the measured x).
-  struct Splits {
-    std::vector<FitTrial> training, report, selection, all, checked;  ///< report: held out
-    std::vector<std::size_t> checked_index;  ///< records of `checked`
-  };
-  auto make_splits = [&](const Chair* chair, const effects::EffectParams* lever) {
-    Splits out;
-    for (std::size_t i = 0; i < records.size(); ++i) {
-      std::vector<double> accel;
-      if (lever) {
-        const TrackUnderLever o = TrackUnderMarkerLever(records[i], lever->marker_lever_x,
-                                                        lever->marker_lever_z, options.rest_window);
-        accel = effects::EstimateAcceleration(records[i].t, o.x);
-      }
-      FitTrial f = MakeFitTrial(records[i], chair ? *chair : records[i].chair, options.rest_window,
-                                std::move(accel));
-      out.all.push_back(f);
-      if (held[i] || dx.selection[i]) {
-        out.checked.push_back(f);
-        out.checked_index.push_back(i);
-      }
-      if (held[i]) out.report.push_back(std::move(f));
-      else if (dx.selection[i]) out.selection.push_back(std::move(f));
-      else out.training.push_back(std::move(f));
-    }
-    if (out.selection.empty()) out.selection = out.training;  // too few trials: choose on the training ones
-    if (out.checked.empty()) {
-      out.checked = out.report;
-      for (std::size_t i = 0; i < records.size(); ++i)
-        if (held[i]) out.checked_index.push_back(i);
-    }
-    out.report = WithFitStep(out.report, std::nullopt);
-    out.selection = WithFitStep(out.selection, std::nullopt);
-    out.checked = WithFitStep(out.checked, std::nullopt);
-    out.all = WithFitStep(out.all, std::nullopt);
-    return out;
-  };
-  Splits splits = make_splits(nullptr, nullptr);
-  const std::vector<FitTrial>& training = splits.training;
-  const std::vector<FitTrial>& heldout_base = splits.report;
-  const std::vector<FitTrial>& selection_base = splits.selection;
-  const std::vector<FitTrial>& checked_base = splits.checked;
-  const std::vector<FitTrial>& all = splits.all;
-  const std::vector<std::size_t>& checked_index = splits.checked_index;
-  const ChannelWeights w = MakeChannelWeights(training);
+  // The splits under each GM used (a deque: references stay valid); the last is current.
+  std::deque<Splits> geometries{MakeSplits(records, report, dx.selection, nullptr, nullptr, options.rest_window)};
+  const Splits& first = geometries.front();
+  const ChannelWeights w = MakeChannelWeights(first.training);
   const LumpedParams start = dx.chair.lm.value_or(LumpedParams{});
-  dx.base = FitModel(training, std::nullopt, start, w, options.fit);
-  const double base_error = HeldOutError(heldout_base, dx.base.params, w);
-  dx.base_heldout = PooledFitPct(heldout_base, dx.base.params);
+  dx.base = FitModel(first.training, std::nullopt, start, w, options.fit);
 
-  // Noise level and floor from the data alone.
+  // Noise model from the training + selection trials alone (noise_model.h).
   {
-    std::vector<std::vector<double>> z_all, p_all, z_held, p_held;
-    for (std::size_t i = 0; i < records.size(); ++i) {
-      z_all.push_back(records[i].z);
-      p_all.push_back(records[i].pitch);
-      if (held[i]) {
-        z_held.push_back(records[i].z);
-        p_held.push_back(records[i].pitch);
-      }
-    }
-    dx.sigma_z = PooledNoiseSigma(z_all);
-    dx.sigma_pitch = PooledNoiseSigma(p_all);
-    dx.noise_floor = {NoiseFloorFitPct(z_held, dx.sigma_z), NoiseFloorFitPct(p_held, dx.sigma_pitch)};
+    std::vector<effects::TrialRecord> chosen;
+    for (std::size_t i = 0; i < records.size(); ++i)
+      if (!report[i]) chosen.push_back(records[i]);
+    dx.noise = EstimateNoiseModel(chosen, options.rest_window);
   }
+  dx.sigma_z = dx.noise.z.sigma;
+  dx.sigma_pitch = dx.noise.pitch.sigma;
   const double noise_ms = 0.5 * (w.z * w.z * dx.sigma_z * dx.sigma_z +
                                  w.pitch * w.pitch * dx.sigma_pitch * dx.sigma_pitch);
-  dx.base_check = CheckResidual(ResidualRecords(checked_base, records, checked_index, dx.base.params),
-                                dx.sigma_z, dx.sigma_pitch, options.verdict);
+  // Decisions: the base model's residual on the selection trials.
+  const NoiseCheck base_selection = Check(first.selection, records, first.selection_index,
+                                          dx.base.params, dx.noise, options.verdict);
 
-  // Residual analysis of the base model on every trial.
-  for (std::size_t i = 0; i < all.size(); ++i) {
-    const TrialResidual r = ComputeResidual(all[i], dx.base.params);
-    TrialAnalysis a;
-    a.name = records[i].name;
-    a.heldout = held[i];
-    a.speed = records[i].speed;
-    a.load_kg = records[i].load_kg;
-    a.t = records[i].t;
-    a.x = records[i].x;
-    a.accel = all[i].prepared.accel;
-    a.z = records[i].z;
-    a.pitch = records[i].pitch;
-    a.z_base = r.z_model;
-    a.pitch_base = r.pitch_model;
-    a.z_ext = r.z_model;
-    a.pitch_ext = r.pitch_model;
-    a.z_gm = r.model.z_gm;
-    a.pitch_gm = r.model.pitch_gm;
-    dx.trials.push_back(std::move(a));
-  }
+  dx.trials = BaseAnalysis(records, report, first.all, dx.base.params);
   dx.residuals = Analyse(dx.trials, dx.chair, records);
 
-  // Round 1: every extension alone (the ranking).
-  const double base_sel = HeldOutError(selection_base, dx.base.params, w);
-  for (EffectId id : options.candidates) {
-    RankEntry e;
-    e.effect = id;
-    e.fit = FitModel(training, id, dx.base.params.lm, w, options.fit);
-    e.delta_bic = e.fit.bic - dx.base.bic;
-    const double err = HeldOutError(heldout_base, e.fit.params, w);
-    e.heldout_gain = base_error > 0.0 ? 1.0 - err / base_error : 0.0;
-    const double sel = HeldOutError(selection_base, e.fit.params, w);
-    e.selection_gain = base_sel > 0.0 ? 1.0 - sel / base_sel : 0.0;
-    e.heldout = PooledFitPct(heldout_base, e.fit.params);
-    e.earns = e.delta_bic < options.bic_threshold && e.selection_gain >= options.min_heldout_gain;
-    e.parameters = NamedParameters(e.fit);
-    e.evidence = dx.residuals.evidence[static_cast<int>(id)] +
-                 Format("; extension removes %.0f %% of the selection error, %.0f %% of the "
-                        "held-out error",
-                        100.0 * e.selection_gain, 100.0 * e.heldout_gain);
-    dx.ranking.push_back(std::move(e));
-  }
-  std::stable_sort(dx.ranking.begin(), dx.ranking.end(), [](const RankEntry& a, const RankEntry& b) {
-    if (a.earns != b.earns) return a.earns;
-    return a.selection_gain > b.selection_gain;
-  });
-
-  // Forward selection (skipped when the base model is adequate).
-  dx.extended = dx.base;
-  dx.extended_check = dx.base_check;
-  const double base_excess = std::max(0.0, MeanSquareError(heldout_base, dx.base.params, w) - noise_ms);
-  double previous_excess = base_excess;
-  if (!dx.base_check.NoiseLike()) {
-    FitResult current = dx.base;
-    double current_sel = base_sel;
-    std::vector<EffectId> found;
-    // Joint fits of the later rounds are screened with fewer iterations; the winner is then
-    // solved on (the joint fits are the expensive part of a diagnosis).
-    FitOptions screen = options.fit;
-    screen.max_iterations = std::min(options.fit.max_iterations, options.screen_iterations);
-    screen.multi_start = false;
-    while (static_cast<int>(found.size()) < options.max_causes) {
-      std::optional<FitResult> best;
-      double best_gain = -1e9, best_sel = 0.0;
-      if (found.empty()) {
-        for (const RankEntry& e : dx.ranking) {
-          if (e.earns && e.selection_gain > best_gain) {
-            best = e.fit;
-            best_gain = e.selection_gain;
-            best_sel = base_sel * (1.0 - e.selection_gain);
-          }
-        }
-      } else {
-        for (const RankEntry& solo : dx.ranking) {
-          const EffectId id = solo.effect;
-          if (std::find(found.begin(), found.end(), id) != found.end()) continue;
-          // Only extensions that improve the training fit on their own (ΔBIC below the
-          // threshold) are tried jointly: the joint fits are the expensive part.
-          if (!(solo.delta_bic < options.bic_threshold)) continue;
-          std::vector<EffectId> list = found;
-          list.push_back(id);
-          // The new extension starts where its own fit alone ended (that fit searched the
-          // family's starts and members), the causes found where they are.
-          effects::ExtendedParams from = current.params;
-          effects::CopyEffect(id, solo.fit.params.fx, from.fx);
-          FitResult f = FitModelJoint(training, list, from, w, screen);
-          const double sel = HeldOutError(selection_base, f.params, w);
-          const double gain = current_sel > 0.0 ? 1.0 - sel / current_sel : 0.0;
-          const bool earns = f.bic - current.bic < options.bic_threshold && gain >= options.min_heldout_gain;
-          if (earns && gain > best_gain) {
-            best = std::move(f);
-            best_gain = gain;
-            best_sel = sel;
-          }
-        }
-      }
-      if (!best) break;
-      if (!found.empty() && screen.max_iterations < options.fit.max_iterations) {
-        // The screened winner solved on to the full iterations (kept when it still earns).
-        FitOptions full = options.fit;
-        full.multi_start = false;
-        FitResult f = FitModelJoint(training, best->effects, best->params, w, full);
-        const double sel = HeldOutError(selection_base, f.params, w);
-        const double gain = current_sel > 0.0 ? 1.0 - sel / current_sel : 0.0;
-        if (f.bic - current.bic < options.bic_threshold && gain >= options.min_heldout_gain) {
-          best = std::move(f);
-          best_gain = gain;
-          best_sel = sel;
-        }
-      }
-      // A marker lever found in a set whose GM was identified on the measured x: that GM saw
-      // the wheels where the marker was, not where they were. The GM is identified again on
-      // the tracks corrected for the lever, and the causes so far re-fitted with it (kept when
-      // the selection trials agree). Without this, a later extension that can move the GM
-      // (the tyre family's suspension plane) earns by mending the GM instead of its own effect.
-      if (records.front().gm_from_trials && best->effects.back() == EffectId::kMarkerOffset) {
-        // Alternate GM and fit (the lever was fitted under the old GM) while the selection
-        // trials improve by more than 1 %; at most six rounds, each a refinement of the last.
-        FitOptions refine = options.fit;
-        refine.multi_start = false;
-        for (int round = 0; round < 6; ++round) {
-          Chair regeometry = dx.chair;
-          regeometry.gm = GeometryUnderMarkerLever(records, dx.chair, best->params.lm,
-                                                   best->params.fx.marker_lever_x,
-                                                   best->params.fx.marker_lever_z, options.rest_window);
-          Splits next = make_splits(&regeometry, &best->params.fx);
-          FitResult refit = FitModelJoint(next.training, best->effects, best->params, w, refine);
-          const double sel = HeldOutError(next.selection, refit.params, w);
-          if (!(sel < best_sel)) break;
-          const bool small = sel > 0.99 * best_sel;
-          splits = std::move(next);
-          dx.chair = regeometry;
-          dx.gm_under_marker = true;
-          best_gain = current_sel > 0.0 ? 1.0 - sel / current_sel : best_gain;
-          best_sel = sel;
-          best = std::move(refit);
-          if (small) break;
-        }
-      }
-      Cause c;
-      c.effect = best->effects.back();
-      c.selection_gain = best_gain;
-      c.delta_bic = best->bic - current.bic;
-      const double excess = std::max(0.0, MeanSquareError(heldout_base, best->params, w) - noise_ms);
-      c.heldout_gain_pct = base_excess > 0.0 ? 100.0 * (previous_excess - excess) / base_excess : 0.0;
-      previous_excess = excess;
-      found.push_back(c.effect);
-      dx.causes.push_back(c);
-      current = std::move(*best);
-      current_sel = best_sel;
-      dx.extended_check =
-          CheckResidual(ResidualRecords(checked_base, records, checked_index, current.params),
-                        dx.sigma_z, dx.sigma_pitch, options.verdict);
-      if (dx.extended_check.NoiseLike()) break;
-    }
-    dx.extended = current;
-  }
-  dx.verdict = Decide(dx.base_check, dx.causes.size(), dx.extended_check);
-  dx.extended_heldout = dx.base_heldout;
-  if (dx.verdict == Verdict::kAdequate) dx.causes.clear();
-  if (!dx.causes.empty()) {
-    dx.cause = effects::EffectName(dx.causes.front().effect);
-    dx.extended_heldout = PooledFitPct(heldout_base, dx.extended.params);
-    for (std::size_t i = 0; i < all.size(); ++i) {
-      const TrialResidual r = ComputeResidual(all[i], dx.extended.params);
-      if (!r.finite) continue;
-      dx.trials[i].z_ext = r.z_model;
-      dx.trials[i].pitch_ext = r.pitch_model;
-    }
-  } else {
-    dx.extended = dx.base;
-  }
-  dx.extended_parameters = NamedParameters(dx.extended);
+  // Every extension alone (the ranking), then forward selection, on training + selection.
+  const double base_sel = HeldOutError(first.selection, dx.base.params, w);
+  dx.ranking = Rank(first, dx.base, base_sel, w, options);
+  std::vector<Stage> models{{dx.base, &first}};  // the model after each cause
+  if (!base_selection.NoiseLike()) ForwardSelect(records, report, geometries, base_sel, w, models, dx);
+  dx.extended = models.back().fit;
+  dx.selected = dx.extended;
+  ReportOnHeldOut(records, models, w, noise_ms, dx);
   return dx;
 }
 

@@ -5,28 +5,32 @@
 //
 //  1. Split, three ways: `report` trials (one speed level, the middle one, as the paper
 //     validates at 1.2 m/s; with one speed level, one load level; else every third trial)
-//     are held out of every fit AND of every choice: the gains and fitness reported come from
-//     them. Of the rest, a `selection` share (every third by speed and load, rotating the
-//     load) decides which extensions earn; the remaining `training` trials are fitted.
+//     are held out of every fit AND of every choice: they are read once, at the end, to
+//     report. Of the rest, a `selection` share (every third by speed and load, rotating the
+//     load) decides; the remaining `training` trials are fitted.
 //  2. Base: GM from the chair (or identified on training + selection trials when the chair has
 //     none, sysid/identify/), LM re-identified by output error on the training trials.
-//  3. Noise level σ̂ and noise floor from the data alone (verdict.h). The base model's residual
-//     on the selection + report trials is tested against σ̂ (verdict.h (a)-(e): magnitude,
-//     position, whiteness, input correlation, speed and load). Noise-like → `adequate`.
-//  4. Residual analysis of the base model (residual_analysis.h): evidence lines per effect.
-//  5. Every extension fitted alone on the training trials (the ranking); then forward
-//     selection: the extension with the largest gain on the SELECTION trials earns when
+//  3. Noise model from the training + selection trials (noise_model.h): a level per channel
+//     and the noise's colour, from the rest before each trial's start.
+//  4. The base model's residual on the selection trials tested against it (verdict.h (a)-(e)):
+//     noise-like → no cause is looked for.
+//  5. Residual analysis of the base model (residual_analysis.h): evidence lines per effect.
+//  6. Every extension fitted alone on the training trials (the ranking; concurrently); then
+//     forward selection: the extension with the largest gain on the SELECTION trials earns when
 //     ΔBIC < bic_threshold (training) AND it removes ≥ min_heldout_gain of the selection
 //     error; it is added, every further candidate (those with ΔBIC < bic_threshold alone) is
-//     fitted JOINTLY with the ones found (starting where its fit alone ended; compared after
-//     screen_iterations, the winner solved on), and so on while one earns and the residual is
-//     not yet noise-like (at most max_causes). A marker lever, once found in a set whose GM
-//     came from the trials, has the GM identified again on the tracks corrected for it
+//     fitted JOINTLY with the ones found (concurrently; starting where its fit alone ended,
+//     only its own discrete member copied; compared after screen_iterations, the winner solved
+//     on), and so on while one earns, at most max_causes, stopping when the residual on the
+//     selection trials is noise-like. A marker lever, once found in a set whose GM came from
+//     the trials, has the GM identified again on the tracks corrected for it
 //     (GeometryUnderMarkerLever), alternating with the fit, and a_x taken from O_V's x.
-//  6. Report trials: fitness of base and extended model, each cause's gain as the share of
-//     the base model's error above the noise that adding it removed; the extended model's
-//     residual tested as in 3: noise-like → `explained`, else `partly_explained`; no cause →
-//     `unexplained` (with the failing tests as evidence).
+//  7. Report (ReportOnHeldOut in diagnose.cc): fitness of base and extended model on the
+//     report trials, each cause's gain as the share of the base model's error above the noise
+//     that adding it removed, and whether the report trials confirm it (Cause::confirmed); the
+//     residual tests on the selection + report trials: base noise-like → `adequate`; a
+//     confirmed cause and the extended model noise-like → `explained`, else
+//     `partly_explained`; no confirmed cause → `unexplained`.
 // Nothing tells the diagnosis which effect (if any) is hidden.
 
 #include <optional>
@@ -34,6 +38,7 @@
 #include <vector>
 
 #include "sysid/diagnose/greybox_fit.h"
+#include "sysid/diagnose/noise_model.h"
 #include "sysid/diagnose/residual_analysis.h"
 #include "sysid/diagnose/verdict.h"
 #include "sysid/effects/effect_catalog.h"
@@ -45,12 +50,15 @@ namespace pwsim::diagnose {
 struct DiagnoseOptions {
   double min_heldout_gain{0.10};  ///< share of the held-out error an extension must remove
   double bic_threshold{-10.0};    ///< ΔBIC (extended - base) an extension must beat
-  FitOptions fit;
+  FitOptions fit;  ///< threads 1 per fit: the candidates run concurrently (`threads`)
   std::vector<effects::EffectId> candidates{effects::AllEffects().begin(),
                                             effects::AllEffects().end()};
   double rest_window{0.25};  ///< [s] initial window that centres each channel
   int max_causes{3};         ///< forward selection stops after this many
   int screen_iterations{6};  ///< solver iterations of the joint fits compared in rounds ≥ 2
+  /// Candidate fits run concurrently on this many threads (each fit single-threaded: the
+  /// results are the same to the bit whatever the count).
+  int threads{2};
   VerdictOptions verdict;
 };
 
@@ -122,16 +130,26 @@ struct Cause {
   double heldout_gain_pct{0.0};   ///< [%] share of the report trials' error above noise removed
   double selection_gain{0.0};     ///< [-] share of the selection error removed when added
   double delta_bic{0.0};          ///< vs the model before it
+  /// The report trials confirm it: the one-sided 95 % lower bound of the reduction of their
+  /// weighted squared error, from the model before it to the model with it, is positive (its
+  /// uncertainty: Newey-West over the samples of each trial; diagnose.cc ConfirmOnReport).
+  bool confirmed{false};
+  double heldout_gain_lcb_pct{0.0};  ///< [%] that bound, relative to the error before
+  std::size_t report_trials{0};      ///< report trials judged
+  std::size_t report_trials_improved{0};  ///< of them, those whose error it reduced
 };
 
 struct Diagnosis {
-  std::string cause{"none"};
+  DiagnoseOptions options;         ///< the options of the run (its limits)
+  std::string cause{"none"};       ///< the first confirmed cause; none when none is confirmed
   Verdict verdict{Verdict::kUnexplained};
   std::vector<Cause> causes;       ///< in the order found
   FitPct noise_floor;              ///< [%] on the report trials
-  double sigma_z{0.0}, sigma_pitch{0.0};  ///< σ̂ [m], [rad]
-  NoiseCheck base_check, extended_check;  ///< selection + report trials
-  FitResult extended;              ///< the joint fit of every cause (base when none)
+  NoiseModel noise;                ///< from the training + selection trials (noise_model.h)
+  double sigma_z{0.0}, sigma_pitch{0.0};  ///< σ̂ [m], [rad] (noise.z.sigma, noise.pitch.sigma)
+  NoiseCheck base_check, extended_check;  ///< selection + report trials, read at the end
+  FitResult selected;              ///< the joint fit forward selection ended with (base: none)
+  FitResult extended;              ///< `selected`, or the base model when the verdict is adequate
   std::vector<std::pair<std::string, double>> extended_parameters;  ///< its parameters, named
   std::vector<std::string> selection_trials;
   std::vector<RankEntry> ranking;  ///< best first

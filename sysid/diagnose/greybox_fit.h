@@ -49,7 +49,7 @@ TrialResidual ComputeResidual(const FitTrial& trial, const effects::ExtendedPara
 
 struct FitOptions {
   int max_iterations{15};
-  int threads{2};
+  int threads{1};  ///< Ceres threads of one fit
   double function_tolerance{1e-6};
   /// FitModelJoint multi-starts its last effect; false: every effect starts from `start.fx`
   /// (a refinement of a previous fit).

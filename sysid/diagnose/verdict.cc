@@ -10,14 +10,6 @@
 namespace pwsim::diagnose {
 namespace {
 
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  const std::size_t mid = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + static_cast<long>(mid), v.end());
-  double m = v[mid];
-  if (v.size() % 2 == 0) m = 0.5 * (m + *std::max_element(v.begin(), v.begin() + static_cast<long>(mid)));
-  return m;
-}
 
 double MeanSquare(std::span<const double> e) {
   double s = 0.0;
@@ -48,17 +40,20 @@ double SlopeOf(const std::vector<double>& x, const std::vector<double>& y) {
   return sxx > 0.0 ? sxy / sxx : 0.0;
 }
 
-ChannelCheck CheckChannel(const std::vector<ResidualRecord>& records, bool pitch, double sigma,
-                          const VerdictOptions& o) {
+ChannelCheck CheckChannel(const std::vector<ResidualRecord>& records, bool pitch,
+                          const ChannelNoise& noise, const VerdictOptions& o) {
   ChannelCheck c;
+  const double sigma = noise.sigma_upper > 0.0 ? noise.sigma_upper : noise.sigma;
   c.sigma = sigma;
+  const double clip = o.clip_sigma * sigma;
+  auto square = [&](double v) { return sigma > 0.0 ? std::min(v * v, clip * clip) : v * v; };
   auto e_of = [&](const ResidualRecord& r) -> const std::vector<double>& { return pitch ? r.e_pitch : r.e_z; };
   auto u_of = [&](const ResidualRecord& r) -> const std::vector<double>& { return pitch ? r.gm_pitch : r.gm_z; };
   // (a) magnitude over every record.
   double sum = 0.0;
   std::size_t n = 0;
   for (const auto& r : records) {
-    for (double v : e_of(r)) sum += v * v;
+    for (double v : e_of(r)) sum += square(v);
     n += e_of(r).size();
   }
   c.rho = Rho(n > 0 ? sum / static_cast<double>(n) : 0.0, sigma);
@@ -82,10 +77,12 @@ ChannelCheck CheckChannel(const std::vector<ResidualRecord>& records, bool pitch
   c.rho_local = 0.0;
   for (const Window& w : windows) {
     const auto& e = e_of(records[w.record]);
-    const double nw = static_cast<double>(w.end - w.begin);
+    const double nw = noise.EffectiveSamples(w.end - w.begin);
     const boost::math::chi_squared_distribution<double> chi(nw);
     const double q = boost::math::quantile(boost::math::complement(chi, o.alpha / m)) / nw;
-    const double rho = Rho(MeanSquare(std::span<const double>(e).subspan(w.begin, w.end - w.begin)), sigma, q);
+    double ms = 0.0;
+    for (std::size_t k = w.begin; k < w.end; ++k) ms += square(e[k]);
+    const double rho = Rho(ms / static_cast<double>(w.end - w.begin), sigma, q);
     if (rho > c.rho_local) {
       c.rho_local = rho;
       const std::size_t mid = (w.begin + w.end) / 2;
@@ -108,9 +105,14 @@ ChannelCheck CheckChannel(const std::vector<ResidualRecord>& records, bool pitch
     weight += w;
   }
   c.whiteness = weight > 0.0 ? rbar / weight : 0.0;
-  c.whiteness_bound = weight > 0.0 ? kZ99 / std::sqrt(5.0 * weight) : 0.0;
+  c.whiteness_noise = noise.MeanAutocorrelation(5);
+  double bartlett = 1.0;
+  for (std::size_t k = 1; k < noise.acf.size(); ++k) bartlett += 2.0 * noise.acf[k] * noise.acf[k];
+  c.whiteness_bound = weight > 0.0 ? kZ99 * std::sqrt(bartlett) / std::sqrt(5.0 * weight) : 0.0;
   const double rmax2 = o.rho_max * o.rho_max;
-  c.whiteness_fails = c.whiteness > rmax2 / (1.0 + rmax2) && c.whiteness > c.whiteness_bound;
+  const double excess = c.whiteness - c.whiteness_noise;
+  const double share = c.whiteness_noise < 1.0 ? excess / (1.0 - c.whiteness_noise) : 0.0;
+  c.whiteness_fails = share > rmax2 / (1.0 + rmax2) && excess > c.whiteness_bound;
   // (d) input correlation: the worst record.
   for (const auto& r : records) {
     if (e_of(r).size() < 60 || u_of(r).size() != e_of(r).size()) continue;
@@ -134,14 +136,16 @@ ChannelCheck CheckChannel(const std::vector<ResidualRecord>& records, bool pitch
 }
 
 std::string ChannelLine(const char* name, const ChannelCheck& c, const VerdictOptions& o) {
-  char buf[512];
+  char buf[1024];
   std::snprintf(buf, sizeof(buf),
-                "%s: structured RMS %.2f σ (limit %.2f)%s, worst 0.5 s window %.2f σ at x = %.2f m in %s%s, "
-                "whiteness r̄ %.2f%s, input |r| %.2f%s, ρ vs speed %+.2f per m/s, vs load %+.2f per 100 kg",
-                name, c.rho, o.rho_max, c.magnitude_fails ? " FAILS" : "", c.rho_local, c.local_x,
-                c.local_trial.empty() ? "-" : c.local_trial.c_str(), c.local_fails ? " FAILS" : "",
-                c.whiteness, c.whiteness_fails ? " FAILS" : "", c.input_r, c.input_fails ? " FAILS" : "",
-                c.speed_slope, c.load_slope);
+                "%s: structured RMS %.2f σ (limit %.2f)%s, worst %.2g s window %.2f σ (limit %.2f) at "
+                "x = %.2f m in %s%s, whiteness r̄ %.2f (noise %.2f)%s, input |r| %.2f (limit %.2f)%s, "
+                "ρ vs speed %+.2f per m/s, vs load %+.2f per 100 kg",
+                name, c.rho, o.rho_max, c.magnitude_fails ? " FAILS" : "", o.window_s, c.rho_local,
+                o.rho_local, c.local_x, c.local_trial.empty() ? "-" : c.local_trial.c_str(),
+                c.local_fails ? " FAILS" : "", c.whiteness, c.whiteness_noise,
+                c.whiteness_fails ? " FAILS" : "", c.input_r, o.input_r_max,
+                c.input_fails ? " FAILS" : "", c.speed_slope, c.load_slope);
   return buf;
 }
 
@@ -176,24 +180,28 @@ double NoiseFloorFitPct(const std::vector<std::vector<double>>& records, double 
   return 100.0 * (1.0 - std::sqrt(n * sigma * sigma) / std::sqrt(dev));
 }
 
-NoiseCheck CheckResidual(const std::vector<ResidualRecord>& records, double sigma_z,
-                         double sigma_pitch, const VerdictOptions& options) {
+NoiseCheck CheckResidual(const std::vector<ResidualRecord>& records, const NoiseModel& noise,
+                         const VerdictOptions& options) {
   NoiseCheck check;
-  check.z = CheckChannel(records, false, sigma_z, options);
-  check.pitch = CheckChannel(records, true, sigma_pitch, options);
+  check.z = CheckChannel(records, false, noise.z, options);
+  check.pitch = CheckChannel(records, true, noise.pitch, options);
+  check.options = options;
   return check;
 }
 
+NoiseCheck CheckResidual(const std::vector<ResidualRecord>& records, double sigma_z,
+                         double sigma_pitch, const VerdictOptions& options) {
+  return CheckResidual(records, NoiseModel{WhiteNoise(sigma_z), WhiteNoise(sigma_pitch)}, options);
+}
+
 std::string NoiseCheck::Evidence() const {
-  const VerdictOptions o;
+  const VerdictOptions& o = options;
   return std::string(NoiseLike() ? "residual cannot be told from noise; " : "residual is structured; ") +
          ChannelLine("Z", z, o) + "; " + ChannelLine("pitch", pitch, o);
 }
 
 Verdict Decide(const NoiseCheck& base, std::size_t causes, const NoiseCheck& extended) {
-  if (base.NoiseLike()) return Verdict::kAdequate;
-  if (causes == 0) return Verdict::kUnexplained;
-  return extended.NoiseLike() ? Verdict::kExplained : Verdict::kPartlyExplained;
+  return DecideVerdict(base.NoiseLike(), causes, extended.NoiseLike());
 }
 
 }  // namespace pwsim::diagnose

@@ -12,16 +12,22 @@
 //
 // A residual e is "noise-like" when, in both channels, none of these tests fails
 // (ρ = structured RMS in units of σ̂; structure S and white noise σ add in power):
+// The noise model (σ̂ and the noise's autocorrelation r_n) comes from the data (noise_model.h);
+// |e| beyond clip_sigma σ̂ (5) is clipped to it in (a) and (b) (outliers of the mocap). σ̂ in
+// (a) and (b) is the noise level's one-sided 95 % upper bound (ChannelNoise::sigma_upper).
 //  (a) magnitude: ρ = sqrt(max(0, mean e² - σ̂²)) / σ̂ > rho_max (0.75) fails;
 //  (b) position (on the terrain, in the trial): in windows of `window_s`, the structured RMS
 //      beyond the χ² allowance, ρ_w = sqrt(max(0, mean_w e² - σ̂² q_w)) / σ̂ with
-//      q_w = χ²_{n_w}(1 - α/m) / n_w (α = 0.01, Bonferroni over the m windows), fails when the
+//      q_w = χ²_{ν}(1 - α/m) / ν (α = 0.01, Bonferroni over the m windows; ν the window's
+//      effective samples under the noise's autocorrelation, n_w for white noise), fails when the
 //      worst window exceeds rho_local (1.5): a localised error, e.g. at the obstacle (1.0 at first; the
 //      paper's small-angle contact geometry leaves ≈ 1.05 σ at the ramps of independently
 //      simulated no-effect sets, so 1.5: a local error below it is not called structure);
-//  (c) whiteness: the mean normalised autocorrelation at lags 1..5, r̄ ≈ S²/(S² + σ²) for a
-//      slow structure S in white noise (independent of σ̂), fails when r̄ > rho_max²/(1+rho_max²)
-//      and r̄ exceeds the white-noise 99 % bound 2.58/√(5N);
+//  (c) whiteness, against the noise's own colour: the mean normalised autocorrelation at lags
+//      1..5 is r̄ ≈ (S² + σ² r̄_n)/(S² + σ²) for a slow structure S in noise of mean
+//      autocorrelation r̄_n, so the structure's power share is (r̄ − r̄_n)/(1 − r̄_n); it fails
+//      when that share > rho_max²/(1+rho_max²) and r̄ − r̄_n exceeds the 99 % bound
+//      2.58/√(5N), widened by Bartlett's factor sqrt(1 + 2 Σ_k r_n(k)²) for coloured noise;
 //  (d) input correlation: the largest |r| between e and the channel's GM output at lags ±25
 //      (residual_analysis.h) fails when > input_r_max (0.4) and outside its 99 % bound;
 //  (e) speed and load: ρ per trial against speed and load is evidence only (too few trials to
@@ -41,6 +47,7 @@
 #include <string>
 #include <vector>
 
+#include "sysid/diagnose/noise_model.h"
 #include "sysid/diagnosis_verdict.h"
 
 namespace pwsim::diagnose {
@@ -71,16 +78,18 @@ struct VerdictOptions {
   double window_s{0.5};     ///< (b) [s]
   double alpha{0.01};       ///< (b) family-wise false-alarm rate
   double input_r_max{0.4};  ///< (d)
+  double clip_sigma{5.0};   ///< (a), (b): |e| above clip_sigma σ̂ counts as clip_sigma σ̂ (outliers)
 };
 
 struct ChannelCheck {
-  double sigma{0.0};           ///< σ̂ used
+  double sigma{0.0};           ///< σ̂ used (the noise model's upper bound)
   double rho{0.0};             ///< (a)
   double rho_local{0.0};       ///< (b) worst window
   std::string local_trial;     ///< (b) where
   double local_t{0.0};         ///< [s] window centre
   double local_x{0.0};         ///< [m] O_V at the window centre
   double whiteness{0.0};       ///< (c) r̄
+  double whiteness_noise{0.0};  ///< (c) r̄ of the noise model itself
   double whiteness_bound{0.0};
   double input_r{0.0};         ///< (d)
   double input_bound{0.0};
@@ -92,11 +101,15 @@ struct ChannelCheck {
 
 struct NoiseCheck {
   ChannelCheck z, pitch;
+  VerdictOptions options;  ///< the limits used
   bool NoiseLike() const { return z.NoiseLike() && pitch.NoiseLike(); }
   std::string Evidence() const;  ///< one line: what fails where, or that nothing does
 };
 
-/// Runs tests (a)-(e) on `records` with noise levels σ̂_z [m], σ̂_θ [rad].
+/// Runs tests (a)-(e) on `records` against the noise model (noise_model.h).
+NoiseCheck CheckResidual(const std::vector<ResidualRecord>& records, const NoiseModel& noise,
+                         const VerdictOptions& options = {});
+/// The same with white noise of levels σ̂_z [m], σ̂_θ [rad].
 NoiseCheck CheckResidual(const std::vector<ResidualRecord>& records, double sigma_z,
                          double sigma_pitch, const VerdictOptions& options = {});
 

@@ -78,6 +78,12 @@ TEST_F(DiagnoseCliTest, GenerateHiddenEffectThenDiagnose) {
   ASSERT_GE(j["causes"].size(), 1u);
   EXPECT_EQ(j["causes"][0]["effect"], "inertial_pitch");
   EXPECT_GT(j["causes"][0]["heldout_gain_pct"].get<double>(), 50.0);
+  // Additions of docs/diagnosis.md: confirmed by the report trials, and the verdict's inputs.
+  EXPECT_TRUE(j["causes"][0]["confirmed"].get<bool>());
+  EXPECT_GT(j["causes"][0]["heldout_gain_lcb_pct"].get<double>(), 0.0);
+  EXPECT_EQ(j["verdict_inputs"]["limits"]["rho_max"].get<double>(), 0.75);
+  EXPECT_GT(j["verdict_inputs"]["noise"]["z"]["sigma"].get<double>(), 0.0);
+  EXPECT_FALSE(j["verdict_inputs"]["base"]["noise_like"].get<bool>());
   for (const char* ch : {"z", "pitch"}) {
     EXPECT_GE(j["noise_floor_fit_pct"][ch].get<double>(), j["heldout_fit_pct"]["extended"][ch].get<double>() - 1.0);
     EXPECT_LT(j["noise_floor_fit_pct"][ch].get<double>(), 100.0);
@@ -119,6 +125,27 @@ TEST_F(DiagnoseCliTest, BadInputFailsWithoutAReport) {
             2);
   EXPECT_NE(Read(root_ / "usage.log").find("wheel_radius"), std::string::npos);
   EXPECT_EQ(RunPwsim("diagnose " + (trials / "v0.60_m0_cushion_r1").string(), root_ / "one.log"), 2);
+  EXPECT_EQ(RunPwsim("diagnose" + TrialDirs(trials) + " --rho-max -1 --out " + out.string(), root_ / "rho.log"), 2);
+  EXPECT_NE(Read(root_ / "rho.log").find("--rho-max"), std::string::npos);
+}
+
+TEST_F(DiagnoseCliTest, GenerateRefusesBadOptionsNamingThem) {
+  const std::string out = " --out " + (root_ / "g").string();
+  // A value that is not a number: the option and the expected form are named (not "stod").
+  EXPECT_EQ(RunPwsim("generate" + out + " --effect tyre_compliance --effect-params caster_tyre_period_s=soft",
+                     root_ / "p.log"),
+            2);
+  const std::string p = Read(root_ / "p.log");
+  EXPECT_NE(p.find("--effect-params"), std::string::npos) << p;
+  EXPECT_NE(p.find("NAME=VALUE"), std::string::npos) << p;
+  EXPECT_EQ(p.find("stod"), std::string::npos) << p;
+  // Out of range: the option, its range and the value given.
+  EXPECT_EQ(RunPwsim("generate" + out + " --speeds 0.6,-1", root_ / "s.log"), 2);
+  EXPECT_NE(Read(root_ / "s.log").find("--speeds"), std::string::npos);
+  EXPECT_EQ(RunPwsim("generate" + out + " --noise-low-pass-hz 80 --rate-hz 100", root_ / "n.log"), 2);
+  EXPECT_NE(Read(root_ / "n.log").find("--noise-low-pass-hz"), std::string::npos);
+  EXPECT_EQ(RunPwsim("generate" + out + " --drop-fraction 0.7", root_ / "d.log"), 2);
+  EXPECT_FALSE(fs::exists(root_ / "g"));
 }
 
 }  // namespace

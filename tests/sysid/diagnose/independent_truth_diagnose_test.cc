@@ -67,11 +67,13 @@ std::vector<std::string> Causes(const Diagnosis& dx) {
   return out;
 }
 
-/// The hidden effect is the first cause, the model is not called adequate, and the cause
-/// removes more than `min_gain_pct` of the report trials' error above the noise.
+/// The hidden effect is the first cause, confirmed by the report trials, the model is not
+/// called adequate, and the cause removes more than `min_gain_pct` of the report trials' error
+/// above the noise.
 void ExpectNamedFirst(const TruthRun& run, const std::string& effect, double min_gain_pct) {
   ASSERT_FALSE(run.dx.causes.empty()) << run.dx.base_check.Evidence();
   EXPECT_EQ(run.dx.cause, effect);
+  EXPECT_TRUE(run.dx.causes.front().confirmed) << run.dx.causes.front().heldout_gain_lcb_pct;
   EXPECT_NE(run.dx.verdict, Verdict::kAdequate);
   EXPECT_GT(run.dx.causes.front().heldout_gain_pct, min_gain_pct);
 }
@@ -139,19 +141,32 @@ TEST(IndependentTruthDiagnoseTest, SoftCasterTyresInSeriesAreNamedWithTheirStiff
 // Every tyre much softer than the suspension (the truth's form 1 at strength 1.4: casters 5 Hz
 // on 3 kg, drive wheels 6.4 Hz on 8 kg). The chair then rocks on its tyres, lightly damped, by
 // up to ±0.27 rad after the cushion. The family must find the caster tyre (its compliance
-// within 25 % of the truth's 1/k_t). It is named with a NEGATIVE held-out gain: on the report
-// trials the exact rigid-body geometry of so large a rocking (wheel positions x_i cos θ,
-// anchors x_i sin θ) drifts in phase from every small-angle model, the paper's base included.
-// The twin below, the same truth with its kinematics linearised, shows the gain is then there.
+// within 25 % of the truth's 1/k_t). Its held-out gain is NEGATIVE: on the report trials the
+// exact rigid-body geometry of so large a rocking (wheel positions x_i cos θ, anchors x_i sin θ)
+// drifts in phase from every small-angle model, the paper's base included. So the report trials
+// do not confirm it: it is reported with its figures, unconfirmed, and cannot make the verdict
+// explained or partly_explained. The twin below, the same truth with its kinematics linearised,
+// shows the gain is then there and confirmed.
 double CasterCompliance(const truth::TruthEffects& fx) {
   const double omega = 2.0 * std::numbers::pi * fx.caster_tyre_hz;
   return 1.0 / (fx.caster_unsprung_kg * omega * omega);
 }
 
-TEST(IndependentTruthDiagnoseTest, EveryTyreSoftIsFound) {
+TEST(IndependentTruthDiagnoseTest, EveryTyreSoftIsFoundButNotConfirmed) {
   const TruthRun run = DiagnoseTruth({"tyre_compliance"}, 1.4, 1, 102);
-  ExpectNamedFirst(run, "tyre_compliance", -1e9);  // no gain asked of it: see above
-  EXPECT_NEAR(run.dx.extended.params.fx.caster_tyre_compliance / CasterCompliance(run.set.effects), 1.0, 0.25);
+  ASSERT_FALSE(run.dx.causes.empty()) << run.dx.base_check.Evidence();
+  const Cause& first = run.dx.causes.front();
+  EXPECT_EQ(effects::EffectName(first.effect), std::string("tyre_compliance"));
+  EXPECT_LT(first.heldout_gain_pct, 0.0);
+  EXPECT_FALSE(first.confirmed);
+  EXPECT_LT(first.heldout_gain_lcb_pct, 0.0);
+  bool any_confirmed = false;
+  for (const Cause& c : run.dx.causes) any_confirmed = any_confirmed || c.confirmed;
+  if (!any_confirmed) {
+    EXPECT_EQ(run.dx.verdict, Verdict::kUnexplained);
+    EXPECT_EQ(run.dx.cause, "none");
+  }
+  EXPECT_NEAR(run.dx.selected.params.fx.caster_tyre_compliance / CasterCompliance(run.set.effects), 1.0, 0.25);
 }
 
 TEST(IndependentTruthDiagnoseTest, EveryTyreSoftGainsUnderSmallAngleKinematics) {
