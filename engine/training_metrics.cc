@@ -78,6 +78,8 @@ TrainingMetrics ComputeTrainingMetrics(const CircuitSpec& circuit, const std::ve
   int forward_side = Side(first.forward), turn_side = Side(first.turn);
   bool neutral = forward_side == 0 && turn_side == 0;
   bool anti_tip_before = first.on_anti_tip, tip_before = first.tip_over, lifted_before = first.lift_off_count > 0;
+  const auto h = static_cast<std::size_t>(std::max(1L, std::lround(kJerkStep / dt)));
+  const double step3 = std::pow(static_cast<double>(h) * dt, 3);
   std::vector<double> jerk;
   jerk.reserve(trace.size());
   for (std::size_t k = 0; k < trace.size(); ++k) {
@@ -112,11 +114,11 @@ TrainingMetrics ComputeTrainingMetrics(const CircuitSpec& circuit, const std::ve
     if (neutral && !now_neutral) ++m.joystick_commands;
     neutral = now_neutral;
     // head jerk
-    if (k >= 3) {
+    if (k >= 3 * h) {
       double sq = 0.0;
       for (std::size_t i = 0; i < 3; ++i) {
-        const double j = (s.head[i] - 3.0 * trace[k - 1].head[i] + 3.0 * trace[k - 2].head[i] - trace[k - 3].head[i]) /
-                         (dt * dt * dt);
+        const double j =
+            (s.head[i] - 3.0 * trace[k - h].head[i] + 3.0 * trace[k - 2 * h].head[i] - trace[k - 3 * h].head[i]) / step3;
         sq += j * j;
       }
       jerk.push_back(std::sqrt(sq));

@@ -16,8 +16,11 @@
 //   joystick          a command begins when the deflection leaves the neutral zone
 //                     (|f| ≤ 0.1 and |t| ≤ 0.1); a reversal is a sign change of f (or of t)
 //                     between ±0.1 (the neutral zone in between ignored): counts of each.
-//   head jerk         j_k = (p_k - 3 p_{k-1} + 3 p_{k-2} - p_{k-3}) / dt³ of the head position
-//                     (third backward difference), |j_k|: RMS, 95th percentile, max [m/s³].
+//   head jerk         j_k = (p_k - 3 p_{k-h} + 3 p_{k-2h} - p_{k-3h}) / (h dt)³ of the head position
+//                     (third backward difference over steps of h = round(50 ms / dt) ticks, at
+//                     least 1: the jerk of the motion a person feels, below ~10 Hz, not the
+//                     model's tick-to-tick chatter, which a 1 ms stencil amplifies by 10⁹),
+//                     |j_k|: RMS, 95th percentile, max [m/s³].
 //   near-tips         episodes (rising edges) on the anti-tip wheels; tip-overs: episodes with
 //                     the centre of pressure outside the support polygon; lift-offs: episodes
 //                     with a ground wheel unloaded (lift_off_count > 0), and their total time.
@@ -75,6 +78,7 @@ struct TrainingMetrics {
 inline constexpr double kJoystickNeutral = 0.1;   ///< neutral zone of |deflection| [-]
 inline constexpr double kClearanceCap = 2.0;      ///< clearance search range [m]
 inline constexpr double kCloseClearance = 0.1;    ///< "close" [m]
+inline constexpr double kJerkStep = 0.05;         ///< stencil step of the head jerk [s]
 
 /// The route the deviation is measured from (see above); fewer than 2 points: none.
 std::vector<Point2> TrainingRoute(const CircuitSpec& circuit);

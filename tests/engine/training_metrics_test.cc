@@ -106,7 +106,8 @@ TEST(TrainingMetricsTest, SixTickTraceGivesTheHandComputedFigures) {
   // forward: + then - (1) then + (2), the neutral tick in between ignored; turn: + then - (1)
   EXPECT_EQ(m.forward_reversals, 2);
   EXPECT_EQ(m.turn_reversals, 1);
-  // x = t³ has the third difference 6 dt³ exactly (up to rounding); z = 2 t² none
+  // x = t³ has the third difference 6 (h dt)³ exactly (up to rounding; h = 1 at dt = 0.1 s);
+  // z = 2 t² none
   EXPECT_NEAR(m.head_jerk_rms_mps3, 6.0, 1e-9);
   EXPECT_NEAR(m.head_jerk_p95_mps3, 6.0, 1e-9);
   EXPECT_NEAR(m.head_jerk_max_mps3, 6.0, 1e-9);
@@ -114,6 +115,26 @@ TEST(TrainingMetricsTest, SixTickTraceGivesTheHandComputedFigures) {
   EXPECT_EQ(m.tip_overs, 1);
   EXPECT_EQ(m.lift_offs, 2);
   EXPECT_NEAR(m.lift_off_time_s, 0.3, 1e-12);
+}
+
+// Tests the head jerk's 50 ms stencil at 1 kHz: a cubic's jerk exactly, a 1 kHz ripple of
+// ±1 µm on it (whose 1 ms third difference would be 8e-6 / 1e-9 = 8000 m/s³) barely.
+TEST(TrainingMetricsTest, HeadJerkIsTakenOver50MsSteps) {
+  const CircuitSpec c = EmptyCircuit();
+  const double dt = 1e-3;
+  std::vector<TrainingTick> trace(1001);
+  for (std::size_t k = 0; k < trace.size(); ++k) {
+    const double t = static_cast<double>(k) * dt;
+    trace[k].t = t;
+    trace[k].head = {0.5 * t * t * t, 0.0, 0.0};  // jerk 3 m/s³
+  }
+  TrainingMetrics m = ComputeTrainingMetrics(c, trace, dt);
+  EXPECT_NEAR(m.head_jerk_rms_mps3, 3.0, 1e-6);
+  EXPECT_NEAR(m.head_jerk_max_mps3, 3.0, 1e-6);
+  for (std::size_t k = 0; k < trace.size(); ++k) trace[k].head[0] += (k % 2 == 0 ? 1e-6 : -1e-6);
+  m = ComputeTrainingMetrics(c, trace, dt);
+  // steps of 50 ticks keep the ripple's parity: it cancels in the stencil (1 - 3 + 3 - 1 = 0)
+  EXPECT_NEAR(m.head_jerk_max_mps3, 3.0, 1e-3);
 }
 
 // Tests that a run that misses a gate is not completed, and that a circuit without gates or a
