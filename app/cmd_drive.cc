@@ -97,6 +97,18 @@ std::unique_ptr<hw::JoystickSource> OpenJoystick(const std::string& spec, int ra
 void WriteJoystickReport(const hw::JoystickSource& joystick, std::uint64_t invalid_polls,
                          const std::filesystem::path& out);
 
+/// The links opened (false, said on stderr, when one cannot be) and the output folder made.
+bool OpenDriveSession(const ParsedArgs& args, const Clock& clock, double duration, const std::filesystem::path& out,
+                      SessionSetup* setup) {
+  const std::string link_error = SetUpSession(args, clock, duration, setup);
+  if (!link_error.empty()) {
+    std::cerr << "pwsim drive: " << link_error << "\n";
+    return false;
+  }
+  std::filesystem::create_directories(out);
+  return true;
+}
+
 /// The drive as a live session: joystick -> car -> MCA -> supervisor -> CAN, eye pose -> HMD.
 int DriveSession(const ParsedArgs& args, const vehicle::CarScene& scene, hw::JoystickSource& joystick,
                  double duration) {
@@ -104,13 +116,8 @@ int DriveSession(const ParsedArgs& args, const vehicle::CarScene& scene, hw::Joy
   if (!mca_config.platform.Has(mca::Dof::kSurge) || !mca_config.platform.Has(mca::Dof::kYaw))
     throw UsageError("car scene platform '" + mca_config.platform.name + "' lacks surge or yaw");
   SessionSetup setup;
-  const std::string link_error = SetUpSession(args, scene.clock, duration, &setup);
-  if (!link_error.empty()) {
-    std::cerr << "pwsim drive: " << link_error << "\n";
-    return 1;
-  }
   const std::filesystem::path out = args.Get("out");
-  std::filesystem::create_directories(out);
+  if (!OpenDriveSession(args, scene.clock, duration, out, &setup)) return 1;
   hw::CarDriveSource source(scene, mca_config, joystick);
   std::cout << "pwsim drive: car '" << scene.car.name << "' driven live by " << joystick.name() << "\n";
   const int status = RunAndReport("pwsim drive", args, setup, source, out);
@@ -123,13 +130,8 @@ int DriveSession(const ParsedArgs& args, const vehicle::CarScene& scene, hw::Joy
 int DriveChairSession(const ParsedArgs& args, const Scene& scene, const std::string& scene_path,
                       hw::JoystickSource& joystick, double duration) {
   SessionSetup setup;
-  const std::string link_error = SetUpSession(args, scene.clock, duration, &setup);
-  if (!link_error.empty()) {
-    std::cerr << "pwsim drive: " << link_error << "\n";
-    return 1;
-  }
   const std::filesystem::path out = args.Get("out");
-  std::filesystem::create_directories(out);
+  if (!OpenDriveSession(args, scene.clock, duration, out, &setup)) return 1;
   // the metrics cover the drive up to the stop request (the park after it is not scored)
   hw::ChairDriveSource source(scene, joystick, setup.config.run_ticks);
   std::cout << "pwsim drive: chair '" << scene.name << "' through its circuit, driven live by " << joystick.name()
