@@ -52,12 +52,6 @@ int PlanCommand(const ParsedArgs& args) {
   const study::StudyPlan plan = study::MakePlan(options);
   WriteFileAtomically(out / "plan.csv", study::PlanCsv(plan));
   WriteFileAtomically(out / "ratings_template.csv", study::RatingsTemplateCsv(plan));
-  if (args.Has("circuit")) {  // training runs: one circuit run per participant and condition
-    WriteFileAtomically(out / "runs.csv", report::PlannedRunsCsv(plan, args.Get("circuit")));
-    std::cout << "  " << (out / "runs.csv").string() << ": a run of " << args.Get("circuit")
-              << " per trial (pwsim drive ... --out DIR/runs/P_K_CONDITION, then pwsim study metrics "
-              << (out / "runs.csv").string() << ")\n";
-  }
   std::cout << "pwsim study plan: " << options.participants << " participants, "
             << plan.sequences.size() << " counterbalanced sequences (";
   for (std::size_t s = 0; s < plan.sequences.size(); ++s) {
@@ -66,6 +60,12 @@ int PlanCommand(const ParsedArgs& args) {
     std::cout << ": " << plan.participants_per_sequence[s];
   }
   std::cout << ")\n  " << (out / "plan.csv").string() << ", " << (out / "ratings_template.csv").string() << "\n";
+  if (args.Has("circuit")) {  // training runs: one circuit run per participant and condition
+    WriteFileAtomically(out / "runs.csv", report::PlannedRunsCsv(plan, args.Get("circuit")));
+    std::cout << "  " << (out / "runs.csv").string() << ": a run of " << args.Get("circuit")
+              << " per trial (pwsim drive ... --out DIR/runs/P_K_CONDITION, then pwsim study metrics "
+              << (out / "runs.csv").string() << ")\n";
+  }
   return 0;
 }
 
