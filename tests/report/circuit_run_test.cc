@@ -6,6 +6,7 @@
 #include "report/run_circuit.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -29,8 +30,11 @@ namespace fs = std::filesystem;
 
 const fs::path kCircuit = fs::path(PWSIM_SOURCE_DIR) / "tests/report/testdata/circuit_small.yaml";
 
+/// A fresh folder of this process: CTest runs each test of a suite as its own process, in
+/// parallel, and each runs the suite's set-up; a shared folder would be removed under another.
 fs::path Scratch(const std::string& name) {
-  const fs::path dir = fs::path(PWSIM_BINARY_DIR) / "circuit_run_test" / name;
+  const fs::path dir =
+      fs::path(PWSIM_BINARY_DIR) / "circuit_run_test" / (name + "-" + std::to_string(::getpid()));
   fs::remove_all(dir);
   return dir;
 }
