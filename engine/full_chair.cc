@@ -68,11 +68,12 @@ std::vector<std::array<double, 2>> ConvexHull(std::vector<std::array<double, 2>>
 
 /// Inside (or on the edge of) a counter-clockwise convex polygon.
 bool InsideConvex(const std::vector<std::array<double, 2>>& polygon, double x, double y) {
-  const std::size_t n = polygon.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    const auto& a = polygon[i];
-    const auto& b = polygon[(i + 1) % n];
-    if ((b[0] - a[0]) * (y - a[1]) - (b[1] - a[1]) * (x - a[0]) < 0.0) return false;
+  // every edge (a, b), starting with the closing one (p[n-1], p[0]): no integer division per edge
+  if (polygon.empty()) return true;
+  const std::array<double, 2>* a = &polygon.back();
+  for (const std::array<double, 2>& b : polygon) {
+    if ((b[0] - (*a)[0]) * (y - (*a)[1]) - (b[1] - (*a)[1]) * (x - (*a)[0]) < 0.0) return false;
+    a = &b;
   }
   return true;
 }
@@ -351,10 +352,9 @@ void FullChairSimulator::Vertical(double pitch_torque, double roll_torque) {
 
   const LumpedInput input{gm_begin.z, sample_.gm.z, gm_begin.pitch, sample_.gm.pitch, pitch_torque};
   sample_.lm = Step(lumped_, sample_.lm, input);
-  const double inv_dt = 1.0 / lumped_.dt;
-  sample_.z_gm_rate = (sample_.gm.z - gm_begin.z) * inv_dt;
-  sample_.pitch_gm_rate = (sample_.gm.pitch - gm_begin.pitch) * inv_dt;
-  sample_.roll_gm_rate = (roll_gm - roll_begin) * inv_dt;
+  sample_.z_gm_rate = (sample_.gm.z - gm_begin.z) * lumped_.inv_dt;
+  sample_.pitch_gm_rate = (sample_.gm.pitch - gm_begin.pitch) * lumped_.inv_dt;
+  sample_.roll_gm_rate = (roll_gm - roll_begin) * lumped_.inv_dt;
   sample_.pitch_torque = pitch_torque;
   sample_.lm_acc = Accelerations(lumped_.params, sample_.lm, sample_.gm.z, sample_.z_gm_rate,
                                  sample_.gm.pitch, sample_.pitch_gm_rate, pitch_torque);
