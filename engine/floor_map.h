@@ -49,8 +49,11 @@ namespace floor_detail {
 /// s(u): 1 inside the interval away from its edges, tapering linearly to 0 over `ramp`.
 inline double Taper(double u, double lo, double hi, double ramp) {
   if (u < lo || u > hi) return 0.0;
-  if (ramp <= 0.0) return 1.0;
-  return std::clamp(std::min(u - lo, hi - u) / ramp, 0.0, 1.0);
+  const double inset = std::min(u - lo, hi - u);
+  // inset >= ramp gives inset / ramp >= 1 (a rounded quotient keeps its side of 1): clamped to
+  // 1 without the division
+  if (inset >= ramp) return 1.0;
+  return std::clamp(inset / ramp, 0.0, 1.0);
 }
 
 }  // namespace floor_detail
