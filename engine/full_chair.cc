@@ -245,6 +245,9 @@ FullChairSimulator::FullChairSimulator(const Chair& chair, const PlanarLayout& l
   inv_roll_inertia_ = 1.0 / roll_params_.inertia;
   inv_track_ = 1.0 / track_;
   inv_wheelbase_ = 1.0 / (front_x_ - rear_x_);
+  motor_force_limit_ = layout.max_motor_torque / layout.drive_radius;
+  half_mass_ = 0.5 * mass_;
+  integral_gain_ = 0.25 * layout.speed_loop_gain * layout.speed_loop_gain;
   for (int i = 0; i < rows_; ++i) inv_row_track_[i] = 1.0 / (2.0 * layout.rows[i].half_track);
 
   ground_contacts_ = 2 * rows_;
@@ -528,7 +531,7 @@ const FullChairSample& FullChairSimulator::AdvanceSetpoints(const ControllerStat
     const int c = 2 * drive_row_ + side;
     const double wheel_speed = v + sign * w * half_b;
     const double load = std::max(sample_.contacts[c].load, 0.0);
-    limit[side] = std::min(layout_.max_motor_torque / layout_.drive_radius, layout_.friction * load);
+    limit[side] = std::min(motor_force_limit_, layout_.friction * load);
     rolling[side] = braked ? 0.0 : -layout_.rolling_resistance * load * std::clamp(wheel_speed * 100.0, -1.0, 1.0);
     if (braked) {
       sample_.speed_error_integral[side] = 0.0;
@@ -539,7 +542,7 @@ const FullChairSample& FullChairSimulator::AdvanceSetpoints(const ControllerStat
     const double error = wheel_set - wheel_speed;
     const double k_v = layout_.speed_loop_gain;
     double& integral = sample_.speed_error_integral[side];
-    double drive = 0.5 * mass_ * (wheel_accel + k_v * error + 0.25 * k_v * k_v * integral);
+    double drive = half_mass_ * (wheel_accel + k_v * error + integral_gain_ * integral);
     if (std::abs(drive) > limit[side]) {
       drive = std::copysign(limit[side], drive);
       limited = true;
