@@ -34,9 +34,8 @@ const ChairSample& ChairSimulator::Advance(const Longitudinal& drive) {
 
   const LumpedInput input{gm_begin.z, sample_.gm.z, gm_begin.pitch, sample_.gm.pitch, torque};
   sample_.lm = Step(lumped_, sample_.lm, input);
-  const double inv_dt = 1.0 / lumped_.dt;
-  sample_.z_gm_rate = (sample_.gm.z - gm_begin.z) * inv_dt;
-  sample_.pitch_gm_rate = (sample_.gm.pitch - gm_begin.pitch) * inv_dt;
+  sample_.z_gm_rate = (sample_.gm.z - gm_begin.z) * lumped_.inv_dt;
+  sample_.pitch_gm_rate = (sample_.gm.pitch - gm_begin.pitch) * lumped_.inv_dt;
   sample_.pitch_torque = torque;
   sample_.lm_acc = Accelerations(lumped_.params, sample_.lm, sample_.gm.z, sample_.z_gm_rate,
                                  sample_.gm.pitch, sample_.pitch_gm_rate, torque);

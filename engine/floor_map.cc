@@ -7,27 +7,6 @@
 #include "engine/number_format.h"
 
 namespace pwsim {
-namespace {
-
-/// s(u): 1 inside the interval away from its edges, tapering linearly to 0 over `ramp`.
-double Taper(double u, double lo, double hi, double ramp) {
-  if (u < lo || u > hi) return 0.0;
-  if (ramp <= 0.0) return 1.0;
-  return std::clamp(std::min(u - lo, hi - u) / ramp, 0.0, 1.0);
-}
-
-}  // namespace
-
-double FloorFeature::HeightAt(double x_W, double y_W) const {
-  const double sx = Taper(x_W, x_min, x_max, ramp);
-  if (sx == 0.0) return 0.0;
-  const double sy = Taper(y_W, y_min, y_max, ramp);
-  if (sy == 0.0) return 0.0;
-  if (kind == Kind::kBump) return height * sx * sy;
-  const double xc = has_origin ? origin_x : 0.5 * (x_min + x_max);
-  const double yc = has_origin ? origin_y : 0.5 * (y_min + y_max);
-  return (grade_x * (x_W - xc) + grade_y * (y_W - yc)) * sx * sy;
-}
 
 FloorFeature BumpFeature(double x_min, double x_max, double y_min, double y_max, double height, double ramp) {
   FloorFeature f;
@@ -68,14 +47,6 @@ double HeightGrid::HeightAt(double x_W, double y_W) const {
 double FloorMap::HeightAt(double x_W, double y_W) const {
   double z = profile.HeightAt(x_W);
   if (features.empty() && !grid) return z;  // the sagittal terrain, bit for bit
-  for (const FloorFeature& feature : features) z += feature.HeightAt(x_W, y_W);
-  if (grid) z += grid->HeightAt(x_W, y_W);
-  return z;
-}
-
-double FloorMap::HeightAtNear(double x_W, double y_W, std::size_t& hint) const {
-  double z = profile.HeightAtNear(x_W, hint);
-  if (features.empty() && !grid) return z;
   for (const FloorFeature& feature : features) z += feature.HeightAt(x_W, y_W);
   if (grid) z += grid->HeightAt(x_W, y_W);
   return z;

@@ -17,6 +17,7 @@
 // With only a profile, HeightAt(x, y) returns z_profile(x) bit for bit (the full-DoF chair on a
 // straight run reproduces the sagittal ChairSimulator exactly).
 
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <vector>
@@ -42,6 +43,32 @@ struct FloorFeature {
   /// f_k(x, y) [m].
   double HeightAt(double x_W, double y_W) const;
 };
+
+namespace floor_detail {
+
+/// s(u): 1 inside the interval away from its edges, tapering linearly to 0 over `ramp`.
+inline double Taper(double u, double lo, double hi, double ramp) {
+  if (u < lo || u > hi) return 0.0;
+  const double inset = std::min(u - lo, hi - u);
+  // inset >= ramp gives inset / ramp >= 1 (a rounded quotient keeps its side of 1): clamped to
+  // 1 without the division
+  if (inset >= ramp) return 1.0;
+  return std::clamp(inset / ramp, 0.0, 1.0);
+}
+
+}  // namespace floor_detail
+
+// Inline: every contact of the full-DoF chair looks up the floor every tick.
+inline double FloorFeature::HeightAt(double x_W, double y_W) const {
+  const double sx = floor_detail::Taper(x_W, x_min, x_max, ramp);
+  if (sx == 0.0) return 0.0;
+  const double sy = floor_detail::Taper(y_W, y_min, y_max, ramp);
+  if (sy == 0.0) return 0.0;
+  if (kind == Kind::kBump) return height * sx * sy;
+  const double xc = has_origin ? origin_x : 0.5 * (x_min + x_max);
+  const double yc = has_origin ? origin_y : 0.5 * (y_min + y_max);
+  return (grade_x * (x_W - xc) + grade_y * (y_W - yc)) * sx * sy;
+}
 
 /// A bump of height `height` [m] on [x_min, x_max] × [y_min, y_max] tapered over `ramp` [m].
 FloorFeature BumpFeature(double x_min, double x_max, double y_min, double y_max, double height, double ramp);
@@ -72,6 +99,14 @@ struct FloorMap {
   /// Highest point of every layer, summed (an upper bound, for rendering and checks) [m].
   double MaxHeightBound() const;
 };
+
+inline double FloorMap::HeightAtNear(double x_W, double y_W, std::size_t& hint) const {
+  double z = profile.HeightAtNear(x_W, hint);
+  if (features.empty() && !grid) return z;
+  for (const FloorFeature& feature : features) z += feature.HeightAt(x_W, y_W);
+  if (grid) z += grid->HeightAt(x_W, y_W);
+  return z;
+}
 
 /// A floor that is the sagittal terrain alone.
 FloorMap FloorFromTerrain(const Terrain& terrain);

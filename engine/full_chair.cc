@@ -68,11 +68,12 @@ std::vector<std::array<double, 2>> ConvexHull(std::vector<std::array<double, 2>>
 
 /// Inside (or on the edge of) a counter-clockwise convex polygon.
 bool InsideConvex(const std::vector<std::array<double, 2>>& polygon, double x, double y) {
-  const std::size_t n = polygon.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    const auto& a = polygon[i];
-    const auto& b = polygon[(i + 1) % n];
-    if ((b[0] - a[0]) * (y - a[1]) - (b[1] - a[1]) * (x - a[0]) < 0.0) return false;
+  // every edge (a, b), starting with the closing one (p[n-1], p[0]): no integer division per edge
+  if (polygon.empty()) return true;
+  const std::array<double, 2>* a = &polygon.back();
+  for (const std::array<double, 2>& b : polygon) {
+    if ((b[0] - (*a)[0]) * (y - (*a)[1]) - (b[1] - (*a)[1]) * (x - (*a)[0]) < 0.0) return false;
+    a = &b;
   }
   return true;
 }
@@ -244,6 +245,9 @@ FullChairSimulator::FullChairSimulator(const Chair& chair, const PlanarLayout& l
   inv_roll_inertia_ = 1.0 / roll_params_.inertia;
   inv_track_ = 1.0 / track_;
   inv_wheelbase_ = 1.0 / (front_x_ - rear_x_);
+  motor_force_limit_ = layout.max_motor_torque / layout.drive_radius;
+  half_mass_ = 0.5 * mass_;
+  integral_gain_ = 0.25 * layout.speed_loop_gain * layout.speed_loop_gain;
   for (int i = 0; i < rows_; ++i) inv_row_track_[i] = 1.0 / (2.0 * layout.rows[i].half_track);
 
   ground_contacts_ = 2 * rows_;
@@ -351,10 +355,9 @@ void FullChairSimulator::Vertical(double pitch_torque, double roll_torque) {
 
   const LumpedInput input{gm_begin.z, sample_.gm.z, gm_begin.pitch, sample_.gm.pitch, pitch_torque};
   sample_.lm = Step(lumped_, sample_.lm, input);
-  const double inv_dt = 1.0 / lumped_.dt;
-  sample_.z_gm_rate = (sample_.gm.z - gm_begin.z) * inv_dt;
-  sample_.pitch_gm_rate = (sample_.gm.pitch - gm_begin.pitch) * inv_dt;
-  sample_.roll_gm_rate = (roll_gm - roll_begin) * inv_dt;
+  sample_.z_gm_rate = (sample_.gm.z - gm_begin.z) * lumped_.inv_dt;
+  sample_.pitch_gm_rate = (sample_.gm.pitch - gm_begin.pitch) * lumped_.inv_dt;
+  sample_.roll_gm_rate = (roll_gm - roll_begin) * lumped_.inv_dt;
   sample_.pitch_torque = pitch_torque;
   sample_.lm_acc = Accelerations(lumped_.params, sample_.lm, sample_.gm.z, sample_.z_gm_rate,
                                  sample_.gm.pitch, sample_.pitch_gm_rate, pitch_torque);
@@ -528,7 +531,7 @@ const FullChairSample& FullChairSimulator::AdvanceSetpoints(const ControllerStat
     const int c = 2 * drive_row_ + side;
     const double wheel_speed = v + sign * w * half_b;
     const double load = std::max(sample_.contacts[c].load, 0.0);
-    limit[side] = std::min(layout_.max_motor_torque / layout_.drive_radius, layout_.friction * load);
+    limit[side] = std::min(motor_force_limit_, layout_.friction * load);
     rolling[side] = braked ? 0.0 : -layout_.rolling_resistance * load * std::clamp(wheel_speed * 100.0, -1.0, 1.0);
     if (braked) {
       sample_.speed_error_integral[side] = 0.0;
@@ -539,7 +542,7 @@ const FullChairSample& FullChairSimulator::AdvanceSetpoints(const ControllerStat
     const double error = wheel_set - wheel_speed;
     const double k_v = layout_.speed_loop_gain;
     double& integral = sample_.speed_error_integral[side];
-    double drive = 0.5 * mass_ * (wheel_accel + k_v * error + 0.25 * k_v * k_v * integral);
+    double drive = half_mass_ * (wheel_accel + k_v * error + integral_gain_ * integral);
     if (std::abs(drive) > limit[side]) {
       drive = std::copysign(limit[side], drive);
       limited = true;

@@ -264,6 +264,9 @@ class FullChairSimulator {
   CasterStepConstants caster_constants_;
   double inv_mass_{0.0}, inv_yaw_inertia_D_{0.0}, inv_dt_{0.0}, inv_roll_inertia_{0.0};
   double inv_track_{0.0}, inv_wheelbase_{0.0};
+  double motor_force_limit_{0.0};  ///< max motor torque / drive radius [N]
+  double half_mass_{0.0};          ///< M / 2 [kg], each drive wheel's share of the body
+  double integral_gain_{0.0};      ///< k_v² / 4 [1/s²] of the speed loops
   std::array<double, kMaxWheels> inv_row_track_{};  ///< 1 / (2 half_track_i)  ///< cos ψ, sin ψ carried with the yaw (small_rotation.h)
   double floor_cos_pitch_{1.0}, floor_sin_pitch_{0.0}, floor_cos_roll_{1.0}, floor_sin_roll_{0.0};
   std::array<double, kMaxContacts> caster_cos_{}, caster_sin_{};  ///< of each caster's δ

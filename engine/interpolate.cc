@@ -18,23 +18,6 @@ KnotSegment FindKnotSegment(std::span<const double> x, double xq) {
   return {k, s};
 }
 
-KnotSegment FindKnotSegmentNear(std::span<const double> x, double xq, std::size_t& hint) {
-  const std::size_t last = x.size() - 1;  // segments 0 .. last - 1
-  for (std::size_t k = hint; k < std::min(hint + 2, last); ++k) {
-    // k is FindKnotSegment's segment when x[k] <= xq < x[k + 1] (the first segment also takes
-    // queries before the knots, the last one queries from its end on)
-    const bool above_start = k == 0 || x[k] <= xq;
-    const bool below_end = k + 1 == last || xq < x[k + 1];
-    if (above_start && below_end) {
-      hint = k;
-      return {k, std::clamp((xq - x[k]) / (x[k + 1] - x[k]), 0.0, 1.0)};
-    }
-  }
-  const KnotSegment found = FindKnotSegment(x, xq);
-  hint = found.k;
-  return found;
-}
-
 double InterpolateLinear(std::span<const double> x, std::span<const double> y, double xq) {
   PWSIM_DEMAND(x.size() == y.size() && !x.empty());
   if (xq >= x.back()) return y.back();  // held exactly (Lerp at s = 1 may round)

@@ -8,6 +8,7 @@
 // This form returns y_k exactly at s = 0. A query exactly on an interior knot starts the
 // segment there (s = 0), so knot values come back bit for bit.
 
+#include <algorithm>
 #include <cstddef>
 #include <span>
 #include <vector>
@@ -30,7 +31,22 @@ KnotSegment FindKnotSegment(std::span<const double> x, double xq);
 /// The same segment as FindKnotSegment (same k, same s, same bits), searched first at `hint`
 /// and the segment after it (a query that moves little between calls: one comparison or two
 /// instead of a binary search); `hint` is updated to the segment found.
-KnotSegment FindKnotSegmentNear(std::span<const double> x, double xq, std::size_t& hint);
+inline KnotSegment FindKnotSegmentNear(std::span<const double> x, double xq, std::size_t& hint) {
+  const std::size_t last = x.size() - 1;  // segments 0 .. last - 1
+  for (std::size_t k = hint; k < std::min(hint + 2, last); ++k) {
+    // k is FindKnotSegment's segment when x[k] <= xq < x[k + 1] (the first segment also takes
+    // queries before the knots, the last one queries from its end on)
+    const bool above_start = k == 0 || x[k] <= xq;
+    const bool below_end = k + 1 == last || xq < x[k + 1];
+    if (above_start && below_end) {
+      hint = k;
+      return {k, std::clamp((xq - x[k]) / (x[k + 1] - x[k]), 0.0, 1.0)};
+    }
+  }
+  const KnotSegment found = FindKnotSegment(x, xq);
+  hint = found.k;
+  return found;
+}
 
 /// y at xq, linear between the knots (x strictly increasing, same size as y, >= 2), held at
 /// the end values outside [x.front(), x.back()].

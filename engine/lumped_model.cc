@@ -39,33 +39,10 @@ DiscreteLumpedModel Discretize(const LumpedModelParams& params, double dt) {
   DiscreteLumpedModel model;
   model.params = params;
   model.dt = dt;
+  model.inv_dt = 1.0 / dt;
   model.heave = MakeAxisPropagator(params.heave, dt);
   model.pitch = MakeAxisPropagator(params.pitch, dt);
   return model;
-}
-
-LumpedState Step(const DiscreteLumpedModel& model, const LumpedState& state,
-                 const LumpedInput& input) {
-  const double inv_dt = 1.0 / model.dt;
-  LumpedState next = state;
-  AdvanceAxis(model.heave, next.z, next.z_rate, input.z_gm_begin,
-          (input.z_gm_end - input.z_gm_begin) * inv_dt, 0.0);
-  AdvanceAxis(model.pitch, next.pitch, next.pitch_rate, input.pitch_gm_begin,
-          (input.pitch_gm_end - input.pitch_gm_begin) * inv_dt, input.pitch_torque);
-  return next;
-}
-
-LumpedAcceleration Accelerations(const LumpedModelParams& params, const LumpedState& state,
-                                 double z_gm, double z_gm_rate, double pitch_gm,
-                                 double pitch_gm_rate, double pitch_torque) {
-  LumpedAcceleration acc;
-  acc.z = (-params.heave.damping * (state.z_rate - z_gm_rate) -
-           params.heave.stiffness * (state.z - z_gm)) /
-          params.heave.inertia;
-  acc.pitch = (pitch_torque - params.pitch.damping * (state.pitch_rate - pitch_gm_rate) -
-               params.pitch.stiffness * (state.pitch - pitch_gm)) /
-              params.pitch.inertia;
-  return acc;
 }
 
 }  // namespace pwsim

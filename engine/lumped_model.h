@@ -68,7 +68,8 @@ inline void AdvanceAxis(const AxisPropagator& p, double& q, double& q_rate, doub
 
 struct DiscreteLumpedModel {
   LumpedModelParams params;
-  double dt{1e-3};  ///< [s]
+  double dt{1e-3};      ///< [s]
+  double inv_dt{1e3};   ///< 1/dt, computed once by Discretize [1/s]
   AxisPropagator heave;
   AxisPropagator pitch;
 };
@@ -76,17 +77,34 @@ struct DiscreteLumpedModel {
 /// Precomputes the exact propagators. @pre dt > 0, every inertia > 0.
 DiscreteLumpedModel Discretize(const LumpedModelParams& params, double dt);
 
-/// Advances one step of length model.dt. Same inputs, same bits; no allocation.
-LumpedState Step(const DiscreteLumpedModel& model, const LumpedState& state,
-                 const LumpedInput& input);
+/// Advances one step of length model.dt. Same inputs, same bits; no allocation. Inline: it is
+/// the inner step of every chair tick.
+inline LumpedState Step(const DiscreteLumpedModel& model, const LumpedState& state,
+                        const LumpedInput& input) {
+  LumpedState next = state;
+  AdvanceAxis(model.heave, next.z, next.z_rate, input.z_gm_begin,
+              (input.z_gm_end - input.z_gm_begin) * model.inv_dt, 0.0);
+  AdvanceAxis(model.pitch, next.pitch, next.pitch_rate, input.pitch_gm_begin,
+              (input.pitch_gm_end - input.pitch_gm_begin) * model.inv_dt, input.pitch_torque);
+  return next;
+}
 
 /// Accelerations (Z̈, θ̈) from eq. (3) at a state, given GM output, its rate and the torque.
 struct LumpedAcceleration {
   double z{0.0};      ///< [m/s^2]
   double pitch{0.0};  ///< [rad/s^2]
 };
-LumpedAcceleration Accelerations(const LumpedModelParams& params, const LumpedState& state,
-                                 double z_gm, double z_gm_rate, double pitch_gm,
-                                 double pitch_gm_rate, double pitch_torque);
+inline LumpedAcceleration Accelerations(const LumpedModelParams& params, const LumpedState& state,
+                                        double z_gm, double z_gm_rate, double pitch_gm,
+                                        double pitch_gm_rate, double pitch_torque) {
+  LumpedAcceleration acc;
+  acc.z = (-params.heave.damping * (state.z_rate - z_gm_rate) -
+           params.heave.stiffness * (state.z - z_gm)) /
+          params.heave.inertia;
+  acc.pitch = (pitch_torque - params.pitch.damping * (state.pitch_rate - pitch_gm_rate) -
+               params.pitch.stiffness * (state.pitch - pitch_gm)) /
+              params.pitch.inertia;
+  return acc;
+}
 
 }  // namespace pwsim

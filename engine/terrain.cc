@@ -21,13 +21,6 @@ double Terrain::HeightAt(double x_W) const {
   return InterpolateLinear(x, z, x_W);
 }
 
-double Terrain::HeightAtNear(double x_W, std::size_t& hint) const {
-  // the branches of HeightAt and InterpolateLinear, in the same order, with the hinted search
-  if (x.empty() || x_W <= x.front() || x_W >= x.back()) return HeightAt(x_W);
-  const KnotSegment seg = FindKnotSegmentNear(x, x_W, hint);
-  return Lerp(z[seg.k], z[seg.k + 1], seg.s);
-}
-
 double Terrain::SlopeAt(double x_W) const {
   if (x.size() < 2 || x_W < x.front() || x_W >= x.back()) return 0.0;
   const std::size_t k = FindKnotSegment(x, x_W).k;

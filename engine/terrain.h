@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/interpolate.h"
 #include "engine/yaml_reader.h"
 
 namespace pwsim {
@@ -25,6 +26,13 @@ struct Terrain {
   /// Highest point of the profile [m].
   double MaxHeight() const;
 };
+
+inline double Terrain::HeightAtNear(double x_W, std::size_t& hint) const {
+  // the branches of HeightAt and InterpolateLinear, in the same order, with the hinted search
+  if (x.empty() || x_W <= x.front() || x_W >= x.back()) return HeightAt(x_W);
+  const KnotSegment seg = FindKnotSegmentNear(x, x_W, hint);
+  return Lerp(z[seg.k], z[seg.k + 1], seg.s);
+}
 
 /// The paper's speed cushion: flat, a 0.30 m ramp up to `height` from `start_x`, a plateau of
 /// `plateau_length`, a ramp down, flat until `end_x`.
