@@ -48,6 +48,7 @@ const CommandSpec& DriveSpec() {
           {"duration", "S", "s", "", "drive time (default: the scene's duration_s)"},
           {"no-realtime", "", "-", "", "step as fast as possible instead of at the clock rate"},
           {"out", "DIR", "-", "out/drive", "output folder (drive.csv; with --can: session.log, can.log, report.json, joystick.json)"},
+          McaAlgorithmOptionSpec(),
       },
       "SCENE  a pwsim-scene/1 YAML file with kind: car"};
     // With --can (given explicitly) the drive runs as a live session on these links.
@@ -59,6 +60,15 @@ const CommandSpec& DriveSpec() {
 }
 
 namespace {
+
+/// The car scene's MCA configuration with --mca over its mca.algorithm.
+mca::McaConfig DriveMcaConfig(const ParsedArgs& args, const vehicle::CarScene& scene) {
+  mca::McaConfig config = mca::LoadCarMcaConfig(scene);
+  if (const std::optional<mca::McaAlgorithm> algorithm = McaAlgorithmOption(args)) {
+    mca::ChooseAlgorithm(*algorithm, config);
+  }
+  return config;
+}
 
 /// The joystick named by `spec` (see the --joystick option).
 std::unique_ptr<hw::JoystickSource> OpenJoystick(const std::string& spec, int rate_hz, double timeout_ms) {
@@ -90,7 +100,7 @@ std::unique_ptr<hw::JoystickSource> OpenJoystick(const std::string& spec, int ra
 /// The drive as a live session: joystick -> car -> MCA -> supervisor -> CAN, eye pose -> HMD.
 int DriveSession(const ParsedArgs& args, const vehicle::CarScene& scene, hw::JoystickSource& joystick,
                  double duration) {
-  const mca::McaConfig mca_config = mca::LoadCarMcaConfig(scene);
+  const mca::McaConfig mca_config = DriveMcaConfig(args, scene);
   if (!mca_config.platform.Has(mca::Dof::kSurge) || !mca_config.platform.Has(mca::Dof::kYaw))
     throw UsageError("car scene platform '" + mca_config.platform.name + "' lacks surge or yaw");
   SessionSetup setup;
@@ -102,12 +112,14 @@ int DriveSession(const ParsedArgs& args, const vehicle::CarScene& scene, hw::Joy
   const std::filesystem::path out = args.Get("out");
   std::filesystem::create_directories(out);
   hw::CarDriveSource source(scene, mca_config, joystick);
-  std::cout << "pwsim drive: car '" << scene.car.name << "' driven live by " << joystick.name() << "\n";
+  std::cout << "pwsim drive: car '" << scene.car.name << "' driven live by " << joystick.name() << ", mca "
+            << mca::McaAlgorithmName(mca_config.algorithm) << "\n";
   const int status = RunAndReport("pwsim drive", args, setup, source, out);
   // What the joystick delivered: OUT/joystick.json and a line.
   nlohmann::ordered_json j;
   j["format"] = "pwsim-drive-joystick/1";
   j["joystick"] = joystick.name();
+  j["mca"] = mca::McaAlgorithmName(mca_config.algorithm);
   j["invalid_polls"] = source.invalid_polls();
   std::cout << "  joystick invalid (lost or unplugged) on " << source.invalid_polls() << " polls\n";
   const hw::RnetJoystickCounters* c = nullptr;
@@ -165,7 +177,10 @@ int DriveCommand(const ParsedArgs& args) {
   } else {
     scripted = vehicle::SimulateCarScene(scene);  // the scene's own controls
   }
-  hw::CarLiveLoop loop(scene, mca::LoadCarMcaConfig(scene));
+  const mca::McaConfig mca_config = DriveMcaConfig(args, scene);
+  hw::CarLiveLoop loop(scene, mca_config);
+  std::cout << "pwsim drive: mca " << mca::McaAlgorithmName(mca_config.algorithm) << " on platform '"
+            << mca_config.platform.name << "'\n";
   const std::size_t rows = static_cast<std::size_t>(ticks) + 1;
   std::vector<double> t(rows), x(rows), y(rows), yaw(rows), v(rows), rpm(rows), gear(rows), throttle(rows),
       brake(rows), clutch(rows), steer(rows), rail(rows), turn(rows), cue_x(rows), cue_y(rows), late(rows);
