@@ -112,7 +112,9 @@ TEST(OmctTest, MpcAtMidFrequencyIsSane) {
       const bool direct = test.input == test.output;
       EXPECT_TRUE(m.within_limits) << platform.name << " " << name;
       EXPECT_GT(m.gain, 0.0) << name;
-      if (direct) EXPECT_LE(m.gain, 1.2) << name;
+      if (direct) {
+        EXPECT_LE(m.gain, 1.2) << name;
+      }
       if (name == "q_to_fx" || name == "p_to_fy") {
         EXPECT_LT(m.gain, w.gain) << platform.name << " " << name;
         ++compared;
