@@ -10,6 +10,11 @@ namespace pwsim::mca {
 namespace {
 
 const std::filesystem::path kSource(PWSIM_SOURCE_DIR);
+/// A chair scene up to its mca/platform sections, for a file next to scenes/.
+const std::string kSceneHead =
+    "format: pwsim-scene/1\nname: t\nterrain: ../assets/terrains/speed_cushion.yaml\n"
+    "chair: ../assets/chairs/table1_pw6.yaml\nload_kg: 100\n"
+    "drive: {speed_mps: 1.2, accel_mps2: 0.8, stop_x_m: 7.0}\n";
 
 // Tests that a scene without mca/platform sections gets the documented defaults, and that the
 // repository's speed-cushion scene loads.
@@ -22,10 +27,7 @@ TEST(ConfigTest, DefaultsAndRepositoryScene) {
 
 // Tests a platform path relative to the scene, inline mca values, and strict errors.
 TEST(ConfigTest, SectionsFromScene) {
-  const std::string base =
-      "format: pwsim-scene/1\nname: t\nterrain: ../assets/terrains/speed_cushion.yaml\n"
-      "chair: ../assets/chairs/table1_pw6.yaml\nload_kg: 100\n"
-      "drive: {speed_mps: 1.2, accel_mps2: 0.8, stop_x_m: 7.0}\n";
+  const std::string base = kSceneHead;
   const std::filesystem::path label = kSource / "scenes/inline.yaml";
   const Scene scene = ParseScene(base +
                                      "platform: platforms/car2dof.yaml\n"
@@ -56,10 +58,7 @@ TEST(ConfigTest, SectionsFromScene) {
 // Tests that a platform (inline or file) may name its algorithm and MPC settings, and that the
 // scene's mca: overrides them key by key.
 TEST(ConfigTest, AlgorithmFromPlatform) {
-  const std::string base =
-      "format: pwsim-scene/1\nname: t\nterrain: ../assets/terrains/speed_cushion.yaml\n"
-      "chair: ../assets/chairs/table1_pw6.yaml\nload_kg: 100\n"
-      "drive: {speed_mps: 1.2, accel_mps2: 0.8, stop_x_m: 7.0}\n";
+  const std::string base = kSceneHead;
   const std::filesystem::path label = kSource / "scenes/inline.yaml";
   const std::string platform =
       "platform:\n  name: rig\n  algorithm: mpc\n  mpc: {horizon_s: 1.5, block_s: 0.1}\n"
