@@ -7,7 +7,11 @@
 // each tick steps the car and the MCA (hardware/car_live.h) and logs the platform command
 // (DIR/drive.csv). With --can the drive is a live session instead: joystick -> car -> MCA ->
 // safety supervisor -> CiA 402 over CAN, camera pose to the HMD, the replayable session log,
-// and the joystick -> platform command / HMD frame latencies in DIR/report.json. Wiring only.
+// and the joystick -> platform command / HMD frame latencies in DIR/report.json.
+// A circuit scene (a wheelchair scene with `circuit:`) is driven the same way, always as a live
+// session (--can): joystick -> full-DoF chair through the circuit -> MCA -> supervisor -> CAN
+// (hardware/chair_drive_source.h), and report.json also carries the drive's training metrics
+// (engine/training_metrics.h; DIR/training.md). Wiring only.
 
 #include <chrono>
 #include <cmath>
@@ -26,6 +30,9 @@
 #include "app/session_setup.h"
 #include "engine/atomic_file.h"
 #include "hardware/car_drive_source.h"
+#include "hardware/chair_drive_source.h"
+#include "engine/scene.h"
+#include "report/training_report.h"
 #include "hardware/car_live.h"
 #include "hardware/rnet_joystick.h"
 #include "hardware/sdl/sdl_input.h"
@@ -39,7 +46,7 @@ const CommandSpec& DriveSpec() {
     CommandSpec c{
       "drive",
       "pwsim drive SCENE [options]",
-      "Drive a car scene live (a wheel and pedals with --wheel, a chair joystick with --joystick), car + MCA per tick; with --can a live session to the platform and the headset.",
+      "Drive a car scene live (a wheel and pedals with --wheel, a chair joystick with --joystick), car + MCA per tick; with --can a live session to the platform and the headset. A circuit scene (wheelchair) is driven by --joystick as a live session (--can), with training metrics.",
       {
           {"wheel", "", "-", "", "read the controls from an SDL2 joystick (wheel, pedals, shifter)"},
           {"joystick", "SPEC", "-", "", "drive with a chair joystick: rnet:IFACE (R-Net bus, listen-only SocketCAN), rnet-log:FILE (a candump log of one), sdl or sdl:NAME (an SDL joystick), sdl-script:FILE.yaml (a pwsim-joystick-script/1 played on an SDL virtual joystick)"},
@@ -48,9 +55,9 @@ const CommandSpec& DriveSpec() {
           {"duration", "S", "s", "", "drive time (default: the scene's duration_s)"},
           {"no-realtime", "", "-", "", "step as fast as possible instead of at the clock rate"},
           {"out", "DIR", "-", "out/drive", "output folder (drive.csv; with --can: session.log, can.log, report.json, joystick.json)"},
-          McaAlgorithmOptionSpec(),
+          McaAlgorithmOptionSpec(),  // car scenes
       },
-      "SCENE  a pwsim-scene/1 YAML file with kind: car"};
+      "SCENE  a pwsim-scene/1 YAML file with kind: car, or a wheelchair scene with a circuit: section"};
     // With --can (given explicitly) the drive runs as a live session on these links.
     const std::vector<OptionSpec> links = SessionLinkOptions();
     c.options.insert(c.options.end(), links.begin(), links.end());
@@ -97,6 +104,21 @@ std::unique_ptr<hw::JoystickSource> OpenJoystick(const std::string& spec, int ra
                    spec + "'");
 }
 
+void WriteJoystickReport(const hw::JoystickSource& joystick, std::uint64_t invalid_polls,
+                         const std::filesystem::path& out);
+
+/// The links opened (false, said on stderr, when one cannot be) and the output folder made.
+bool OpenDriveSession(const ParsedArgs& args, const Clock& clock, double duration, const std::filesystem::path& out,
+                      SessionSetup* setup) {
+  const std::string link_error = SetUpSession(args, clock, duration, setup);
+  if (!link_error.empty()) {
+    std::cerr << "pwsim drive: " << link_error << "\n";
+    return false;
+  }
+  std::filesystem::create_directories(out);
+  return true;
+}
+
 /// The drive as a live session: joystick -> car -> MCA -> supervisor -> CAN, eye pose -> HMD.
 int DriveSession(const ParsedArgs& args, const vehicle::CarScene& scene, hw::JoystickSource& joystick,
                  double duration) {
@@ -104,24 +126,60 @@ int DriveSession(const ParsedArgs& args, const vehicle::CarScene& scene, hw::Joy
   if (!mca_config.platform.Has(mca::Dof::kSurge) || !mca_config.platform.Has(mca::Dof::kYaw))
     throw UsageError("car scene platform '" + mca_config.platform.name + "' lacks surge or yaw");
   SessionSetup setup;
-  const std::string link_error = SetUpSession(args, scene.clock, duration, &setup);
-  if (!link_error.empty()) {
-    std::cerr << "pwsim drive: " << link_error << "\n";
-    return 1;
-  }
   const std::filesystem::path out = args.Get("out");
-  std::filesystem::create_directories(out);
+  if (!OpenDriveSession(args, scene.clock, duration, out, &setup)) return 1;
   hw::CarDriveSource source(scene, mca_config, joystick);
   std::cout << "pwsim drive: car '" << scene.car.name << "' driven live by " << joystick.name() << ", mca "
             << mca::McaAlgorithmName(mca_config.algorithm) << "\n";
   const int status = RunAndReport("pwsim drive", args, setup, source, out);
-  // What the joystick delivered: OUT/joystick.json and a line.
+  WriteJoystickReport(joystick, source.invalid_polls(), out);
+  return status;
+}
+
+/// A circuit driven by a chair joystick as a live session: joystick -> chair -> MCA ->
+/// supervisor -> CAN, head pose -> HMD; report.json with the training metrics.
+int DriveChairSession(const ParsedArgs& args, const Scene& scene, const std::string& scene_path,
+                      hw::JoystickSource& joystick, double duration) {
+  SessionSetup setup;
+  const std::filesystem::path out = args.Get("out");
+  if (!OpenDriveSession(args, scene.clock, duration, out, &setup)) return 1;
+  // the metrics cover the drive up to the stop request (the park after it is not scored)
+  hw::ChairDriveSource source(scene, joystick, setup.config.run_ticks);
+  std::cout << "pwsim drive: chair '" << scene.name << "' through its circuit, driven live by " << joystick.name()
+            << "\n  MCA on '" << source.pw4dof_mca().platform.name << "' (reported) and on '"
+            << source.session_mca().platform.name << "' (" << source.session_mca().platform_source
+            << ": the CAN drives, yaw -> q1, surge -> rail q2)\n";
+  TrainingMetrics training;
+  const int status = RunAndReport("pwsim drive", args, setup, source, out, [&](nlohmann::ordered_json& j) {
+    training = ComputeTrainingMetrics(*scene.circuit, source.trace(), scene.clock.dt());
+    j["training"] = report::TrainingJson(training);
+    nlohmann::ordered_json peak;
+    for (mca::Dof d : mca::kAllDofs) {
+      if (source.pw4dof_mca().platform.Has(d)) peak[mca::DofName(d)] = source.pw4dof_peak()[mca::Index(d)];
+    }
+    j["chair"] = {{"scene", scene_path},
+                  {"engine_ticks", source.trace().size()},
+                  {"pw4dof_platform", source.pw4dof_mca().platform.name},
+                  {"pw4dof_peak_command", peak},
+                  {"can_platform", source.session_mca().platform.name},
+                  {"can_axes", "yaw -> q1, surge -> rail q2"}};
+  });
+  report::WriteTrainingPage(training, "pwsim drive " + scene_path + " (" + joystick.name() + ")", out);
+  std::cout << "  training: " << training.gates_passed << " of " << training.gates_total << " gates, "
+            << training.contacts << " contacts, clearance min " << training.clearance_min_m << " m, "
+            << training.joystick_commands << " joystick commands; " << (out / "training.md").string() << "\n";
+  WriteJoystickReport(joystick, source.invalid_polls(), out);
+  return status;
+}
+
+/// What the joystick delivered: OUT/joystick.json and a line.
+void WriteJoystickReport(const hw::JoystickSource& joystick, std::uint64_t invalid_polls,
+                         const std::filesystem::path& out) {
   nlohmann::ordered_json j;
   j["format"] = "pwsim-drive-joystick/1";
   j["joystick"] = joystick.name();
-  j["mca"] = mca::McaAlgorithmName(mca_config.algorithm);
-  j["invalid_polls"] = source.invalid_polls();
-  std::cout << "  joystick invalid (lost or unplugged) on " << source.invalid_polls() << " polls\n";
+  j["invalid_polls"] = invalid_polls;
+  std::cout << "  joystick invalid (lost or unplugged) on " << invalid_polls << " polls\n";
   const hw::RnetJoystickCounters* c = nullptr;
   if (const auto* log = dynamic_cast<const hw::RnetLogJoystick*>(&joystick)) c = &log->counters();
   if (const auto* bus = dynamic_cast<const hw::RnetJoystick*>(&joystick)) c = &bus->counters();
@@ -132,7 +190,6 @@ int DriveSession(const ParsedArgs& args, const vehicle::CarScene& scene, hw::Joy
               << " other slot, " << c->other << " other; " << c->timeouts << " watchdog timeouts\n";
   }
   WriteFileAtomically(out / "joystick.json", j.dump(2) + "\n");
-  return status;
 }
 
 }  // namespace
@@ -140,7 +197,19 @@ int DriveSession(const ParsedArgs& args, const vehicle::CarScene& scene, hw::Joy
 int DriveCommand(const ParsedArgs& args) {
   if (args.positional().size() != 1) throw UsageError("expected one SCENE (kind: car)");
   const std::filesystem::path scene_path = args.positional()[0];
-  if (vehicle::SceneKind(scene_path) != "car") throw UsageError("pwsim drive needs a car scene (kind: car)");
+  if (vehicle::SceneKind(scene_path) != "car") {
+    const Scene scene = LoadScene(scene_path);
+    if (!scene.is_circuit()) throw UsageError("pwsim drive needs a car scene (kind: car) or a circuit scene (circuit:)");
+    if (!args.Has("joystick") || !args.Has("can") || args.Flag("wheel"))
+      throw UsageError("a chair drives a circuit live: give --joystick SPEC and --can (a live session)");
+    if (args.Has("mca"))
+      throw UsageError("option --mca: the chair's live drive runs its scene's washouts; --mca applies to car scenes");
+    const double duration = args.Has("duration") ? args.GetDouble("duration") : scene.duration();
+    if (!(duration > 0.0 && duration <= 3600.0)) throw UsageError("option --duration: expected (0, 3600] s");
+    const std::unique_ptr<hw::JoystickSource> joystick = OpenJoystick(
+        args.Get("joystick"), scene.clock.rate_hz, args.GetDouble("joystick-timeout-ms", 1.0, 10'000.0));
+    return DriveChairSession(args, scene, scene_path.string(), *joystick, duration);
+  }
   const vehicle::CarScene scene = vehicle::LoadCarScene(scene_path);
   hw::ControlMapping mapping;
   if (const SceneSection* s = scene.section("session")) {

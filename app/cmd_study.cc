@@ -1,7 +1,10 @@
 // pwsim study RATINGS.csv --out DIR: the statistics of a perception study (study/analysis.h)
 // as DIR/study.json, DIR/study.md and DIR/boxplot.png (shared/spec/study.md).
 // pwsim study plan --participants N --conditions A,B --seed S --out DIR: a counterbalanced,
-// randomised order per participant (DIR/plan.csv, study/plan.h) and DIR/ratings_template.csv.
+// randomised order per participant (DIR/plan.csv, study/plan.h) and DIR/ratings_template.csv;
+// with --circuit SCENE also DIR/runs.csv (a circuit run per trial).
+// pwsim study metrics RUNS.csv --out DIR: the training metrics of those runs per participant and
+// condition through the same statistics as ratings (report/training_study.h).
 
 #include <filesystem>
 #include <iostream>
@@ -11,6 +14,7 @@
 #include "app/commands.h"
 #include "engine/atomic_file.h"
 #include "report/study_report.h"
+#include "report/training_study.h"
 #include "study/analysis.h"
 #include "study/plan.h"
 #include "study/ratings.h"
@@ -56,6 +60,12 @@ int PlanCommand(const ParsedArgs& args) {
     std::cout << ": " << plan.participants_per_sequence[s];
   }
   std::cout << ")\n  " << (out / "plan.csv").string() << ", " << (out / "ratings_template.csv").string() << "\n";
+  if (args.Has("circuit")) {  // training runs: one circuit run per participant and condition
+    WriteFileAtomically(out / "runs.csv", report::PlannedRunsCsv(plan, args.Get("circuit")));
+    std::cout << "  " << (out / "runs.csv").string() << ": a run of " << args.Get("circuit")
+              << " per trial (pwsim drive ... --out DIR/runs/P_K_CONDITION, then pwsim study metrics "
+              << (out / "runs.csv").string() << ")\n";
+  }
   return 0;
 }
 
@@ -64,21 +74,38 @@ int PlanCommand(const ParsedArgs& args) {
 const CommandSpec& StudySpec() {
   static const CommandSpec spec{
       "study",
-      "pwsim study RATINGS.csv --out DIR [options] | pwsim study plan --participants N [options]",
-      "User-study statistics (seed 000, sec. V): Shapiro-Wilk, Wilcoxon, boxplot; or a study plan.",
+      "pwsim study RATINGS.csv --out DIR [options] | pwsim study plan --participants N [options] | pwsim study metrics RUNS.csv --out DIR",
+      "User-study statistics (seed 000, sec. V): Shapiro-Wilk, Wilcoxon, boxplot; or a study plan (with --circuit: a circuit run per trial); or the training metrics of planned circuit runs through the same statistics.",
       {
           {"out", "DIR", "-", "out/study", "output folder"},
           {"conditions", "A,B", "-", "", "analysis: the headline pair (default: the first two in the file); plan: the conditions (default T_r,T_m)"},
           {"reported", "TEXT", "-", "", "a published result to check, e.g. test=paired,W=180,p=0.5045"},
           {"participants", "N", "-", "18", "plan: number of participants"},
           {"seed", "S", "-", "1", "plan: seed of the randomised sequence assignment"},
+          {"circuit", "SCENE", "-", "", "plan: also DIR/runs.csv, a run of this circuit scene per participant and condition (for pwsim study metrics)"},
       },
-      "RATINGS.csv  participant,condition,rating[,order] (shared/spec/study.md); or `plan`"};
+      "RATINGS.csv  participant,condition,rating[,order] (shared/spec/study.md); or `plan`; or `metrics RUNS.csv` (participant,condition,report[,...]: report/training_study.h)"};
   return spec;
 }
 
+namespace {
+
+/// pwsim study metrics RUNS.csv --out DIR: the training metrics of planned circuit runs, per
+/// participant and condition, through the ratings' statistics (report/training_study.h).
+int MetricsCommand(const ParsedArgs& args) {
+  if (args.positional().size() != 2) throw UsageError("study metrics: expected one RUNS.csv");
+  const fs::path out = args.Get("out");
+  const std::vector<std::string> analysed = report::WriteTrainingStudy(args.positional()[1], out);
+  std::cout << "pwsim study metrics: " << analysed.size() << " of " << report::kStudyMetrics.size()
+            << " training metrics analysed; " << (out / "metrics.json").string() << "\n";
+  return 0;
+}
+
+}  // namespace
+
 int StudyCommand(const ParsedArgs& args) {
   if (!args.positional().empty() && args.positional()[0] == "plan") return PlanCommand(args);
+  if (!args.positional().empty() && args.positional()[0] == "metrics") return MetricsCommand(args);
   if (args.positional().size() != 1) throw UsageError("expected one RATINGS.csv (or `plan`)");
   const fs::path ratings_file = args.positional()[0];
   const fs::path out = args.Get("out");

@@ -98,7 +98,8 @@ std::string SetUpSession(const ParsedArgs& args, const Clock& clock, double dura
 }
 
 int RunAndReport(const std::string& who, const ParsedArgs& args, SessionSetup& setup, hw::SessionSource& source,
-                 const std::filesystem::path& out_dir) {
+                 const std::filesystem::path& out_dir,
+                 const std::function<void(nlohmann::ordered_json&)>& add_to_report) {
   const hw::SessionConfig& config = setup.config;
   AtomicFileWriter log(out_dir / "session.log");
   AtomicFileWriter can_log(out_dir / "can.log");
@@ -128,7 +129,13 @@ int RunAndReport(const std::string& who, const ParsedArgs& args, SessionSetup& s
   const hw::SessionReport report = hw::RunSession(config, source, io);
   log.Commit();
   can_log.Commit();
-  WriteFileAtomically(out_dir / "report.json", report.ToJson());
+  if (add_to_report) {
+    nlohmann::ordered_json j = nlohmann::ordered_json::parse(report.ToJson());
+    add_to_report(j);
+    WriteFileAtomically(out_dir / "report.json", j.dump(2) + "\n");
+  } else {
+    WriteFileAtomically(out_dir / "report.json", report.ToJson());
+  }
 
   std::cout << who << ": " << report.final_state << (report.stop_reason.empty() ? "" : " after " + report.stop_reason)
             << ", " << report.steps << " steps\n"

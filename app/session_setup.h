@@ -5,9 +5,12 @@
 // report.json) and summary. Wiring only.
 
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "app/cli.h"
 #include "engine/clock.h"
@@ -40,7 +43,10 @@ std::string SetUpSession(const ParsedArgs& args, const Clock& clock, double dura
 
 /// Runs the session from `source`, writes OUT/session.log, can.log, report.json, prints the
 /// summary; returns the exit status (0 parked, 4 latched fault at rest, 3 otherwise).
+/// `add_to_report`, when given, adds its sections to report.json after the run (e.g. a chair
+/// drive's training metrics).
 int RunAndReport(const std::string& who, const ParsedArgs& args, SessionSetup& setup, hw::SessionSource& source,
-                 const std::filesystem::path& out_dir);
+                 const std::filesystem::path& out_dir,
+                 const std::function<void(nlohmann::ordered_json&)>& add_to_report = {});
 
 }  // namespace pwsim::app

@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "hardware/car_drive_source.h"
+#include "hardware/chair_drive_source.h"
 #include "hardware/input_latency.h"
 #include "hardware/rnet_joystick.h"
 #include "hardware/udp_socket.h"
@@ -55,6 +56,31 @@ void BM_CarDriveCycle(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_CarDriveCycle);
+
+// One drive cycle of the chair's live drive through circuit_course (4 engine ticks at 1 kHz):
+// poll the joystick (the shipped R-Net log), step the full-DoF chair through the circuit and both
+// washouts four times, hand the setpoint and the head pose.
+void BM_ChairDriveCycle(benchmark::State& state) {
+  const Scene scene = LoadScene(kSource / "scenes/circuit_course.yaml");
+  const std::vector<CandumpRecord> records = ReadCandumpFile(kSource / "assets/rnet/joystick_synthetic.log");
+  RnetLogJoystick joystick(records, scene.clock.rate_hz, {-1, 100}, "log");
+  std::optional<ChairDriveSource> source(std::in_place, scene, joystick, 3000);
+  SessionInputs in;
+  std::int64_t tick = 0;
+  for (auto _ : state) {
+    tick += 4;
+    if (tick > 3000) {  // keep the chair on the log's drive (restart off the clock)
+      state.PauseTiming();
+      joystick = RnetLogJoystick(records, scene.clock.rate_hz, {-1, 100}, "log");
+      source.emplace(scene, joystick, 3000);
+      tick = 4;
+      state.ResumeTiming();
+    }
+    source->Fill(tick, true, tick % 10 == 0, tick * 1'000'000, &in);
+    benchmark::DoNotOptimize(in.setpoint);
+  }
+}
+BENCHMARK(BM_ChairDriveCycle);
 
 // Recording one latency sample (the runner does this after each send).
 void BM_InputLatencyRecord(benchmark::State& state) {

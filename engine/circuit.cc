@@ -12,6 +12,14 @@
 #include "engine/numeric_csv.h"
 
 namespace pwsim {
+
+double PointSegmentDistance(Point2 p, Point2 a, Point2 b) {
+  const double dx = b.x - a.x, dy = b.y - a.y;
+  const double length2 = dx * dx + dy * dy;
+  const double t = length2 > 0.0 ? std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / length2, 0.0, 1.0) : 0.0;
+  return std::hypot(p.x - a.x - t * dx, p.y - a.y - t * dy);
+}
+
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
@@ -69,13 +77,6 @@ bool QuadsOverlap(const Quad& a, const Quad& b) {
     }
   }
   return true;
-}
-
-double PointSegmentDistance(Point2 p, Point2 a, Point2 b) {
-  const double dx = b.x - a.x, dy = b.y - a.y;
-  const double length2 = dx * dx + dy * dy;
-  const double t = length2 > 0.0 ? std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / length2, 0.0, 1.0) : 0.0;
-  return std::hypot(p.x - a.x - t * dx, p.y - a.y - t * dy);
 }
 
 bool QuadCircleOverlap(const Quad& quad, Point2 centre, double radius) {
@@ -489,6 +490,10 @@ const FullChairSample& CircuitRunner::Advance(double time) {
                                      ? DriveAlongPath(circuit_.joystick, circuit_.layout.controller, driver_,
                                                       simulator_.sample())
                                      : circuit_.joystick.At(time);
+  return AdvanceWith(joystick);
+}
+
+const FullChairSample& CircuitRunner::AdvanceWith(const JoystickInput& joystick) {
   const PlanarState before = simulator_.sample().planar;
   const FullChairSample& next = simulator_.Advance(joystick);
   const PlanarState after = next.planar;

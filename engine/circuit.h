@@ -119,6 +119,9 @@ JoystickSource ReadRecordedJoystick(const std::filesystem::path& file);
 /// obstacles offset by walls.size()), or -1.
 int FootprintHit(const CircuitSpec& circuit, const PlanarState& pose, double margin = 0.0);
 
+/// Distance from p to the segment a-b [m] (to a when a = b).
+double PointSegmentDistance(Point2 p, Point2 a, Point2 b);
+
 /// A contact ends when the chair is this far clear of everything it touched [m].
 inline constexpr double kContactReleaseGap = 0.01;
 
@@ -130,6 +133,9 @@ class CircuitRunner {
   const FullChairSample& Start();
   /// One tick at time t = tick · dt (the joystick sampled at the tick's start).
   const FullChairSample& Advance(double time);
+  /// One tick with the joystick given from outside (a live drive: `pwsim drive`); walls,
+  /// contacts and gates as in Advance. No allocation.
+  const FullChairSample& AdvanceWith(const JoystickInput& joystick);
   const FullChairSample& sample() const { return simulator_.sample(); }
   const FullChairSimulator& simulator() const { return simulator_; }
 

@@ -3,8 +3,7 @@
 // steps the car (vehicle::NextCarSample via CarLiveLoop) over every engine tick since the last
 // step with that reading, and hands the session the MCA's rail + yaw command (yaw -> q1,
 // surge -> q2) on drive ticks and the driver's eye pose on frame ticks. The chair's live drive
-// plugs in the same way (a SessionSource with a joystick); this is the car's, used to measure
-// joystick -> platform and joystick -> HMD latency until the chair drive lands.
+// plugs in the same way (chair_drive_source.h).
 //
 // Joystick -> car controls (a two-pedal car with an automatic clutch, pure):
 //   throttle = max(y, 0), brake = max(-y, 0), steer = -x * steer_lock (x right, steer left +),

@@ -69,29 +69,30 @@ PointPose PointOnBody(const DofArray& pose, const std::array<double, 3>& p_B) {
   return out;
 }
 
+HeadMotion HeadMotionAt(const PointPose& prev, const PointPose& now, const PointPose& next, double dt) {
+  HeadMotion out;
+  std::array<double, 3> f{};
+  for (std::size_t i = 0; i < 3; ++i) f[i] = (next.p[i] - 2.0 * now.p[i] + prev.p[i]) / (dt * dt);
+  f[2] += kGravity;
+  out.fs = TransposeTimes(now.r, f);
+  // Ω = Rᵀ Ṙ (skew), Ṙ by central difference
+  Mat3 rdot{};
+  for (std::size_t i = 0; i < 9; ++i) rdot[i] = (next.r[i] - prev.r[i]) / (2.0 * dt);
+  Mat3 rt{};
+  for (std::size_t r = 0; r < 3; ++r) {
+    for (std::size_t c = 0; c < 3; ++c) rt[3 * r + c] = now.r[3 * c + r];
+  }
+  const Mat3 omega = Multiply(rt, rdot);
+  out.w = {0.5 * (omega[7] - omega[5]), 0.5 * (omega[2] - omega[6]), 0.5 * (omega[3] - omega[1])};
+  return out;
+}
+
 std::vector<HeadMotion> HeadMotionFromPoses(const std::vector<PointPose>& head, double dt) {
   PWSIM_DEMAND(dt > 0.0);
   const std::size_t n = head.size();
   std::vector<HeadMotion> out(n);
   if (n < 3) return out;
-  for (std::size_t k = 1; k + 1 < n; ++k) {
-    const PointPose& prev = head[k - 1];
-    const PointPose& now = head[k];
-    const PointPose& next = head[k + 1];
-    std::array<double, 3> f{};
-    for (std::size_t i = 0; i < 3; ++i) f[i] = (next.p[i] - 2.0 * now.p[i] + prev.p[i]) / (dt * dt);
-    f[2] += kGravity;
-    out[k].fs = TransposeTimes(now.r, f);
-    // Ω = Rᵀ Ṙ (skew), Ṙ by central difference
-    Mat3 rdot{};
-    for (std::size_t i = 0; i < 9; ++i) rdot[i] = (next.r[i] - prev.r[i]) / (2.0 * dt);
-    Mat3 rt{};
-    for (std::size_t r = 0; r < 3; ++r) {
-      for (std::size_t c = 0; c < 3; ++c) rt[3 * r + c] = now.r[3 * c + r];
-    }
-    const Mat3 omega = Multiply(rt, rdot);
-    out[k].w = {0.5 * (omega[7] - omega[5]), 0.5 * (omega[2] - omega[6]), 0.5 * (omega[3] - omega[1])};
-  }
+  for (std::size_t k = 1; k + 1 < n; ++k) out[k] = HeadMotionAt(head[k - 1], head[k], head[k + 1], dt);
   out[0] = out[1];
   out[n - 1] = out[n - 2];
   return out;

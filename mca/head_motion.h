@@ -50,6 +50,9 @@ struct PointPose {
 /// [m, rad], indexed like DofArray: p = (x, y, z) + R p_B.
 PointPose PointOnBody(const DofArray& pose, const std::array<double, 3>& p_B);
 
+/// The same at one tick from its neighbours (a live loop: the motion of tick k once tick k+1
+/// is known, one tick late). No allocation.
+HeadMotion HeadMotionAt(const PointPose& prev, const PointPose& now, const PointPose& next, double dt);
 /// Motion felt at a frame that moves along `poses` (one per tick, dt apart), by central
 /// differences (the end ticks copy their neighbours): fs = Rᵀ (p̈ − g_W), Ω = Rᵀ Ṙ with
 /// w = (Ω₃₂, Ω₁₃, Ω₂₁). Works through any yaw (no angle wrapping: R is differenced). Allocates.

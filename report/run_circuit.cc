@@ -9,6 +9,7 @@
 #include "plot/plot.h"
 #include "report/run_mca.h"
 #include "report/run_report.h"
+#include "report/training_report.h"
 
 namespace pwsim::report {
 namespace {
@@ -382,7 +383,11 @@ std::vector<std::filesystem::path> RunCircuitScene(const Scene& scene, const std
   summary.erase("speed_mps");  // a straight drive's set speed; the circuit reports its own
   summary["peak_roll"] = Peak(table, "roll_rad", "rad");
   summary["circuit"] = CircuitSummary(scene, samples);
+  const TrainingMetrics training =
+      ComputeTrainingMetrics(*scene.circuit, TrainingTrace(scene, samples), scene.clock.dt());
+  summary["training"] = TrainingJson(training);
   std::filesystem::create_directories(out_dir);
+  WriteTrainingPage(training, "pwsim run " + scene_path, out_dir);
   AddCircuitMotionCueing(scene, samples, table, summary, out_dir, mca_choice);  // all four platform axes
   WriteCircuitFigures(scene, samples, out_dir);
   table.WriteCsv(out_dir / "trial.csv", decimate);
@@ -390,7 +395,7 @@ std::vector<std::filesystem::path> RunCircuitScene(const Scene& scene, const std
   WriteFileAtomically(out_dir / "summary.json", summary.dump(2) + "\n");
   std::vector<std::filesystem::path> written;
   for (const char* name : {"trial.csv", "summary.json", "mca.png", "mca_lateral.png", "top_view.png",
-                           "wheels.png", "video.mp4", "video_lossless.mkv", "frames.csv"}) {
+                           "wheels.png", "training.md", "video.mp4", "video_lossless.mkv", "frames.csv"}) {
     if (std::filesystem::exists(out_dir / name)) written.push_back(out_dir / name);
   }
   return written;

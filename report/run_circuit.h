@@ -19,7 +19,9 @@
 //   summary.json  the chair part (run_report.h) plus "circuit": distance, gates passed of all,
 //                 wall/obstacle contacts with their count and peak approach speed, lift-offs
 //                 (ticks, episodes, per contact), tip-over, peak roll and yaw rate, peak lateral
-//                 acceleration; "mca" with the platform's use of every axis and "axes_in_use"
+//                 acceleration; "mca" with the platform's use of every axis and "axes_in_use";
+//                 "training": the training metrics (report/training_report.h)
+//   training.md   the training metrics as a page
 //   top_view.png  the path from above: walls, obstacles, gates, the chair's footprint and its
 //                 casters' rolling directions once a second, contacts and lift-offs
 //   wheels.png    caster swivel angles and wheel loads over time (lift-off where a load ≤ 0)

@@ -122,4 +122,29 @@ TEST(StudyCommand, PlanWritesCounterbalancedOrderAndTemplate) {
   EXPECT_NE(t.output.find(":3: field 'rating'"), std::string::npos) << t.output;
 }
 
+// Tests the training runs of a plan through the binary: runs.csv has a circuit run per trial, and
+// `study metrics` on it before any run is made analyses nothing and names all 12 runs as left out.
+TEST(StudyCommand, PlanWithACircuitListsRunsAndMetricsNamesWhatIsMissing) {
+  const fs::path dir = Scratch("plan_circuit");
+  const Result r = Pwsim("study plan --participants 6 --conditions A,B --seed 3 --circuit scenes/circuit_course.yaml --out " +
+                             dir.string(), dir);
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::ifstream runs(dir / "runs.csv");
+  std::string line;
+  std::getline(runs, line);
+  EXPECT_EQ(line, "participant,trial_index,condition,scene,report");
+  int rows = 0;
+  while (std::getline(runs, line)) rows += line.find(",scenes/circuit_course.yaml,runs/") != std::string::npos;
+  EXPECT_EQ(rows, 12);
+  const Result m = Pwsim("study metrics " + (dir / "runs.csv").string() + " --out " + (dir / "m").string(), dir);
+  ASSERT_EQ(m.status, 0) << m.output;
+  std::ifstream in(dir / "m" / "metrics.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["format"], "pwsim-training-study/1");
+  for (const auto& [name, entry] : j["metrics"].items()) {
+    EXPECT_TRUE(entry["report"].is_null()) << name;
+    EXPECT_EQ(entry["left_out"].size(), 12u) << name;
+  }
+}
+
 }  // namespace

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "hardware/car_drive_source.h"
+#include "hardware/chair_drive_source.h"
 #include "hardware/rnet_joystick.h"
 
 namespace pwsim::hw {
@@ -31,6 +32,23 @@ long LiveDriveFillAllocations(std::atomic<bool>& counting, std::atomic<long>& al
     counting = false;
   }
   *speed = vehicle::Speed(from_bus.last_tick().sample.state);
+  return allocations.load();
+}
+
+long ChairDriveFillAllocations(std::atomic<bool>& counting, std::atomic<long>& allocations, double* distance) {
+  const Scene scene = LoadScene(std::filesystem::path(PWSIM_SOURCE_DIR) / "scenes/circuit_course.yaml");
+  RnetLogJoystick log(ReadCandumpFile(std::filesystem::path(PWSIM_SOURCE_DIR) / "assets/rnet/joystick_synthetic.log"),
+                      scene.clock.rate_hz, {-1, 100}, "log");
+  ChairDriveSource source(scene, log, 4200);
+  SessionInputs in;
+  counting = false;
+  allocations = 0;
+  for (std::int64_t tick = 0; tick <= 4400; tick += 2) {  // past max_ticks: the trace stops growing
+    counting = true;
+    source.Fill(tick, tick % 4 == 0, tick % 10 == 0, tick, &in);
+    counting = false;
+  }
+  *distance = source.last_sample().distance;
   return allocations.load();
 }
 

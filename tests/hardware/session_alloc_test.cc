@@ -20,6 +20,8 @@ namespace pwsim::hw {
 /// In live_drive_alloc.cc: counts (through the two counters) the allocations inside
 /// CarDriveSource::Fill over a drive; `speed` gets the final speed of the bus-driven car.
 long LiveDriveFillAllocations(std::atomic<bool>& counting, std::atomic<long>& allocations, double* speed);
+/// The same for ChairDriveSource::Fill through circuit_course; `distance` the chair's path length.
+long ChairDriveFillAllocations(std::atomic<bool>& counting, std::atomic<long>& allocations, double* distance);
 
 namespace {
 
@@ -92,6 +94,13 @@ TEST(SessionAlloc, TheLiveDriveSourceFillsWithoutAllocating) {
   const long n = LiveDriveFillAllocations(g_counting, g_allocations, &speed);
   EXPECT_GT(speed, 1.0) << "the bus joystick should drive the car";
   EXPECT_EQ(n, 0) << "allocations inside CarDriveSource::Fill";
+}
+
+TEST(SessionAlloc, TheChairDriveSourceFillsWithoutAllocating) {
+  double distance = 0.0;
+  const long n = ChairDriveFillAllocations(g_counting, g_allocations, &distance);
+  EXPECT_GT(distance, 0.5) << "the R-Net log should drive the chair";
+  EXPECT_EQ(n, 0) << "allocations inside ChairDriveSource::Fill";
 }
 
 }  // namespace

@@ -541,6 +541,83 @@ TEST(SessionEndToEnd, SdlScriptedJoystickDrivesTheCarLive) {
   EXPECT_EQ(replay.Wait(kGuardS), 0) << replay.Output();
 }
 
+/// The chair drive's training metrics in report.json, sane whatever the joystick did.
+void ExpectTrainingMetrics(const nlohmann::json& report) {
+  const nlohmann::json& t = report["training"];
+  ASSERT_TRUE(t.is_object());
+  EXPECT_EQ(t["format"], "pwsim-training-metrics/1");
+  EXPECT_EQ(t["gates"]["total"].get<int>(), 7);  // circuit_course's route
+  for (const char* key : {"mean", "rms", "max"}) EXPECT_GE(t["route_deviation_m"][key].get<double>(), 0.0) << key;
+  EXPECT_GE(t["clearance"]["min_m"].get<double>(), 0.0);
+  EXPECT_LE(t["clearance"]["min_m"].get<double>(), 2.0);
+  EXPECT_GT(t["head_jerk_mps3"]["rms"].get<double>(), 0.0);
+  EXPECT_EQ(t["tip_overs"].get<int>(), 0);
+}
+
+// The chair's live drive: a scripted joystick on SDL's virtual joystick drives the full-DoF
+// chair through the doorway of the shipped course (circuit_course.yaml) through `pwsim drive`,
+// with platform-sim and hmd-peer behind it; report.json carries the joystick latencies and the
+// training metrics, and the drive replays bit for bit.
+TEST(SessionEndToEnd, SdlScriptedJoystickDrivesTheChairThroughACircuit) {
+  if (!fs::exists(kPwsim)) GTEST_SKIP() << kPwsim << " not built";
+  ::setenv("SDL_VIDEODRIVER", "dummy", 1);  // inherited by the children
+  E2e e("chair_sdl");
+  const E2e::Result r =
+      e.Run({}, {}, 7.0, nullptr,
+            {kPwsim, "drive", std::string(PWSIM_SOURCE_DIR) + "/scenes/circuit_course.yaml", "--joystick",
+             "sdl-script:" + std::string(PWSIM_SOURCE_DIR) + "/assets/joystick/circuit_course_doorway.yaml"});
+  ASSERT_EQ(r.session, 0) << e.Outputs();
+  ExpectWithinLimits(r);
+  EXPECT_EQ(r.report["final_state"], "parked");
+  EXPECT_GT(r.report["peak_abs_command"][1].get<double>(), 0.05) << "the chair's surge should move the rail";
+  // four changes of the scripted deflection after the first reading: 5 readings
+  EXPECT_EQ(r.report["joystick_to_platform_command_ms"]["n"].get<int>(), 5) << e.Outputs();
+  EXPECT_EQ(r.report["joystick_to_hmd_frame_ms"]["n"].get<int>(), 5) << e.Outputs();
+  ExpectTrainingMetrics(r.report);
+  const nlohmann::json& t = r.report["training"];
+  // Half forward for 4.7 s: through the doorway (gate 1), stopped short of the first pillar.
+  EXPECT_EQ(t["gates"]["passed"].get<int>(), 1) << t.dump();
+  EXPECT_FALSE(t["completed"].get<bool>());
+  EXPECT_EQ(t["contacts"]["count"].get<int>(), 0);
+  // through the 0.9 m doorway (posts' ends 0.45 m off the axis) with a footprint 0.34 m half wide,
+  // straight along the axis: 0.11 m each side (bisection resolution 0.5 mm)
+  EXPECT_NEAR(t["clearance"]["min_m"].get<double>(), 0.11, 0.005) << t.dump();
+  EXPECT_EQ(t["joystick"]["commands"].get<int>(), 2);  // forward, then the reverse
+  EXPECT_EQ(t["joystick"]["forward_reversals"].get<int>(), 1);
+  EXPECT_EQ(t["joystick"]["turn_reversals"].get<int>(), 0);
+  EXPECT_GT(r.report["chair"]["pw4dof_peak_command"]["pitch"].get<double>(), 0.0);
+  EXPECT_TRUE(fs::exists(e.dir / "out" / "training.md"));
+  Child replay({kPwsim, "replay", (e.dir / "out" / "session.log").string()});
+  EXPECT_EQ(replay.Wait(kGuardS), 0) << replay.Output();
+}
+
+// The same chair drive from the shipped (synthetic) recorded R-Net joystick log.
+TEST(SessionEndToEnd, RnetJoystickLogDrivesTheChairThroughACircuit) {
+  if (!fs::exists(kPwsim)) GTEST_SKIP() << kPwsim << " not built";
+  E2e e("chair_rnet");
+  const E2e::Result r =
+      e.Run({}, {}, 4.5, nullptr,
+            {kPwsim, "drive", std::string(PWSIM_SOURCE_DIR) + "/scenes/circuit_course.yaml", "--joystick",
+             "rnet-log:" + std::string(PWSIM_SOURCE_DIR) + "/assets/rnet/joystick_synthetic.log"});
+  ASSERT_EQ(r.session, 0) << e.Outputs();
+  ExpectWithinLimits(r);
+  EXPECT_EQ(r.report["final_state"], "parked");
+  for (const char* key : {"joystick_to_platform_command_ms", "joystick_to_hmd_frame_ms"}) {
+    const auto& l = r.report[key];
+    ASSERT_TRUE(l.is_object()) << key << "\n" << e.Outputs();
+    EXPECT_GT(l["n"].get<int>(), 300) << key;
+    EXPECT_LE(l["n"].get<int>(), 370) << key;
+    EXPECT_GE(l["p99"].get<double>(), l["p50"].get<double>()) << key;
+  }
+  ExpectTrainingMetrics(r.report);
+  EXPECT_GE(r.report["training"]["joystick"]["commands"].get<int>(), 1);
+  const nlohmann::json joystick = ReadJson(e.dir / "out" / "joystick.json");
+  ASSERT_TRUE(joystick.is_object()) << e.Outputs();
+  EXPECT_EQ(joystick["rnet_frames"]["joystick"].get<int>(), 370);
+  Child replay({kPwsim, "replay", (e.dir / "out" / "session.log").string()});
+  EXPECT_EQ(replay.Wait(kGuardS), 0) << replay.Output();
+}
+
 TEST(SessionEndToEnd, SocketCanOnAKernelWithoutCanFailsWithAClearMessage) {
   if (!fs::exists(kPwsim)) GTEST_SKIP() << kPwsim << " not built";
   E2e e("socketcan");

@@ -220,6 +220,26 @@ TEST_F(CircuitRunTest, SummaryCarriesTheCircuit) {
   EXPECT_FALSE(s.contains("speed_mps"));
 }
 
+// Tests summary["training"] against summary["circuit"], counted separately from the same run:
+// gates, contacts and lift-off episodes agree; the route was completed (both gates) before the
+// end; no contact means a positive clearance; the page is written.
+TEST_F(CircuitRunTest, SummaryCarriesTheTrainingMetrics) {
+  const nlohmann::json s = Summary(*out_);
+  const nlohmann::json& c = s["circuit"];
+  const nlohmann::json& t = s["training"];
+  ASSERT_TRUE(t.is_object());
+  EXPECT_EQ(t["gates"]["passed"], c["gates"]["passed"]);
+  EXPECT_EQ(t["gates"]["total"], c["gates"]["total"]);
+  EXPECT_EQ(t["contacts"]["count"], c["contacts"]["events"]);
+  EXPECT_EQ(t["lift_offs"]["episodes"], c["lift_offs"]["episodes"]);
+  EXPECT_TRUE(t["completed"].get<bool>());
+  EXPECT_GT(t["completion_time_s"].get<double>(), 0.0);
+  EXPECT_LE(t["completion_time_s"].get<double>(), c["duration_s"].get<double>());
+  EXPECT_GT(t["clearance"]["min_m"].get<double>(), 0.0);
+  EXPECT_GE(t["route_deviation_m"]["max"].get<double>(), t["route_deviation_m"]["mean"].get<double>());
+  EXPECT_TRUE(fs::exists(*out_ / "training.md"));
+}
+
 // Tests same scene, same bits: two runs write identical trial.csv and summary circuit/mca parts.
 TEST(CircuitRunRepeat, SameSceneSameBits) {
   const Scene scene = LoadScene(kCircuit);
@@ -231,6 +251,7 @@ TEST(CircuitRunRepeat, SameSceneSameBits) {
   EXPECT_EQ(Bytes(a / "trial.csv"), Bytes(b / "trial.csv"));
   EXPECT_EQ(Summary(a)["mca"], Summary(b)["mca"]);
   EXPECT_EQ(Summary(a)["circuit"], Summary(b)["circuit"]);
+  EXPECT_EQ(Summary(a)["training"], Summary(b)["training"]);
   EXPECT_EQ(Summary(a)["render"]["skipped"], "--no-video");
 }
 

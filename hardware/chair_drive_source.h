@@ -1,0 +1,77 @@
+#pragma once
+// A power wheelchair driven live through a circuit by a joystick, as a session source (the
+// car's twin: car_drive_source.h). Each session step polls the joystick and steps the full-DoF
+// chair through the circuit (engine/circuit.h CircuitRunner::AdvanceWith: walls, obstacles,
+// gates) over every engine tick since the last step with that reading; the head motion of each
+// tick goes through two classical washouts per tick:
+//   - the scene's own platform (pw4dof: heave, roll, pitch, yaw; mca::LoadMcaConfig), as
+//     `pwsim run` of the circuit uses; its command is kept (last_pw4dof()) and its peak use per
+//     axis reported;
+//   - the session's platform (SessionMcaConfig: seed 001's rail + yaw drives, the only drives
+//     `pwsim platform-sim` simulates), whose yaw and surge become the CiA 402 setpoints
+//     (yaw -> q1, surge -> rail q2), exactly as `pwsim session` maps a chair scene.
+// The head motion of tick k is differenced from the head poses of k-1, k, k+1
+// (mca::HeadMotionAt), so the MCA runs one engine tick (1 ms at 1 kHz) behind the chair.
+// On frame ticks the camera is the head's pose (position, yaw, pitch, roll of the chair).
+//
+// Joystick -> chair deflection (pure): forward f = y, turn t = -x (x right, t left +), both
+// clamped to [-1, 1]; an invalid reading (lost device, R-Net watchdog) releases the joystick:
+// (0, 0), and the controller profile brakes the chair to rest.
+//
+// Every tick's TrainingTick is kept (capacity reserved up front: no allocation in the tick)
+// for the training metrics of the drive (engine/training_metrics.h).
+
+#include <array>
+#include <vector>
+
+#include "engine/circuit.h"
+#include "engine/scene.h"
+#include "engine/training_metrics.h"
+#include "hardware/joystick_source.h"
+#include "hardware/session_runner.h"
+#include "mca/config.h"
+#include "mca/head_motion.h"
+#include "mca/washout.h"
+
+namespace pwsim::hw {
+
+JoystickInput ChairDeflectionFromJoystick(const JoystickSample& joystick);
+
+class ChairDriveSource final : public SessionSource {
+ public:
+  /// @pre scene.is_circuit(); scene's clock = the session's; `joystick` outlives this;
+  /// `max_ticks`: the trace keeps ticks 0..max_ticks (the drive; not the park after it).
+  ChairDriveSource(const Scene& scene, JoystickSource& joystick, std::int64_t max_ticks);
+  void Fill(std::int64_t tick, bool drive, bool frame, std::int64_t now_ns, SessionInputs* in) override;
+  InputStamp input() const override { return {last_.input_seq, last_.input_ns}; }
+  bool has_live_input() const override { return true; }
+  int input_fd() const override { return joystick_.fd(); }
+  void TakeInput(std::int64_t next_tick, std::int64_t now_ns) override { joystick_.Take(next_tick, now_ns); }
+
+  const FullChairSample& last_sample() const { return runner_.sample(); }
+  const std::vector<TrainingTick>& trace() const { return trace_; }
+  const mca::McaConfig& session_mca() const { return session_mca_; }
+  const mca::McaConfig& pw4dof_mca() const { return pw4dof_mca_; }
+  /// Largest |command| per axis of the scene platform's MCA so far [m | rad].
+  const mca::DofArray& pw4dof_peak() const { return pw4dof_peak_; }
+  std::uint64_t invalid_polls() const { return invalid_polls_; }
+
+ private:
+  void StepChair(const JoystickInput& deflection);
+  void Record();
+
+  const Scene& scene_;
+  JoystickSource& joystick_;
+  CircuitRunner runner_;
+  mca::McaConfig session_mca_, pw4dof_mca_;
+  mca::ClassicalWashout session_washout_, pw4dof_washout_;
+  std::array<mca::PointPose, 3> head_{};  ///< head at ticks k-2, k-1, k (k = chair_tick_)
+  std::int64_t chair_tick_{0};            ///< the chair has been stepped up to this tick
+  JoystickSample last_;
+  std::uint64_t invalid_polls_{0};
+  mca::DofArray pw4dof_peak_{};
+  std::int64_t max_ticks_{0};
+  std::vector<TrainingTick> trace_;
+};
+
+}  // namespace pwsim::hw
