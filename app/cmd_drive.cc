@@ -55,6 +55,7 @@ const CommandSpec& DriveSpec() {
           {"duration", "S", "s", "", "drive time (default: the scene's duration_s)"},
           {"no-realtime", "", "-", "", "step as fast as possible instead of at the clock rate"},
           {"out", "DIR", "-", "out/drive", "output folder (drive.csv; with --can: session.log, can.log, report.json, joystick.json)"},
+          McaAlgorithmOptionSpec(),  // car scenes
       },
       "SCENE  a pwsim-scene/1 YAML file with kind: car, or a wheelchair scene with a circuit: section"};
     // With --can (given explicitly) the drive runs as a live session on these links.
@@ -66,6 +67,15 @@ const CommandSpec& DriveSpec() {
 }
 
 namespace {
+
+/// The car scene's MCA configuration with --mca over its mca.algorithm.
+mca::McaConfig DriveMcaConfig(const ParsedArgs& args, const vehicle::CarScene& scene) {
+  mca::McaConfig config = mca::LoadCarMcaConfig(scene);
+  if (const std::optional<mca::McaAlgorithm> algorithm = McaAlgorithmOption(args)) {
+    mca::ChooseAlgorithm(*algorithm, config);
+  }
+  return config;
+}
 
 /// The joystick named by `spec` (see the --joystick option).
 std::unique_ptr<hw::JoystickSource> OpenJoystick(const std::string& spec, int rate_hz, double timeout_ms) {
@@ -112,14 +122,15 @@ bool OpenDriveSession(const ParsedArgs& args, const Clock& clock, double duratio
 /// The drive as a live session: joystick -> car -> MCA -> supervisor -> CAN, eye pose -> HMD.
 int DriveSession(const ParsedArgs& args, const vehicle::CarScene& scene, hw::JoystickSource& joystick,
                  double duration) {
-  const mca::McaConfig mca_config = mca::LoadCarMcaConfig(scene);
+  const mca::McaConfig mca_config = DriveMcaConfig(args, scene);
   if (!mca_config.platform.Has(mca::Dof::kSurge) || !mca_config.platform.Has(mca::Dof::kYaw))
     throw UsageError("car scene platform '" + mca_config.platform.name + "' lacks surge or yaw");
   SessionSetup setup;
   const std::filesystem::path out = args.Get("out");
   if (!OpenDriveSession(args, scene.clock, duration, out, &setup)) return 1;
   hw::CarDriveSource source(scene, mca_config, joystick);
-  std::cout << "pwsim drive: car '" << scene.car.name << "' driven live by " << joystick.name() << "\n";
+  std::cout << "pwsim drive: car '" << scene.car.name << "' driven live by " << joystick.name() << ", mca "
+            << mca::McaAlgorithmName(mca_config.algorithm) << "\n";
   const int status = RunAndReport("pwsim drive", args, setup, source, out);
   WriteJoystickReport(joystick, source.invalid_polls(), out);
   return status;
@@ -191,6 +202,8 @@ int DriveCommand(const ParsedArgs& args) {
     if (!scene.is_circuit()) throw UsageError("pwsim drive needs a car scene (kind: car) or a circuit scene (circuit:)");
     if (!args.Has("joystick") || !args.Has("can") || args.Flag("wheel"))
       throw UsageError("a chair drives a circuit live: give --joystick SPEC and --can (a live session)");
+    if (args.Has("mca"))
+      throw UsageError("option --mca: the chair's live drive runs its scene's washouts; --mca applies to car scenes");
     const double duration = args.Has("duration") ? args.GetDouble("duration") : scene.duration();
     if (!(duration > 0.0 && duration <= 3600.0)) throw UsageError("option --duration: expected (0, 3600] s");
     const std::unique_ptr<hw::JoystickSource> joystick = OpenJoystick(
@@ -233,7 +246,10 @@ int DriveCommand(const ParsedArgs& args) {
   } else {
     scripted = vehicle::SimulateCarScene(scene);  // the scene's own controls
   }
-  hw::CarLiveLoop loop(scene, mca::LoadCarMcaConfig(scene));
+  const mca::McaConfig mca_config = DriveMcaConfig(args, scene);
+  hw::CarLiveLoop loop(scene, mca_config);
+  std::cout << "pwsim drive: mca " << mca::McaAlgorithmName(mca_config.algorithm) << " on platform '"
+            << mca_config.platform.name << "'\n";
   const std::size_t rows = static_cast<std::size_t>(ticks) + 1;
   std::vector<double> t(rows), x(rows), y(rows), yaw(rows), v(rows), rpm(rows), gear(rows), throttle(rows),
       brake(rows), clutch(rows), steer(rows), rail(rows), turn(rows), cue_x(rows), cue_y(rows), late(rows);

@@ -1,13 +1,16 @@
-// pwsim omct [--platform FILE] [--scene SCENE] [--out DIR]: the Objective Motion Cueing Test of
-// the MCA and platform limits (mca/omct.h). Writes DIR/omct.csv (test,frequency,gain,phase;
+// pwsim omct [--platform FILE] [--scene SCENE] [--mca washout|mpc] [--out DIR]: the Objective
+// Motion Cueing Test of the MCA and platform limits (mca/omct.h), through the washout or the MPC. Writes DIR/omct.csv (test,frequency,gain,phase;
 // frequency in rad/s, phase in degrees) and the Bode plot DIR/omct.png.
 
+#include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
 #include "app/commands.h"
+#include "app/session_setup.h"
 #include "plot/plot.h"
 #include "engine/atomic_file.h"
 #include "engine/number_format.h"
@@ -25,6 +28,7 @@ const CommandSpec& OmctSpec() {
       {
           {"platform", "FILE", "-", "", "pwsim-platform/1 file (default: the scene's, else pw4dof)"},
           {"scene", "SCENE", "-", "", "take the washout (mca:) and platform sections of this scene"},
+          McaAlgorithmOptionSpec(),
           {"out", "DIR", "-", "out/omct", "output folder (created)"},
           {"rate-hz", "HZ", "Hz", "1000", "MCA tick rate"},
           {"force-amplitude", "A", "m/s^2", "0.1", "input amplitude of the specific-force tests"},
@@ -39,9 +43,9 @@ int OmctCommand(const ParsedArgs& args) {
   mca::McaConfig config;
   if (args.Has("scene")) config = mca::LoadMcaConfig(LoadScene(args.Get("scene")));
   if (args.Has("platform")) {
-    config.platform = mca::ReadPlatformFile(args.Get("platform"));
-    config.platform_source = args.Get("platform");
+    mca::ReadPlatformConfigFile(args.Get("platform"), config);
   }
+  if (const std::optional<mca::McaAlgorithm> algorithm = McaAlgorithmOption(args)) config.algorithm = *algorithm;
   mca::OmctOptions options;
   options.rate_hz = args.GetDouble("rate-hz");
   options.force_amplitude = args.GetDouble("force-amplitude", 1e-6, 100.0);
@@ -49,9 +53,17 @@ int OmctCommand(const ParsedArgs& args) {
   if (!(options.rate_hz >= 50.0 && options.rate_hz <= 100000.0)) {
     throw UsageError("option --rate-hz: expected a number in [50, 100000] Hz");
   }
+  if (config.algorithm == mca::McaAlgorithm::kMpc) {
+    const double ticks = config.mpc.control_period * options.rate_hz;
+    if (!(ticks >= 1.0 && std::abs(ticks - std::round(ticks)) < 1e-9)) {
+      throw UsageError("option --rate-hz: the MPC's control period (" + FormatDouble(config.mpc.control_period) +
+                       " s) must be a whole number of ticks");
+    }
+    if (const std::string problem = mca::CheckMpcStart(config); !problem.empty()) throw UsageError(problem);
+  }
   const std::filesystem::path out_dir = args.Get("out");
 
-  const std::vector<mca::OmctPoint> points = mca::RunOmct(config.washout, config.platform, options);
+  const std::vector<mca::OmctPoint> points = mca::RunOmct(config, options);
 
   std::ostringstream csv;
   csv << "test,frequency,gain,phase\n";
@@ -63,7 +75,7 @@ int OmctCommand(const ParsedArgs& args) {
   WriteFileAtomically(out_dir / "omct.csv", csv.str());
 
   plot::Figure figure;
-  figure.title = "OMCT, platform " + config.platform.name;
+  figure.title = std::string("OMCT, ") + mca::McaAlgorithmName(config.algorithm) + ", platform " + config.platform.name;
   figure.x_label = "frequency [rad/s]";
   figure.log_x = true;
   plot::Panel gain;
@@ -95,7 +107,7 @@ int OmctCommand(const ParsedArgs& args) {
   figure.panel_height_px = 420;
   plot::WriteFigure(out_dir / "omct.png", figure);
 
-  std::cout << "pwsim omct: platform '" << config.platform.name << "', " << points.size()
+  std::cout << "pwsim omct: " << mca::McaAlgorithmName(config.algorithm) << ", platform '" << config.platform.name << "', " << points.size()
             << " points (" << points.size() / 12 << " tests x 12 frequencies)\n"
             << "  " << (out_dir / "omct.csv").string() << "\n"
             << "  " << (out_dir / "omct.png").string() << "\n";

@@ -91,13 +91,15 @@ hw::SessionStreams ChooseStreams(const ParsedArgs& args, const Scene& scene, con
     const mca::SagittalTrack track = TrialTrack(trial, source, chair, 1.0 / config.clock_rate_hz);
     const std::string label = "trial '" + trial.name + "' as " + TrialSourceName(source) +
                               (source == TrialSource::kMeasured ? " (tracked O_V)" : " (model driven by the measured x(t))");
-    streams = hw::BuildTrackSessionStreams(scene, config, track, smooth_ticks, label, description);
+    streams = hw::BuildTrackSessionStreams(scene, config, track, smooth_ticks, label, description,
+                                           McaAlgorithmOption(args));
     j["source"] = TrialSourceName(source);
     j["trial"] = args.Get("trial");
   } else {
-    streams = hw::BuildSessionStreams(scene, config, description);
+    streams = hw::BuildSessionStreams(scene, config, description, McaAlgorithmOption(args));
     j["source"] = "scene";
   }
+  j["mca"] = streams.mca_algorithm;
   j["description"] = *description;
   WriteFileAtomically(out_dir / "trial.json", j.dump(2) + "\n");
   return streams;
@@ -111,10 +113,11 @@ hw::SessionStreams CarStreams(const ParsedArgs& args, const vehicle::CarScene& s
     throw UsageError("options --trial and --plan replay chair trials; " + scene.file.string() +
                                 " is a car scene (kind: car)");
   }
-  hw::SessionStreams streams = hw::BuildCarSessionStreams(scene, config, description);
+  hw::SessionStreams streams = hw::BuildCarSessionStreams(scene, config, description, McaAlgorithmOption(args));
   nlohmann::ordered_json j;
   j["format"] = "pwsim-session-trial/1";
   j["source"] = "car scene";
+  j["mca"] = streams.mca_algorithm;
   j["description"] = *description;
   WriteFileAtomically(out_dir / "trial.json", j.dump(2) + "\n");
   return streams;
@@ -140,6 +143,7 @@ const CommandSpec& SessionSpec() {
           {"sources", "MAP", "-", "T_r=measured,T_m=model", "with --plan: condition -> measured|model"},
           {"chair", "FILE", "-", "", "model chair for the model source (default: the trial's if identified, else Table I)"},
           {"smooth-ms", "MS", "ms", "20", "with --trial: half-width of the moving average on track derivatives"},
+          McaAlgorithmOptionSpec(),
       },
       "SCENE  a pwsim-scene/1 YAML file (default: the paper's speed-cushion trial); kind: car drives seed 001's car"};
     const std::vector<OptionSpec> links = SessionLinkOptions();

@@ -21,6 +21,17 @@ int TicksFromMs(double ms, int rate_hz, const char* option) {
 
 }  // namespace
 
+std::optional<mca::McaAlgorithm> McaAlgorithmOption(const ParsedArgs& args) {
+  if (!args.Has("mca")) return std::nullopt;
+  const std::string name = args.Get("mca");
+  if (name != "washout" && name != "mpc") throw UsageError("option --mca: expected washout or mpc, got '" + name + "'");
+  return name == "mpc" ? mca::McaAlgorithm::kMpc : mca::McaAlgorithm::kWashout;
+}
+
+OptionSpec McaAlgorithmOptionSpec() {
+  return {"mca", "washout|mpc", "-", "", "motion cueing: the washout or the MPC (held input); overrides the scene's mca.algorithm"};
+}
+
 std::vector<OptionSpec> SessionLinkOptions() {
   return {
           {"can", "SPEC", "-", "udp:127.0.0.1:29536", "CAN link: udp:HOST:PORT (cannelloni) or socketcan:IFACE"},

@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,7 @@
 #include "engine/clock.h"
 #include "hardware/session_runner.h"
 #include "hardware/udp_socket.h"
+#include "mca/config.h"
 
 namespace pwsim::app {
 
@@ -28,6 +30,12 @@ struct SessionSetup {
   hw::UdpSocket hmd;
   hw::UdpAddress hmd_peer;
 };
+
+/// --mca washout|mpc (pwsim session, drive, omct): the cueing that overrides the scene's
+/// mca.algorithm, or nothing when the option is absent. @throws UsageError on another value.
+std::optional<mca::McaAlgorithm> McaAlgorithmOption(const ParsedArgs& args);
+/// The option's spec line for a command's table.
+OptionSpec McaAlgorithmOptionSpec();
 
 /// The configuration for `duration_s` of motion on `clock`, and the links opened. Returns "" or
 /// why a link could not be opened. @throws UsageError on bad options.

@@ -34,12 +34,13 @@ Pose CarCameraPose(const std::array<double, 3>& p, double yaw, double pitch, dou
 }
 
 SessionStreams BuildCarSessionStreams(const vehicle::CarScene& scene, const SessionConfig& config,
-                                      std::string* description) {
-  const mca::McaConfig mca_config = mca::LoadCarMcaConfig(scene);
+                                      std::string* description, std::optional<mca::McaAlgorithm> algorithm) {
+  mca::McaConfig mca_config = mca::LoadCarMcaConfig(scene);
   if (!mca_config.platform.Has(mca::Dof::kSurge) || !mca_config.platform.Has(mca::Dof::kYaw)) {
     throw std::invalid_argument("car scene platform '" + mca_config.platform.name +
                                 "' lacks surge or yaw; the session drives seed 001's rail + yaw platform");
   }
+  if (algorithm) mca::ChooseAlgorithm(*algorithm, mca_config);
   if (scene.clock.rate_hz != config.clock_rate_hz) {
     throw std::invalid_argument("scene clock " + std::to_string(scene.clock.rate_hz) +
                                 " Hz differs from the session clock " + std::to_string(config.clock_rate_hz) + " Hz");
@@ -54,6 +55,7 @@ SessionStreams BuildCarSessionStreams(const vehicle::CarScene& scene, const Sess
   const mca::CueingTrace trace = mca::RunRailYawCueing(mca_config, truth, scene.clock.dt());
 
   SessionStreams streams;
+  streams.mca_algorithm = mca::McaAlgorithmName(mca_config.algorithm);
   for (std::size_t k = 0; k < trace.commands.size(); k += static_cast<std::size_t>(config.drive_cycle_ticks)) {
     const auto& pose = trace.commands[k].pose;
     streams.setpoints.push_back({pose[static_cast<std::size_t>(mca::Index(mca::Dof::kYaw))],
@@ -62,7 +64,8 @@ SessionStreams BuildCarSessionStreams(const vehicle::CarScene& scene, const Sess
   for (std::size_t k = 0; k < samples.size(); k += static_cast<std::size_t>(config.frame_ticks))
     streams.cameras.push_back(CarEyePose(scene, samples[k].state));
   if (description != nullptr) {
-    *description = "car '" + scene.car.name + "' MCA (mca::RunRailYawCueing) on platform '" +
+    *description = "car '" + scene.car.name + "' MCA (mca::RunRailYawCueing, " +
+                   mca::McaAlgorithmName(mca_config.algorithm) + ") on platform '" +
                    mca_config.platform.name + "' (" + mca_config.platform_source + "), " +
                    std::to_string(samples.size()) + " car ticks -> " + std::to_string(streams.setpoints.size()) +
                    " setpoints, " + std::to_string(streams.cameras.size()) + " camera poses";

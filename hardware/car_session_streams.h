@@ -4,7 +4,10 @@
 // platform (mca/rail_yaw.h), giving the platform setpoints (yaw -> q1, surge -> rail q2) per
 // drive cycle; the driver's eye pose (position, yaw, pitch, roll of the car) per frame.
 
+#include <optional>
 #include <string>
+
+#include "mca/config.h"
 
 #include "engine/vehicle/car_scene.h"
 #include "hardware/session.h"
@@ -14,8 +17,10 @@ namespace pwsim::hw {
 
 /// @throws InputError (scene sections), std::invalid_argument (clock mismatch, or a scene
 /// platform without surge and yaw: the session drives seed 001's rail + yaw platform).
+/// `algorithm` (a command line's --mca) overrides the scene's mca.algorithm.
 SessionStreams BuildCarSessionStreams(const vehicle::CarScene& scene, const SessionConfig& config,
-                                      std::string* description);
+                                      std::string* description,
+                                      std::optional<mca::McaAlgorithm> algorithm = std::nullopt);
 
 /// Camera pose of an eye at p (W) in a car with yaw ψ, nose-up pitch θ and left-up roll φ:
 /// q = q_z(ψ) q_y(-θ) q_x(φ).

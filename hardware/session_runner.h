@@ -27,6 +27,8 @@ struct SessionStreams {
   std::vector<std::array<double, kPlatformAxes>> setpoints;
   /// Camera pose per frame tick (index tick / frame_ticks); held after the end.
   std::vector<Pose> cameras;
+  /// The cueing that made the setpoints ("washout", "mpc"; mca::McaAlgorithmName), for the record.
+  std::string mca_algorithm;
 };
 
 /// Where each step's setpoint and camera pose come from: precomputed streams (a scene, a

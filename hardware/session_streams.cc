@@ -18,7 +18,7 @@ Pose CameraPose(double x, double z, double pitch) {
   return p;
 }
 
-mca::McaConfig SessionMcaConfig(const Scene& scene) {
+mca::McaConfig SessionMcaConfig(const Scene& scene, std::optional<mca::McaAlgorithm> algorithm) {
   mca::McaConfig mca_config = mca::LoadMcaConfig(scene);
   // The hardware link drives the 2-DoF rail + yaw platform of seed 001. A scene platform with
   // both axes is used as given; otherwise (e.g. the 4-DoF PW platform) the MCA is re-targeted
@@ -31,12 +31,13 @@ mca::McaConfig SessionMcaConfig(const Scene& scene) {
     mca_config.platform = mca::MakeCar2DofPlatform();
     mca_config.platform_source = "built-in car 2-DoF (seed 001)" + note;
   }
+  if (algorithm) mca::ChooseAlgorithm(*algorithm, mca_config);
   return mca_config;
 }
 
 SessionStreams BuildSessionStreams(const Scene& scene, const SessionConfig& config,
-                                   std::string* description) {
-  const mca::McaConfig mca_config = SessionMcaConfig(scene);
+                                   std::string* description, std::optional<mca::McaAlgorithm> algorithm) {
+  const mca::McaConfig mca_config = SessionMcaConfig(scene, algorithm);
   if (scene.clock.rate_hz != config.clock_rate_hz) {
     throw std::invalid_argument("scene clock " + std::to_string(scene.clock.rate_hz) +
                                 " Hz differs from the session clock " +
@@ -50,6 +51,7 @@ SessionStreams BuildSessionStreams(const Scene& scene, const SessionConfig& conf
   const mca::CueingTrace trace = mca::RunCueing(mca_config, truth, scene.clock.dt());
 
   SessionStreams streams;
+  streams.mca_algorithm = mca::McaAlgorithmName(mca_config.algorithm);
   for (std::size_t k = 0; k < trace.commands.size(); k += static_cast<std::size_t>(config.drive_cycle_ticks)) {
     const auto& pose = trace.commands[k].pose;
     streams.setpoints.push_back({pose[static_cast<std::size_t>(mca::Index(mca::Dof::kYaw))],
@@ -60,7 +62,7 @@ SessionStreams BuildSessionStreams(const Scene& scene, const SessionConfig& conf
     streams.cameras.push_back(CameraPose(h.x, h.z, h.pitch));
   }
   if (description != nullptr) {
-    *description = "MCA (mca::RunCueing) on platform '" + mca_config.platform.name + "' (" +
+    *description = std::string("MCA (mca::RunCueing, ") + mca::McaAlgorithmName(mca_config.algorithm) + ") on platform '" + mca_config.platform.name + "' (" +
                    mca_config.platform_source + "), " + std::to_string(samples.size()) +
                    " chair ticks -> " + std::to_string(streams.setpoints.size()) +
                    " setpoints, " + std::to_string(streams.cameras.size()) + " camera poses";

@@ -11,18 +11,20 @@ namespace pwsim::hw {
 
 SessionStreams BuildTrackSessionStreams(const Scene& scene, const SessionConfig& config,
                                         const mca::SagittalTrack& track, int smooth_ticks,
-                                        const std::string& label, std::string* description) {
+                                        const std::string& label, std::string* description,
+                                        std::optional<mca::McaAlgorithm> algorithm) {
   const double dt = 1.0 / config.clock_rate_hz;
   if (std::abs(track.dt - dt) > 1e-12 * dt)
     throw std::invalid_argument("track sampled every " + std::to_string(track.dt) +
                                 " s, the session ticks every " + std::to_string(dt) + " s");
   if (track.x.size() < 3 || track.z.size() != track.x.size() || track.pitch.size() != track.x.size())
     throw std::invalid_argument("track '" + label + "': expected at least 3 samples of x, z and pitch");
-  const mca::McaConfig mca_config = SessionMcaConfig(scene);
+  const mca::McaConfig mca_config = SessionMcaConfig(scene, algorithm);
   const std::vector<mca::HeadMotion> head =
       mca::HeadMotionFromTrack(track, scene.occupant.head_offset, smooth_ticks);
   const mca::CueingTrace trace = mca::RunCueing(mca_config, head, dt);
   SessionStreams streams;
+  streams.mca_algorithm = mca::McaAlgorithmName(mca_config.algorithm);
   for (std::size_t k = 0; k < trace.commands.size(); k += static_cast<std::size_t>(config.drive_cycle_ticks)) {
     const auto& pose = trace.commands[k].pose;
     streams.setpoints.push_back({pose[static_cast<std::size_t>(mca::Index(mca::Dof::kYaw))],
@@ -37,7 +39,7 @@ SessionStreams BuildTrackSessionStreams(const Scene& scene, const SessionConfig&
     streams.cameras.push_back(CameraPose(h.x, h.z, h.pitch));
   }
   if (description != nullptr) {
-    *description = label + ", MCA (mca::RunCueing) on platform '" + mca_config.platform.name + "' (" +
+    *description = label + ", MCA (mca::RunCueing, " + mca::McaAlgorithmName(mca_config.algorithm) + ") on platform '" + mca_config.platform.name + "' (" +
                    mca_config.platform_source + "), " + std::to_string(track.x.size()) + " ticks -> " +
                    std::to_string(streams.setpoints.size()) + " setpoints, " +
                    std::to_string(streams.cameras.size()) + " camera poses";

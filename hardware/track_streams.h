@@ -7,11 +7,13 @@
 // (SessionMcaConfig, one per drive cycle) and the head's camera pose per frame, exactly as
 // BuildSessionStreams does for a scene.
 
+#include <optional>
 #include <string>
 
 #include "engine/scene.h"
 #include "hardware/session.h"
 #include "hardware/session_runner.h"
+#include "mca/config.h"
 #include "mca/head_motion.h"
 
 namespace pwsim::hw {
@@ -21,6 +23,7 @@ namespace pwsim::hw {
 /// `label` names the track in `description`.
 SessionStreams BuildTrackSessionStreams(const Scene& scene, const SessionConfig& config,
                                         const mca::SagittalTrack& track, int smooth_ticks,
-                                        const std::string& label, std::string* description);
+                                        const std::string& label, std::string* description,
+                                        std::optional<mca::McaAlgorithm> algorithm = std::nullopt);
 
 }  // namespace pwsim::hw

@@ -1,11 +1,16 @@
 #include "mca/config.h"
 
+#include <stdexcept>
+
 #include "engine/input_error.h"
 
 namespace pwsim::mca {
 
-void ParseMcaSection(const SceneSection& section, McaConfig& config) {
-  YamlMap map(section.node, section.file, "mca", section.line);
+namespace {
+
+/// `algorithm:` and `mpc:` over config (both optional): the keys a scene's mca: section and a
+/// platform (file or inline) share.
+void ParseAlgorithmKeys(YamlMap& map, McaConfig& config) {
   const std::string algorithm = map.ChoiceOr("algorithm", McaAlgorithmName(config.algorithm), {"washout", "mpc"});
   config.algorithm = algorithm == "mpc" ? McaAlgorithm::kMpc : McaAlgorithm::kWashout;
   if (map.Has("mpc")) {
@@ -13,6 +18,13 @@ void ParseMcaSection(const SceneSection& section, McaConfig& config) {
     config.mpc = ParseMpcParams(mpc, config.mpc);
     mpc.Finish();
   }
+}
+
+}  // namespace
+
+void ParseMcaSection(const SceneSection& section, McaConfig& config) {
+  YamlMap map(section.node, section.file, "mca", section.line);
+  ParseAlgorithmKeys(map, config);
   config.washout = ParseWashoutParams(map, config.washout);
   if (map.Has("vestibular")) {
     YamlMap vestibular = map.Map("vestibular");
@@ -25,6 +37,14 @@ void ParseMcaSection(const SceneSection& section, McaConfig& config) {
   map.Finish();
 }
 
+void ReadPlatformConfigFile(const std::filesystem::path& file, McaConfig& config) {
+  config.platform = ReadTaggedYamlFile(file, "pwsim-platform/1", [&config](YamlMap& map) {
+    ParseAlgorithmKeys(map, config);
+    return ParsePlatform(map);
+  });
+  config.platform_source = file.string();
+}
+
 void ParsePlatformSection(const SceneSection& section, McaConfig& config) {
   if (section.node.IsScalar()) {
     const std::filesystem::path target = ResolveRelative(section.file, section.node.Scalar());
@@ -33,13 +53,13 @@ void ParsePlatformSection(const SceneSection& section, McaConfig& config) {
                        "a path to a pwsim-platform/1 file or an inline mapping",
                        "\"" + section.node.Scalar() + "\" (" + target.string() + " does not exist)");
     }
-    config.platform = ReadPlatformFile(target);
-    config.platform_source = target.string();
+    ReadPlatformConfigFile(target, config);
     return;
   }
   YamlMap map(section.node, section.file, "platform", section.line);
   const std::string format = map.StringOr("format", "pwsim-platform/1");
   if (format != "pwsim-platform/1") map.Fail("format", "\"pwsim-platform/1\"", "\"" + format + "\"");
+  ParseAlgorithmKeys(map, config);
   config.platform = ParsePlatform(map);
   map.Finish();
   config.platform_source = "inline";
@@ -57,16 +77,22 @@ std::string CheckMpcStart(const McaConfig& config) {
   return "";
 }
 
+void ChooseAlgorithm(McaAlgorithm algorithm, McaConfig& config) {
+  config.algorithm = algorithm;
+  if (algorithm != McaAlgorithm::kMpc) return;
+  if (const std::string problem = CheckMpcStart(config); !problem.empty()) throw std::invalid_argument(problem);
+}
+
 McaConfig LoadMcaConfig(const SceneSection* platform, const SceneSection* mca, McaConfig defaults) {
   McaConfig config = std::move(defaults);
   if (platform) ParsePlatformSection(*platform, config);
-  if (mca) {
-    ParseMcaSection(*mca, config);
-    if (config.algorithm == McaAlgorithm::kMpc) {
-      if (const std::string problem = CheckMpcStart(config); !problem.empty()) {
-        throw InputError(mca->file.string(), mca->line, "mca.mpc", "an MPC set-up feasible from rest",
-                         problem);
-      }
+  if (mca) ParseMcaSection(*mca, config);
+  // the algorithm may come from the platform (file or inline) or the scene's mca:, which wins
+  const SceneSection* named = mca != nullptr ? mca : platform;
+  if (named != nullptr && config.algorithm == McaAlgorithm::kMpc) {
+    if (const std::string problem = CheckMpcStart(config); !problem.empty()) {
+      throw InputError(named->file.string(), named->line, mca != nullptr ? "mca.mpc" : "platform.mpc",
+                       "an MPC set-up feasible from rest", problem);
     }
   }
   return config;

@@ -2,7 +2,9 @@
 // The MCA configuration of a scene, chair or car (the one loader of both): the `mca:` section
 // (`algorithm: washout | mpc`, the washout per axis, `mpc:`, `vestibular:`) and the
 // `platform:` section (a path relative to the scene file, normally under scenes/platforms/,
-// or an inline platform mapping). Both are optional: without them the washout with the
+// or an inline platform mapping). A platform (file or inline) may carry `algorithm:` and
+// `mpc:` too, the cueing it is tuned for; the scene's `mca:` is read after it and wins, key by
+// key (mpc fields one by one). Both are optional: without them the washout with the
 // defaults of DefaultWashoutParams() runs on the vehicle's default platform (the chair's 4-DoF
 // PW platform, the car's rail + yaw).
 //
@@ -49,9 +51,18 @@ McaConfig LoadCarMcaConfig(const CarSceneT& scene) {
 }
 /// Empty when the MPC can start from rest on config.platform, else why not.
 std::string CheckMpcStart(const McaConfig& config);
+/// A command line's choice (--mca washout|mpc) over the loaded configuration: sets
+/// config.algorithm and, for the MPC, checks its start as LoadMcaConfig does.
+/// @throws std::invalid_argument (CheckMpcStart's reason) when the MPC cannot start from rest.
+void ChooseAlgorithm(McaAlgorithm algorithm, McaConfig& config);
 /// Reads `mca:` over `base` from a raw section node.
 void ParseMcaSection(const SceneSection& section, McaConfig& config);
 /// Reads `platform:` (path or inline) from a raw section node.
 void ParsePlatformSection(const SceneSection& section, McaConfig& config);
+/// Reads a pwsim-platform/1 file into config.platform, with its optional `algorithm:` and
+/// `mpc:` keys over config (a platform may name the cueing it is tuned for; a scene's `mca:`
+/// read afterwards overrides them). ReadPlatformFile (mca/platform.h) takes the platform only.
+/// @throws InputError
+void ReadPlatformConfigFile(const std::filesystem::path& file, McaConfig& config);
 
 }  // namespace pwsim::mca

@@ -89,8 +89,13 @@ bool OmctApplies(const OmctTest& test, const WashoutParams& params, const Platfo
   return drives(test.input) && produces(test.output);
 }
 
-OmctPoint RunOmctPoint(const OmctTest& test, double frequency, const WashoutParams& params,
-                       const PlatformSpec& platform, const OmctOptions& options) {
+namespace {
+
+/// Drives `step` (HeadMotion in, const McaCommand& out, one MCA tick each) with the test's
+/// sinusoid and fits the delivered output over the measured window.
+template <class StepFn>
+OmctPoint MeasurePoint(const OmctTest& test, double frequency, const PlatformSpec& platform,
+                       const OmctOptions& options, StepFn&& step) {
   PWSIM_DEMAND(frequency > 0.0 && options.rate_hz > 0.0);
   const double dt = 1.0 / options.rate_hz;
   const double period = 2.0 * kPi / frequency;
@@ -101,14 +106,19 @@ OmctPoint RunOmctPoint(const OmctTest& test, double frequency, const WashoutPara
       static_cast<std::int64_t>(std::llround(options.measure_periods * period / dt));
 
   // run, keeping the poses of the measured window and one tick either side
-  ClassicalWashout washout(params, platform, dt);
   std::vector<DofArray> poses;
   poses.reserve(static_cast<std::size_t>(measure_ticks + 2));
   const std::int64_t first = settle_ticks - 1;
   const std::int64_t last = settle_ticks + measure_ticks;
+  bool within_limits = true;
   for (std::int64_t tick = 0; tick <= last; ++tick) {
     const double t = static_cast<double>(tick) * dt;
-    const McaCommand& command = washout.Step(Excite(test.input, amplitude * std::sin(frequency * t)));
+    const McaCommand& command = step(Excite(test.input, amplitude * std::sin(frequency * t)));
+    for (Dof dof : kAllDofs) {
+      const DofLimits& limits = platform.limits(dof);
+      const auto i = static_cast<std::size_t>(Index(dof));
+      if (limits.present && !(std::abs(command.pose[i]) <= limits.travel)) within_limits = false;
+    }
     if (tick >= first) poses.push_back(command.pose);
   }
   const std::vector<HeadMotion> delivered = DeliveredHeadMotion(platform, poses, dt);
@@ -129,7 +139,49 @@ OmctPoint RunOmctPoint(const OmctTest& test, double frequency, const WashoutPara
   point.frequency = frequency;
   point.gain = std::hypot(coeff(0), coeff(1)) / amplitude;
   point.phase = std::atan2(coeff(1), coeff(0)) / kDegToRad;
+  point.within_limits = within_limits;
   return point;
+}
+
+}  // namespace
+
+OmctPoint RunOmctPoint(const OmctTest& test, double frequency, const WashoutParams& params,
+                       const PlatformSpec& platform, const OmctOptions& options) {
+  ClassicalWashout washout(params, platform, 1.0 / options.rate_hz);
+  return MeasurePoint(test, frequency, platform, options,
+                      [&washout](const HeadMotion& m) -> const McaCommand& { return washout.Step(m); });
+}
+
+OmctPoint RunOmctPoint(const OmctTest& test, double frequency, const McaConfig& config,
+                       const OmctOptions& options) {
+  if (config.algorithm == McaAlgorithm::kWashout) {
+    return RunOmctPoint(test, frequency, config.washout, config.platform, options);
+  }
+  MpcParams held = config.mpc;
+  held.preview = false;  // the OMCT's sinusoid is the input: the current input is held
+  MpcCueing mpc(held, config.washout, config.vestibular, config.platform, 1.0 / options.rate_hz);
+  return MeasurePoint(test, frequency, config.platform, options,
+                      [&mpc](const HeadMotion& m) -> const McaCommand& { return mpc.Step(m); });
+}
+
+bool OmctApplies(const OmctTest& test, const McaConfig& config) {
+  if (config.algorithm == McaAlgorithm::kWashout) return OmctApplies(test, config.washout, config.platform);
+  // the MPC's specific force contains g·θ and g·φ: it tilts wherever it has pitch or roll
+  WashoutParams tilting = config.washout;
+  tilting.tilt_pitch.enabled = true;
+  tilting.tilt_roll.enabled = true;
+  return OmctApplies(test, tilting, config.platform);
+}
+
+std::vector<OmctPoint> RunOmct(const McaConfig& config, const OmctOptions& options) {
+  std::vector<OmctPoint> points;
+  for (const OmctTest& test : OmctTests()) {
+    if (!OmctApplies(test, config)) continue;
+    for (double frequency : OmctFrequencies()) {
+      points.push_back(RunOmctPoint(test, frequency, config, options));
+    }
+  }
+  return points;
 }
 
 std::vector<OmctPoint> RunOmct(const WashoutParams& params, const PlatformSpec& platform,

@@ -9,11 +9,13 @@
 // pitch and yaw rate [rad/s]. Gain is output/input in those units, phase in degrees.
 //
 //   std::vector<OmctPoint> points = RunOmct(washout_params, platform, OmctOptions{});
+//   std::vector<OmctPoint> mpc_points = RunOmct(mca_config, OmctOptions{});  // washout or MPC
 
 #include <array>
 #include <string>
 #include <vector>
 
+#include "mca/config.h"
 #include "mca/platform.h"
 #include "mca/washout.h"
 
@@ -47,6 +49,7 @@ struct OmctPoint {
   double frequency{0.0};  ///< [rad/s]
   double gain{0.0};       ///< output/input amplitude
   double phase{0.0};      ///< [deg], output relative to input, in (-180, 180]
+  bool within_limits{true};  ///< every commanded pose inside the platform's travel
 };
 
 /// One test at one frequency.
@@ -55,5 +58,15 @@ OmctPoint RunOmctPoint(const OmctTest& test, double frequency, const WashoutPara
 /// Every applicable test at every frequency.
 std::vector<OmctPoint> RunOmct(const WashoutParams& params, const PlatformSpec& platform,
                                const OmctOptions& options);
+
+/// Through config.algorithm: the washout (as above) or the MPC (mca/mpc.h) with the held-input
+/// prediction (preview off: the sinusoid is only known up to now). The MPC's control period must
+/// be a whole number of 1/rate_hz ticks.
+OmctPoint RunOmctPoint(const OmctTest& test, double frequency, const McaConfig& config,
+                       const OmctOptions& options);
+/// For the MPC the tilt tests apply wherever the platform has pitch or roll (its cost carries
+/// g·θ, g·φ); for the washout as OmctApplies(test, config.washout, config.platform).
+bool OmctApplies(const OmctTest& test, const McaConfig& config);
+std::vector<OmctPoint> RunOmct(const McaConfig& config, const OmctOptions& options);
 
 }  // namespace pwsim::mca

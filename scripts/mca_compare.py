@@ -1,5 +1,7 @@
 #!/usr/bin/env python3
-"""Table of the MCA comparison (scripts/mca-compare.sh): reads OUT/<scene>/<mode>/summary.json."""
+"""Table of the MCA comparison (scripts/mca-compare.sh): reads OUT/<scene>/<mode>/summary.json and
+the OMCT results OUT/omct/<platform>/<mode>/omct.csv."""
+import csv
 import json
 import sys
 from pathlib import Path
@@ -44,6 +46,39 @@ def main(out: Path) -> None:
             cells.append("yes" if within else "NO")
             cells.append(str(s["algorithm"].get("fallbacks_to_washout", "–")))
             print("| " + " | ".join(cells) + " |")
+
+    omct(out)
+
+
+OMCT_PLATFORMS = ["pw4dof", "car2dof"]
+OMCT_MODES = [("washout", "washout"), ("mpc", "MPC, held input")]
+OMCT_FREQUENCIES = [0.251, 1.0, 3.98]  # rad/s, OMCT frequencies 10^(k/5), k = -3, 0, 3
+
+
+def omct(out: Path) -> None:
+    """Gain and phase per OMCT test (per axis) at a low, a mid and a high frequency."""
+    for platform in OMCT_PLATFORMS:
+        rows = {}
+        for mode, _ in OMCT_MODES:
+            with open(out / "omct" / platform / mode / "omct.csv") as f:
+                for r in csv.DictReader(f):
+                    rows[(mode, r["test"], round(float(r["frequency"]), 2))] = (float(r["gain"]), float(r["phase"]))
+        tests = sorted({t for (_, t, _) in rows}, key=lambda t: TEST_ORDER.index(t))
+        print(f"\n**OMCT, platform {platform}** (gain [-], phase [deg]; rotations in rad/s, forces in m/s²)\n")
+        head = ["test", "algorithm"] + [f"{w:g} rad/s" for w in OMCT_FREQUENCIES]
+        print("| " + " | ".join(head) + " |")
+        print("|" + "---|" * len(head))
+        for test in tests:
+            for mode, name in OMCT_MODES:
+                cells = [test.replace("_to_", " → "), name]
+                for w in OMCT_FREQUENCIES:
+                    gain, phase = rows[(mode, test, round(w, 2))]
+                    cells.append(f"{gain:.3g}, {phase:+.0f}°")
+                print("| " + " | ".join(cells) + " |")
+
+
+TEST_ORDER = ["p_to_p", "q_to_q", "r_to_r", "fx_to_fx", "fy_to_fy", "fz_to_fz", "fx_to_q", "fy_to_p", "q_to_fx",
+              "p_to_fy"]
 
 
 if __name__ == "__main__":

@@ -12,6 +12,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -25,6 +26,7 @@
 #include "engine/number_format.h"
 #include "engine/scene.h"
 #include "report/trial_track.h"
+#include "hardware/session_streams.h"
 #include "hardware/track_streams.h"
 #include "hardware/udp_socket.h"
 #include "study/plan.h"
@@ -117,8 +119,10 @@ std::string ReadText(const fs::path& file) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
-/// One planned trial through platform-sim + session; returns the session's exit status.
-int RunPlannedSession(const fs::path& dir, const std::string& participant, int index, std::string* outputs) {
+/// `pwsim session` with `session_args` (after SCENE and the links) through platform-sim, writing
+/// into dir/out_name; returns the session's exit status.
+int RunSession(const fs::path& dir, const std::string& out_name, const std::vector<std::string>& session_args,
+               std::string* outputs) {
   hw::UdpSocket probe;
   if (!probe.Bind(*hw::ParseUdpAddress("127.0.0.1:0")).empty()) return -10;
   const std::string port = std::to_string(probe.local_port());
@@ -132,12 +136,10 @@ int RunPlannedSession(const fs::path& dir, const std::string& participant, int i
   std::string first;
   char c = 0;
   while (::read(fds[0], &c, 1) == 1 && c != '\n') first += c;
-  const fs::path out = dir / ("out_" + participant + "_" + std::to_string(index));
-  const pid_t session = Spawn({kPwsim, "session", kScene.string(), "--can", "udp:127.0.0.1:" + port, "--hmd", "none",
-                               "--duration", "1.0", "--max-stop-s", "10", "--plan", (dir / "plan.csv").string(),
-                               "--participant", participant, "--trial-index", std::to_string(index), "--trial",
-                               kTrial.string(), "--out", out.string()},
-                              dir / "session.out");
+  std::vector<std::string> args{kPwsim, "session", kScene.string(), "--can", "udp:127.0.0.1:" + port, "--hmd", "none",
+                                "--duration", "1.0", "--max-stop-s", "10", "--out", (dir / out_name).string()};
+  args.insert(args.end(), session_args.begin(), session_args.end());
+  const pid_t session = Spawn(args, dir / "session.out");
   const int session_status = WaitExit(session);
   if (session_status != 0) ::kill(platform, SIGTERM);  // it would wait for a master forever
   // drain platform-sim's output so it never blocks on a full pipe, until it exits (idle-exit)
@@ -148,6 +150,28 @@ int RunPlannedSession(const fs::path& dir, const std::string& participant, int i
   *outputs = "--- session\n" + ReadText(dir / "session.out") + "--- platform-sim\n" + first + "\n" + rest +
              ReadText(dir / "platform.err") + "(platform-sim exit " + std::to_string(platform_status) + ")\n";
   return session_status;
+}
+
+/// One planned trial through platform-sim + session; returns the session's exit status.
+int RunPlannedSession(const fs::path& dir, const std::string& participant, int index, std::string* outputs) {
+  return RunSession(dir, "out_" + participant + "_" + std::to_string(index),
+                    {"--plan", (dir / "plan.csv").string(), "--participant", participant, "--trial-index",
+                     std::to_string(index), "--trial", kTrial.string()},
+                    outputs);
+}
+
+/// The setpoints a session logged (its "M tick yaw rail" lines), as written.
+std::vector<std::array<std::string, 3>> LoggedSetpoints(const fs::path& log_file) {
+  std::vector<std::array<std::string, 3>> rows;
+  std::ifstream log(log_file);
+  for (std::string line; std::getline(log, line);) {
+    if (line.rfind("M ", 0) != 0) continue;
+    std::istringstream in(line.substr(2));
+    std::array<std::string, 3> row;
+    in >> row[0] >> row[1] >> row[2];
+    rows.push_back(row);
+  }
+  return rows;
 }
 
 TEST(SessionPlan, EachPlannedTrialReplaysItsConditionsSource) {
@@ -227,6 +251,41 @@ TEST(SessionPlan, MeasuredConditionWithoutTrialIsRefused) {
                            " --participant P07 --out " + (dir / "out").string() + " > " + (dir / "log2").string() + " 2>&1";
   EXPECT_EQ(WEXITSTATUS(std::system(cmd2.c_str())), 1);
   EXPECT_NE(ReadText(dir / "log2").find("field 'participant'"), std::string::npos) << ReadText(dir / "log2");
+}
+
+
+// `pwsim session --mca mpc` on the scene: trial.json names the MPC and every logged setpoint is
+// the MPC's offline stream (hw::BuildSessionStreams with the override), bit for bit, which
+// differs from the washout's the scene itself names.
+TEST(SessionMca, OptionReachesTheLoop) {
+  if (!fs::exists(kPwsim)) GTEST_SKIP() << kPwsim << " not built";
+  const fs::path dir = fs::path(PWSIM_BINARY_DIR) / "test_out" / "session_mca";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::string outputs;
+  ASSERT_EQ(RunSession(dir, "out", {"--mca", "mpc"}, &outputs), 0) << outputs;
+  std::ifstream tj(dir / "out" / "trial.json");
+  const nlohmann::json j = nlohmann::json::parse(tj);
+  EXPECT_EQ(j["mca"], "mpc");
+
+  const Scene scene = LoadScene(kScene);
+  hw::SessionConfig config;
+  config.clock_rate_hz = scene.clock.rate_hz;
+  const hw::SessionStreams mpc = hw::BuildSessionStreams(scene, config, nullptr, mca::McaAlgorithm::kMpc);
+  const hw::SessionStreams washout = hw::BuildSessionStreams(scene, config, nullptr);
+  EXPECT_EQ(mpc.mca_algorithm, "mpc");
+  EXPECT_EQ(washout.mca_algorithm, "washout");
+  int compared = 0, discriminating = 0;
+  for (const auto& [tick_text, yaw, rail] : LoggedSetpoints(dir / "out" / "session.log")) {
+    const long long tick = std::stoll(tick_text);
+    const auto i = std::min(static_cast<std::size_t>(tick / config.drive_cycle_ticks), mpc.setpoints.size() - 1);
+    ASSERT_EQ(yaw, FormatDouble(mpc.setpoints[i][0])) << tick;
+    ASSERT_EQ(rail, FormatDouble(mpc.setpoints[i][1])) << tick;
+    if (washout.setpoints[std::min(i, washout.setpoints.size() - 1)] != mpc.setpoints[i]) ++discriminating;
+    ++compared;
+  }
+  EXPECT_GT(compared, 100) << outputs;
+  EXPECT_GT(discriminating, compared / 2) << "the check would not tell the MPC from the washout";
 }
 
 }  // namespace

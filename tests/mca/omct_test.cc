@@ -84,5 +84,52 @@ TEST(OmctTest, ApplicableTests) {
   EXPECT_EQ(car, 2);  // fx_to_fx on the rail, r_to_r on the turntable
 }
 
+
+// Tests the OMCT through the MPC (held input) at a mid frequency, 1 rad/s, on both platforms of
+// the seeds. Every test: every command inside the travel, gain above 0; a direct test's gain at
+// most 1.2 (the MPC may not amplify a cue much beyond one). The direct tests of axes that do not tilt gravity (r, fx, fy,
+// fz) give a real cue (gain > 0.05) in the washout's sense (phase within 90° of it, where the
+// washout passes the cue with gain above 0.3). Pitch and roll rotations are different: in the
+// OMCT they come without a change of specific force, and on the platform every degree of tilt
+// is g·θ of false specific force, which the MPC weighs against the rotation cue; so its p→p and
+// q→q gains are small and its false-force cross-coupling (p→fy, q→fx) must be below the
+// washout's, which passes the rotation and with it the false force.
+TEST(OmctTest, MpcAtMidFrequencyIsSane) {
+  OmctOptions options;
+  options.settle_min = 10.0;
+  int compared = 0;
+  for (const PlatformSpec& platform : {MakePw4DofPlatform(), MakeCar2DofPlatform()}) {
+    McaConfig washout;
+    washout.platform = platform;
+    McaConfig mpc = washout;
+    mpc.algorithm = McaAlgorithm::kMpc;
+    ASSERT_TRUE(CheckMpcStart(mpc).empty()) << platform.name;
+    for (const OmctTest& test : OmctTests()) {
+      if (!OmctApplies(test, mpc)) continue;
+      const OmctPoint w = RunOmctPoint(test, 1.0, washout, options);
+      const OmctPoint m = RunOmctPoint(test, 1.0, mpc, options);
+      const std::string name = test.name;
+      const bool direct = test.input == test.output;
+      EXPECT_TRUE(m.within_limits) << platform.name << " " << name;
+      EXPECT_GT(m.gain, 0.0) << name;
+      if (direct) {
+        EXPECT_LE(m.gain, 1.2) << name;
+      }
+      if (name == "q_to_fx" || name == "p_to_fy") {
+        EXPECT_LT(m.gain, w.gain) << platform.name << " " << name;
+        ++compared;
+      }
+      const bool tilts = test.input == OmctSignal::kP || test.input == OmctSignal::kQ;
+      if (!direct || tilts || w.gain < 0.3) continue;
+      ++compared;
+      EXPECT_GT(m.gain, 0.05) << platform.name << " " << name;
+      double difference = std::fmod(std::abs(m.phase - w.phase), 360.0);
+      if (difference > 180.0) difference = 360.0 - difference;
+      EXPECT_LT(difference, 90.0) << platform.name << " " << name << ": mpc " << m.phase << " washout " << w.phase;
+    }
+  }
+  EXPECT_EQ(compared, 6);  // pw4dof: r, fx, fy direct, q→fx, p→fy; car2dof: r direct
+}
+
 }  // namespace
 }  // namespace pwsim::mca
