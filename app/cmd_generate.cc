@@ -11,31 +11,20 @@
 
 #include "app/commands.h"
 #include "engine/chair.h"
+#include "engine/number_format.h"
 #include "synth/effect_truth_model.h"
 #include "synth/generate.h"
 
 namespace pwsim::app {
 namespace {
 
-/// The whole of `text` as a finite number, or nothing.
-std::optional<double> ParseNumber(const std::string& text) {
-  std::size_t used = 0;
-  double value = 0.0;
-  try {
-    value = std::stod(text, &used);
-  } catch (const std::exception&) {
-    return std::nullopt;
-  }
-  if (used == 0 || used != text.size() || !std::isfinite(value)) return std::nullopt;
-  return value;
-}
 
 std::vector<double> ParseList(const std::string& option, const std::string& text) {
   std::vector<double> values;
   std::stringstream stream(text);
   std::string item;
   while (std::getline(stream, item, ',')) {
-    const std::optional<double> value = ParseNumber(item);
+    const std::optional<double> value = ParseFiniteNumber(item);
     if (!value) {
       throw UsageError("option --" + option +
                                   ": expected comma-separated numbers, got \"" + text + "\"");
@@ -84,7 +73,7 @@ std::map<std::string, double> ParseEffectParams(const std::string& text) {
       throw UsageError("option --effect-params: expected NAME=VALUE,... with VALUE a number, got '" +
                        item + "'");
     }
-    const std::optional<double> number = ParseNumber(item.substr(eq + 1));
+    const std::optional<double> number = ParseFiniteNumber(item.substr(eq + 1));
     if (!number) {
       throw UsageError("option --effect-params: expected NAME=VALUE,... with VALUE a number, got '" +
                        item + "'");

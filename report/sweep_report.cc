@@ -9,6 +9,7 @@
 #include <set>
 #include <string>
 
+#include "engine/number_format.h"
 #include "plot/plot.h"
 
 namespace pwsim::report {
@@ -20,15 +21,9 @@ namespace fs = std::filesystem;
 std::optional<std::vector<double>> Numeric(const std::vector<std::string>& texts) {
   std::vector<double> values;
   for (const std::string& text : texts) {
-    std::size_t used = 0;
-    double value = 0.0;
-    try {
-      value = std::stod(text, &used);
-    } catch (const std::exception&) {
-      return std::nullopt;
-    }
-    if (used != text.size() || !std::isfinite(value)) return std::nullopt;
-    values.push_back(value);
+    const std::optional<double> value = ParseFiniteNumber(text);
+    if (!value) return std::nullopt;
+    values.push_back(*value);
   }
   return values;
 }
