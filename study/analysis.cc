@@ -199,15 +199,10 @@ Reported ParseReported(const std::string& text) {
       r.test = value;
       continue;
     }
-    std::size_t used = 0;
-    double v = 0.0;
-    try {
-      v = std::stod(value, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != value.size() || value.empty() || !std::isfinite(v))
+    const std::optional<double> number = ParseFiniteNumber(value);
+    if (!number)
       throw std::invalid_argument("option --reported: key '" + key + "': expected a number, got '" + value + "'");
+    const double v = *number;
     if (key == "W" || key == "V" || key == "U" || key == "statistic") {
       r.statistic = v;
       r.statistic_decimals = DecimalsOf(value);
