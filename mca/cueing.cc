@@ -54,14 +54,16 @@ ConsistencyReport EvaluateConsistency(const McaConfig& config, const CueingTrace
     }
     report.canals[axis] = CompareAxis(t, p, config.vestibular.thresholds.w[axis], dt, max_lag);
   }
+  // the commanded tilt-coordination rates (McaCommand::tilt_rate_*): for the washout its tilt
+  // channel's, for the MPC its rotation beyond or against the vehicle's own
   std::vector<double> tilt_pitch(n), tilt_roll(n);
   for (std::size_t k = 0; k < n; ++k) {
-    tilt_pitch[k] = trace.commands[k].tilt_pitch;
-    tilt_roll[k] = trace.commands[k].tilt_roll;
+    tilt_pitch[k] = trace.commands[k].tilt_rate_pitch;
+    tilt_roll[k] = trace.commands[k].tilt_rate_roll;
     if (trace.commands[k].fault) ++report.fault_ticks;
   }
-  report.tilt_pitch = RateAbove(tilt_pitch, config.vestibular.thresholds.tilt_rate, dt);
-  report.tilt_roll = RateAbove(tilt_roll, config.vestibular.thresholds.tilt_rate, dt);
+  report.tilt_pitch = RatesAbove(tilt_pitch, config.vestibular.thresholds.tilt_rate, dt);
+  report.tilt_roll = RatesAbove(tilt_roll, config.vestibular.thresholds.tilt_rate, dt);
   for (Dof dof : kAllDofs) {
     if (!config.platform.Has(dof)) continue;
     const DofLimits& limits = config.platform.limits(dof);
