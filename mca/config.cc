@@ -117,6 +117,12 @@ McaConfig LoadMcaConfig(const Scene& scene) {
   return LoadMcaConfig(scene.section("platform"), scene.section("mca"), McaConfig{});
 }
 
+McaConfig LoadMcaConfig(const Scene& scene, std::optional<McaAlgorithm> choice) {
+  McaConfig config = LoadMcaConfig(scene);
+  if (choice) ChooseAlgorithm(*choice, config);
+  return config;
+}
+
 McaConfig CarMcaDefaults() {
   McaConfig config;
   config.platform = MakeCar2DofPlatform();

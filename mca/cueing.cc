@@ -5,6 +5,22 @@
 
 namespace pwsim::mca {
 
+McaStepper::McaStepper(const McaConfig& config, double dt) {
+  if (config.algorithm == McaAlgorithm::kMpc) {
+    mpc_ = std::make_unique<MpcCueing>(config.mpc, config.washout, config.vestibular, config.platform, dt);
+  } else {
+    washout_.emplace(config.washout, config.platform, dt);
+  }
+}
+
+McaStepper::~McaStepper() = default;
+
+void McaStepper::SetPreview(const std::vector<HeadMotion>* trial) {
+  if (mpc_) mpc_->SetPreview(trial);
+}
+
+const McaCommand& McaStepper::Step(const HeadMotion& input) { return mpc_ ? mpc_->Step(input) : washout_->Step(input); }
+
 CueingTrace RunCueing(const McaConfig& config, const std::vector<HeadMotion>& truth, double dt) {
   CueingTrace trace;
   trace.truth = truth;
@@ -13,17 +29,12 @@ CueingTrace RunCueing(const McaConfig& config, const std::vector<HeadMotion>& tr
   std::vector<DofArray> poses;
   poses.reserve(n);
   trace.algorithm = config.algorithm;
-  if (config.algorithm == McaAlgorithm::kMpc) {
-    MpcCueing mpc(config.mpc, config.washout, config.vestibular, config.platform, dt);
-    mpc.SetPreview(&truth);
-    trace.preview = mpc.using_preview();
-    trace.whole_trial = config.mpc.whole_trial;
-    for (const HeadMotion& input : truth) trace.commands.push_back(mpc.Step(input));
-    trace.mpc = mpc.stats();
-  } else {
-    ClassicalWashout washout(config.washout, config.platform, dt);
-    for (const HeadMotion& input : truth) trace.commands.push_back(washout.Step(input));
-  }
+  McaStepper stepper(config, dt);
+  stepper.SetPreview(&truth);
+  trace.preview = stepper.using_preview();
+  trace.whole_trial = config.algorithm == McaAlgorithm::kMpc && config.mpc.whole_trial;
+  for (const HeadMotion& input : truth) trace.commands.push_back(stepper.Step(input));
+  trace.mpc = stepper.mpc_stats();
   for (const McaCommand& c : trace.commands) poses.push_back(c.pose);
   trace.delivered = DeliveredHeadMotion(config.platform, poses, dt);
   VestibularModel vehicle(config.vestibular, dt);
