@@ -11,7 +11,9 @@
 // A circuit scene (a wheelchair scene with `circuit:`) is driven the same way, always as a live
 // session (--can): joystick -> full-DoF chair through the circuit -> MCA -> supervisor -> CAN
 // (hardware/chair_drive_source.h), and report.json also carries the drive's training metrics
-// (engine/training_metrics.h; DIR/training.md). Wiring only.
+// (engine/training_metrics.h; DIR/training.md). --mca washout|mpc chooses the MCA over the
+// scene's for cars and chairs alike (the MPC holds the current input: no trial ahead live).
+// Wiring only.
 
 #include <chrono>
 #include <cmath>
