@@ -41,7 +41,7 @@
 // takes its rate from [r_k−1 ± a dt] ∩ [±speed] ∩ travel window ∩ B_k (StepLimiter with a
 // RateWindow). These meet: r_k−1 ∈ B_k−1 and B's edges move at most A dt ≤ a dt per tick
 // (min(0, ·) and max(0, ·) are 1-Lipschitz), so [r_k−1 ± a dt] meets B_k; the travel window,
-// [±speed] (speed > τ) and B_k all contain 0; intervals of a line that meet pairwise have a
+// [±speed] and B_k all contain 0; intervals of a line that meet pairwise have a
 // common point. From rest (r = 0 ∈ B) r_k ∈ B_k on every tick, by induction.
 //   In the QP the band is a hard row at every block end: v_k ∈ B̂_k widened by μ = 1.5 A dt,
 // with ω̂_f predicted at the block's vehicle rate (held or previewed), moving at most A h_k.
@@ -52,18 +52,20 @@
 // if v < A h then v' = 0 and p' = p + v h/2 ≤ p + c v ≤ T as h ≤ 2c (block_s ≤ 2 V̄/A, checked
 // at load, CheckMpcStart); the band's edges move at most A h per block, so v_k ≤ U_k + μ gives
 //   v_k+1 = max(0, v_k − A h) ≤ max(0, U_k+1 + μ) = U_k+1 + μ,   v_k+1 ≥ 0 ≥ L_k+1 − μ.
-// The premise holds at each solve: the plan kept (b)–(d); the model's end-of-tick rate lies
-// within ½ A dt of the tick's mean rate r_k ∈ B_k, and B moves at most A dt more by the solve:
-// μ = 1.5 A dt. A solve that fails all the same falls back to the washout for that period
-// (counted), still under the per-tick band.
+// The premise holds at each solve after a period in which the plan was followed: the plan kept
+// (b)–(d); the model's end-of-tick rate lies within ½ A dt of the tick's mean rate r_k ∈ B_k,
+// and B moves at most A dt more by the solve: μ = 1.5 A dt. Where the limiter had to change the
+// plan (the per-tick band is narrower than the block-end rows, or a fault), (d) may not hold;
+// a solve that fails then falls back to the washout for that period (counted; none on the
+// shipped scenes, MpcCliTest), still under the per-tick band.
 // Vehicle prediction: without a preview the current input is held over the horizon; with one
 // (SetPreview: a recorded or simulated trial), each block gets that trial's mean input.
 // Each control period one QP is solved (mca/qp_active_set.h by default, ALGLIB minqp as the
 // alternatives, mca/qp_alglib.h), warm-started from the last active set;
 // every engine tick the planned pose passes the platform limiter (StepLimiter), which never
-// lets a command leave the limits nor, on pitch and roll, the tilt band. A failed solve falls back to the classical washout for that
-// period (counted); a non-finite input holds the last finite one for fault.hold_s, then
-// assumes rest (the neutral pull brings the platform home).
+// lets a command leave the limits nor, on pitch and roll, the tilt band. A failed solve falls
+// back to the classical washout for that period (counted); a non-finite input holds the last
+// finite one for fault.hold_s, then assumes rest (the neutral pull brings the platform home).
 //
 //   MpcCueing mpc(config.mpc, config.washout, config.vestibular, config.platform, 1e-3);
 //   const McaCommand& cmd = mpc.Step(head_motion);
