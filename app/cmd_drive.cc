@@ -20,6 +20,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <thread>
 
@@ -154,15 +155,15 @@ int DriveSession(const ParsedArgs& args, const vehicle::CarScene& scene, hw::Joy
 /// A circuit driven by a chair joystick as a live session: joystick -> chair -> MCA ->
 /// supervisor -> CAN, head pose -> HMD; report.json with the training metrics.
 int DriveChairSession(const ParsedArgs& args, const Scene& scene, const std::string& scene_path,
-                      hw::JoystickSource& joystick, double duration) {
+                      hw::JoystickSource& joystick, double duration, std::optional<mca::McaAlgorithm> algorithm) {
   SessionSetup setup;
   const std::filesystem::path out = args.Get("out");
   if (!OpenDriveSession(args, scene.clock, duration, out, &setup)) return 1;
   // the metrics cover the drive up to the stop request (the park after it is not scored)
-  hw::ChairDriveSource source(scene, joystick, setup.config.run_ticks, McaAlgorithmOption(args));
-  const char* algorithm = mca::McaAlgorithmName(source.session_mca().algorithm);
+  hw::ChairDriveSource source(scene, joystick, setup.config.run_ticks, algorithm);
+  const char* cueing = mca::McaAlgorithmName(source.session_mca().algorithm);
   std::cout << "pwsim drive: chair '" << scene.name << "' through its circuit, driven live by " << joystick.name()
-            << ", mca " << algorithm << "\n  MCA on '" << source.pw4dof_mca().platform.name << "' (reported) and on '"
+            << ", mca " << cueing << "\n  MCA on '" << source.pw4dof_mca().platform.name << "' (reported) and on '"
             << source.session_mca().platform.name << "' (" << source.session_mca().platform_source
             << ": the CAN drives, yaw -> q1, surge -> rail q2)\n";
   TrainingMetrics training;
@@ -222,9 +223,10 @@ int DriveCommand(const ParsedArgs& args) {
       throw UsageError("a chair drives a circuit live: give --joystick SPEC and --can (a live session)");
     const double duration = args.Has("duration") ? args.GetDouble("duration") : scene.duration();
     if (!(duration > 0.0 && duration <= 3600.0)) throw UsageError("option --duration: expected (0, 3600] s");
+    const std::optional<mca::McaAlgorithm> algorithm = McaAlgorithmOption(args);  // before any link opens
     const std::unique_ptr<hw::JoystickSource> joystick = OpenJoystick(
         args.Get("joystick"), scene.clock.rate_hz, args.GetDouble("joystick-timeout-ms", 1.0, 10'000.0));
-    return DriveChairSession(args, scene, scene_path.string(), *joystick, duration);
+    return DriveChairSession(args, scene, scene_path.string(), *joystick, duration, algorithm);
   }
   const vehicle::CarScene scene = vehicle::LoadCarScene(scene_path);
   hw::ControlMapping mapping;

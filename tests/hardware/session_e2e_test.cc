@@ -622,7 +622,7 @@ TEST(SessionEndToEnd, RnetJoystickLogDrivesTheChairThroughACircuit) {
 // drives the chair through circuit_course, both MCAs (the scene's pw4dof, reported, and the
 // rail + yaw on the CAN) are MPCs holding the current input (no trial ahead live); the session
 // ends parked inside every limit, report.json names the algorithm, the held input and the
-// solves without a fallback, and the drive replays bit for bit.
+// solves without a fallback, and the drive replays bit for bit; an unknown --mca is refused.
 TEST(SessionEndToEnd, RnetJoystickLogDrivesTheChairThroughACircuitWithTheMpc) {
   if (!fs::exists(kPwsim)) GTEST_SKIP() << kPwsim << " not built";
   E2e e("chair_rnet_mpc");
@@ -646,6 +646,12 @@ TEST(SessionEndToEnd, RnetJoystickLogDrivesTheChairThroughACircuitWithTheMpc) {
   EXPECT_GT(r.report["chair"]["pw4dof_peak_command"]["pitch"].get<double>(), 0.0);
   Child replay({kPwsim, "replay", (e.dir / "out" / "session.log").string()});
   EXPECT_EQ(replay.Wait(kGuardS), 0) << replay.Output();
+  // an unknown --mca is refused before any link opens (usage error: exit 2)
+  Child refused({kPwsim, "drive", std::string(PWSIM_SOURCE_DIR) + "/scenes/circuit_course.yaml", "--joystick",
+                 "rnet-log:" + std::string(PWSIM_SOURCE_DIR) + "/assets/rnet/joystick_synthetic.log", "--can",
+                 "udp:127.0.0.1:9", "--mca", "lqr"});
+  EXPECT_EQ(refused.Wait(kGuardS), 2) << refused.Output();
+  EXPECT_NE(refused.Output().find("--mca: expected washout or mpc"), std::string::npos) << refused.Output();
 }
 
 TEST(SessionEndToEnd, SocketCanOnAKernelWithoutCanFailsWithAClearMessage) {
