@@ -11,13 +11,16 @@
 // A circuit scene (a wheelchair scene with `circuit:`) is driven the same way, always as a live
 // session (--can): joystick -> full-DoF chair through the circuit -> MCA -> supervisor -> CAN
 // (hardware/chair_drive_source.h), and report.json also carries the drive's training metrics
-// (engine/training_metrics.h; DIR/training.md). Wiring only.
+// (engine/training_metrics.h; DIR/training.md). --mca washout|mpc chooses the MCA over the
+// scene's for cars and chairs alike (the MPC holds the current input: no trial ahead live).
+// Wiring only.
 
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <thread>
 
@@ -55,7 +58,7 @@ const CommandSpec& DriveSpec() {
           {"duration", "S", "s", "", "drive time (default: the scene's duration_s)"},
           {"no-realtime", "", "-", "", "step as fast as possible instead of at the clock rate"},
           {"out", "DIR", "-", "out/drive", "output folder (drive.csv; with --can: session.log, can.log, report.json, joystick.json)"},
-          McaAlgorithmOptionSpec(),  // car scenes
+          McaAlgorithmOptionSpec(),
       },
       "SCENE  a pwsim-scene/1 YAML file with kind: car, or a wheelchair scene with a circuit: section"};
     // With --can (given explicitly) the drive runs as a live session on these links.
@@ -107,6 +110,19 @@ std::unique_ptr<hw::JoystickSource> OpenJoystick(const std::string& spec, int ra
 void WriteJoystickReport(const hw::JoystickSource& joystick, std::uint64_t invalid_polls,
                          const std::filesystem::path& out);
 
+/// report.json's chair.mca: the algorithm of both MCAs and, for the MPC, that it holds the
+/// current input (no trial ahead live) and its solves and fallbacks to the washout.
+nlohmann::ordered_json MpcUseJson(mca::McaAlgorithm algorithm, const mca::MpcStats& pw4dof,
+                                  const mca::MpcStats& can) {
+  nlohmann::ordered_json j{{"algorithm", mca::McaAlgorithmName(algorithm)}};
+  if (algorithm != mca::McaAlgorithm::kMpc) return j;
+  j["preview"] = "none: the current input is held (live, no trial ahead)";
+  for (const auto& [key, stats] : {std::pair{"pw4dof", &pw4dof}, std::pair{"can", &can}}) {
+    j[key] = {{"solves", stats->solves}, {"fallbacks_to_washout", stats->fallbacks}, {"fault_ticks", stats->fault_ticks}};
+  }
+  return j;
+}
+
 /// The links opened (false, said on stderr, when one cannot be) and the output folder made.
 bool OpenDriveSession(const ParsedArgs& args, const Clock& clock, double duration, const std::filesystem::path& out,
                       SessionSetup* setup) {
@@ -139,14 +155,15 @@ int DriveSession(const ParsedArgs& args, const vehicle::CarScene& scene, hw::Joy
 /// A circuit driven by a chair joystick as a live session: joystick -> chair -> MCA ->
 /// supervisor -> CAN, head pose -> HMD; report.json with the training metrics.
 int DriveChairSession(const ParsedArgs& args, const Scene& scene, const std::string& scene_path,
-                      hw::JoystickSource& joystick, double duration) {
+                      hw::JoystickSource& joystick, double duration, std::optional<mca::McaAlgorithm> algorithm) {
   SessionSetup setup;
   const std::filesystem::path out = args.Get("out");
   if (!OpenDriveSession(args, scene.clock, duration, out, &setup)) return 1;
   // the metrics cover the drive up to the stop request (the park after it is not scored)
-  hw::ChairDriveSource source(scene, joystick, setup.config.run_ticks);
+  hw::ChairDriveSource source(scene, joystick, setup.config.run_ticks, algorithm);
+  const char* cueing = mca::McaAlgorithmName(source.session_mca().algorithm);
   std::cout << "pwsim drive: chair '" << scene.name << "' through its circuit, driven live by " << joystick.name()
-            << "\n  MCA on '" << source.pw4dof_mca().platform.name << "' (reported) and on '"
+            << ", mca " << cueing << "\n  MCA on '" << source.pw4dof_mca().platform.name << "' (reported) and on '"
             << source.session_mca().platform.name << "' (" << source.session_mca().platform_source
             << ": the CAN drives, yaw -> q1, surge -> rail q2)\n";
   TrainingMetrics training;
@@ -162,7 +179,9 @@ int DriveChairSession(const ParsedArgs& args, const Scene& scene, const std::str
                   {"pw4dof_platform", source.pw4dof_mca().platform.name},
                   {"pw4dof_peak_command", peak},
                   {"can_platform", source.session_mca().platform.name},
-                  {"can_axes", "yaw -> q1, surge -> rail q2"}};
+                  {"can_axes", "yaw -> q1, surge -> rail q2"},
+                  {"mca", MpcUseJson(source.session_mca().algorithm, source.pw4dof_mpc_stats(),
+                                     source.session_mpc_stats())}};
   });
   report::WriteTrainingPage(training, "pwsim drive " + scene_path + " (" + joystick.name() + ")", out);
   std::cout << "  training: " << training.gates_passed << " of " << training.gates_total << " gates, "
@@ -202,13 +221,12 @@ int DriveCommand(const ParsedArgs& args) {
     if (!scene.is_circuit()) throw UsageError("pwsim drive needs a car scene (kind: car) or a circuit scene (circuit:)");
     if (!args.Has("joystick") || !args.Has("can") || args.Flag("wheel"))
       throw UsageError("a chair drives a circuit live: give --joystick SPEC and --can (a live session)");
-    if (args.Has("mca"))
-      throw UsageError("option --mca: the chair's live drive runs its scene's washouts; --mca applies to car scenes");
     const double duration = args.Has("duration") ? args.GetDouble("duration") : scene.duration();
     if (!(duration > 0.0 && duration <= 3600.0)) throw UsageError("option --duration: expected (0, 3600] s");
+    const std::optional<mca::McaAlgorithm> algorithm = McaAlgorithmOption(args);  // before any link opens
     const std::unique_ptr<hw::JoystickSource> joystick = OpenJoystick(
         args.Get("joystick"), scene.clock.rate_hz, args.GetDouble("joystick-timeout-ms", 1.0, 10'000.0));
-    return DriveChairSession(args, scene, scene_path.string(), *joystick, duration);
+    return DriveChairSession(args, scene, scene_path.string(), *joystick, duration, algorithm);
   }
   const vehicle::CarScene scene = vehicle::LoadCarScene(scene_path);
   hw::ControlMapping mapping;

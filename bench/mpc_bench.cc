@@ -7,8 +7,8 @@
 // per-step times it measured, as thread CPU time (cpu_p50_us, cpu_p99_us, cpu_max_us: the
 // work, free of preemption by other processes) and as wall time (wall_p99_us, wall_max_us:
 // what a loaded machine adds), and the solver's mean iterations per solve.
-//   BM_MpcControlStep<platform>/<solver>: pw4dof (heave, roll, pitch, yaw: 66 variables,
-//   176 constraint rows) and car2dof (surge, yaw), for pwsim's dual active set and ALGLIB
+//   BM_MpcControlStep<platform>/<solver>: pw4dof (heave, roll, pitch, yaw: 44 variables,
+//   154 constraint rows, the tilt band hard) and car2dof (surge, yaw: 22 × 44), for pwsim's dual active set and ALGLIB
 //   minqp's BLEIC, DENSE-AUL and DENSE-IPM (the alternatives, docs/mca.md).
 
 #include <benchmark/benchmark.h>

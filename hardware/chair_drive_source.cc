@@ -23,14 +23,15 @@ JoystickInput ChairDeflectionFromJoystick(const JoystickSample& joystick) {
   return {std::clamp(joystick.y, -1.0, 1.0), turn == 0.0 ? 0.0 : -turn};
 }
 
-ChairDriveSource::ChairDriveSource(const Scene& scene, JoystickSource& joystick, std::int64_t max_ticks)
+ChairDriveSource::ChairDriveSource(const Scene& scene, JoystickSource& joystick, std::int64_t max_ticks,
+                                   std::optional<mca::McaAlgorithm> algorithm)
     : scene_(scene),
       joystick_(joystick),
       runner_(scene.chair, *scene.circuit, scene.load_kg, scene.clock.dt(), scene.pitch_torque),
-      session_mca_(SessionMcaConfig(scene)),
-      pw4dof_mca_(mca::LoadMcaConfig(scene)),
-      session_washout_(session_mca_.washout, session_mca_.platform, scene.clock.dt()),
-      pw4dof_washout_(pw4dof_mca_.washout, pw4dof_mca_.platform, scene.clock.dt()) {
+      session_mca_(SessionMcaConfig(scene, algorithm)),
+      pw4dof_mca_(mca::LoadMcaConfig(scene, algorithm)),
+      session_cue_(session_mca_, scene.clock.dt()),
+      pw4dof_cue_(pw4dof_mca_, scene.clock.dt()) {
   PWSIM_DEMAND(scene.is_circuit() && max_ticks >= 0);
   max_ticks_ = max_ticks;
   trace_.reserve(static_cast<std::size_t>(max_ticks) + 1);
@@ -52,8 +53,8 @@ void ChairDriveSource::StepChair(const JoystickInput& deflection) {
   head_[1] = head_[2];
   head_[2] = mca::PointOnBody(BodyPose(s), scene_.occupant.head_offset);
   const mca::HeadMotion motion = mca::HeadMotionAt(head_[0], head_[1], head_[2], scene_.clock.dt());
-  session_washout_.Step(motion);
-  const mca::McaCommand& c = pw4dof_washout_.Step(motion);
+  session_cue_.Step(motion);
+  const mca::McaCommand& c = pw4dof_cue_.Step(motion);
   for (std::size_t i = 0; i < c.pose.size(); ++i) pw4dof_peak_[i] = std::max(pw4dof_peak_[i], std::abs(c.pose[i]));
   if (chair_tick_ <= max_ticks_) Record();
 }
@@ -64,7 +65,7 @@ void ChairDriveSource::Fill(std::int64_t tick, bool drive, bool frame, std::int6
   const JoystickInput deflection = ChairDeflectionFromJoystick(last_);
   while (chair_tick_ < tick) StepChair(deflection);
   if (drive) {
-    const mca::McaCommand& c = session_washout_.command();
+    const mca::McaCommand& c = session_cue_.command();
     in->setpoint = std::array<double, kPlatformAxes>{c.pose[mca::Index(mca::Dof::kYaw)],
                                                      c.pose[mca::Index(mca::Dof::kSurge)]};
   }

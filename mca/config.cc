@@ -1,5 +1,7 @@
 #include "mca/config.h"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "engine/input_error.h"
@@ -70,6 +72,19 @@ const char* McaAlgorithmName(McaAlgorithm algorithm) {
 }
 
 std::string CheckMpcStart(const McaConfig& config) {
+  // the brake-to-rest plan of mca/mpc.h's feasibility argument stops within a block only when
+  // every block is at most 2 V̄/A long on each axis with a travel
+  for (Dof dof : kAllDofs) {
+    const DofLimits& limits = config.platform.limits(dof);
+    if (!limits.present || !std::isfinite(limits.travel)) continue;
+    const double brake = limits.brake_accel();
+    const double longest = 2.0 * std::min(limits.speed, std::sqrt(brake * limits.travel)) / brake;
+    if (std::max(config.mpc.block, config.mpc.control_period) > longest * (1.0 + 1e-9)) {
+      return "block_s " + std::to_string(config.mpc.block) + " exceeds 2 V/A = " + std::to_string(longest) +
+             " s of " + std::string(DofName(dof)) + " on platform '" + config.platform.name +
+             "' (the MPC's recursive feasibility, mca/mpc.h, needs block_s <= 2 V/A)";
+    }
+  }
   MpcCueing mpc(config.mpc, config.washout, config.vestibular, config.platform, 1e-3);
   if (!mpc.StartIsFeasible()) {
     return "the MPC's first solve from rest is infeasible on platform '" + config.platform.name + "'";
@@ -100,6 +115,12 @@ McaConfig LoadMcaConfig(const SceneSection* platform, const SceneSection* mca, M
 
 McaConfig LoadMcaConfig(const Scene& scene) {
   return LoadMcaConfig(scene.section("platform"), scene.section("mca"), McaConfig{});
+}
+
+McaConfig LoadMcaConfig(const Scene& scene, std::optional<McaAlgorithm> choice) {
+  McaConfig config = LoadMcaConfig(scene);
+  if (choice) ChooseAlgorithm(*choice, config);
+  return config;
 }
 
 McaConfig CarMcaDefaults() {

@@ -13,6 +13,7 @@
 //   // @throws InputError
 
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "engine/scene.h"
@@ -38,6 +39,8 @@ struct McaConfig {
 };
 
 McaConfig LoadMcaConfig(const Scene& scene);
+/// The same with a command line's choice over the scene's algorithm (ChooseAlgorithm), if any.
+McaConfig LoadMcaConfig(const Scene& scene, std::optional<McaAlgorithm> choice);
 /// Reads `platform:` then `mca:` (either may be null) over `defaults`; with `algorithm: mpc`
 /// also checks that the MPC's first solve from rest is feasible on that platform.
 McaConfig LoadMcaConfig(const SceneSection* platform, const SceneSection* mca, McaConfig defaults);

@@ -125,14 +125,20 @@ AxisConsistency CompareAxis(const std::vector<double>& truth, const std::vector<
 
 RateCues RateAbove(const std::vector<double>& angle, double threshold, double dt) {
   PWSIM_DEMAND(dt > 0.0);
+  std::vector<double> rate(angle.empty() ? 0 : angle.size() - 1);
+  for (std::size_t i = 1; i < angle.size(); ++i) rate[i - 1] = (angle[i] - angle[i - 1]) / dt;
+  return RatesAbove(rate, threshold, dt);
+}
+
+RateCues RatesAbove(const std::vector<double>& rate, double threshold, double dt) {
+  PWSIM_DEMAND(dt > 0.0);
   RateCues out;
   bool in_episode = false;
   // a relative margin keeps a rate limited exactly at the threshold from counting
   const double limit = threshold * (1.0 + 1e-9);
-  for (std::size_t i = 1; i < angle.size(); ++i) {
-    const double rate = std::abs(angle[i] - angle[i - 1]) / dt;
-    out.max_rate = std::max(out.max_rate, rate);
-    const bool above = rate > limit;
+  for (const double r : rate) {
+    out.max_rate = std::max(out.max_rate, std::abs(r));
+    const bool above = std::abs(r) > limit;
     if (above) {
       out.duration += dt;
       if (!in_episode) ++out.count;

@@ -49,6 +49,8 @@ struct RateCues {
   double max_rate{0.0};  ///< [rad/s]
 };
 RateCues RateAbove(const std::vector<double>& angle, double threshold, double dt);
+/// The same from the rates themselves [rad/s], one per tick of length dt.
+RateCues RatesAbove(const std::vector<double>& rate, double threshold, double dt);
 
 /// Normalised cross-correlation max over lags within ±max_lag [s]: returns {value, lag [s]}.
 std::array<double, 2> MaxCrossCorrelation(const std::vector<double>& a,

@@ -5,6 +5,22 @@
 
 namespace pwsim::mca {
 
+McaStepper::McaStepper(const McaConfig& config, double dt) {
+  if (config.algorithm == McaAlgorithm::kMpc) {
+    mpc_ = std::make_unique<MpcCueing>(config.mpc, config.washout, config.vestibular, config.platform, dt);
+  } else {
+    washout_.emplace(config.washout, config.platform, dt);
+  }
+}
+
+McaStepper::~McaStepper() = default;
+
+void McaStepper::SetPreview(const std::vector<HeadMotion>* trial) {
+  if (mpc_) mpc_->SetPreview(trial);
+}
+
+const McaCommand& McaStepper::Step(const HeadMotion& input) { return mpc_ ? mpc_->Step(input) : washout_->Step(input); }
+
 CueingTrace RunCueing(const McaConfig& config, const std::vector<HeadMotion>& truth, double dt) {
   CueingTrace trace;
   trace.truth = truth;
@@ -13,17 +29,12 @@ CueingTrace RunCueing(const McaConfig& config, const std::vector<HeadMotion>& tr
   std::vector<DofArray> poses;
   poses.reserve(n);
   trace.algorithm = config.algorithm;
-  if (config.algorithm == McaAlgorithm::kMpc) {
-    MpcCueing mpc(config.mpc, config.washout, config.vestibular, config.platform, dt);
-    mpc.SetPreview(&truth);
-    trace.preview = mpc.using_preview();
-    trace.whole_trial = config.mpc.whole_trial;
-    for (const HeadMotion& input : truth) trace.commands.push_back(mpc.Step(input));
-    trace.mpc = mpc.stats();
-  } else {
-    ClassicalWashout washout(config.washout, config.platform, dt);
-    for (const HeadMotion& input : truth) trace.commands.push_back(washout.Step(input));
-  }
+  McaStepper stepper(config, dt);
+  stepper.SetPreview(&truth);
+  trace.preview = stepper.using_preview();
+  trace.whole_trial = config.algorithm == McaAlgorithm::kMpc && config.mpc.whole_trial;
+  for (const HeadMotion& input : truth) trace.commands.push_back(stepper.Step(input));
+  trace.mpc = stepper.mpc_stats();
   for (const McaCommand& c : trace.commands) poses.push_back(c.pose);
   trace.delivered = DeliveredHeadMotion(config.platform, poses, dt);
   VestibularModel vehicle(config.vestibular, dt);
@@ -54,14 +65,16 @@ ConsistencyReport EvaluateConsistency(const McaConfig& config, const CueingTrace
     }
     report.canals[axis] = CompareAxis(t, p, config.vestibular.thresholds.w[axis], dt, max_lag);
   }
+  // the commanded tilt-coordination rates (McaCommand::tilt_rate_*): for the washout its tilt
+  // channel's, for the MPC its rotation beyond or against the vehicle's own
   std::vector<double> tilt_pitch(n), tilt_roll(n);
   for (std::size_t k = 0; k < n; ++k) {
-    tilt_pitch[k] = trace.commands[k].tilt_pitch;
-    tilt_roll[k] = trace.commands[k].tilt_roll;
+    tilt_pitch[k] = trace.commands[k].tilt_rate_pitch;
+    tilt_roll[k] = trace.commands[k].tilt_rate_roll;
     if (trace.commands[k].fault) ++report.fault_ticks;
   }
-  report.tilt_pitch = RateAbove(tilt_pitch, config.vestibular.thresholds.tilt_rate, dt);
-  report.tilt_roll = RateAbove(tilt_roll, config.vestibular.thresholds.tilt_rate, dt);
+  report.tilt_pitch = RatesAbove(tilt_pitch, config.vestibular.thresholds.tilt_rate, dt);
+  report.tilt_roll = RatesAbove(tilt_roll, config.vestibular.thresholds.tilt_rate, dt);
   for (Dof dof : kAllDofs) {
     if (!config.platform.Has(dof)) continue;
     const DofLimits& limits = config.platform.limits(dof);

@@ -2,12 +2,15 @@
 // A whole trial through the MCA, offline: true head motion in, platform commands, visual
 // channel, delivered head motion, both perceived motions and the consistency metrics out.
 // The per-tick work is ClassicalWashout::Step or MpcCueing::Step (config.algorithm; the MPC
-// previews the trial itself when config.mpc.preview); this file only collects series.
+// previews the trial itself when config.mpc.preview), chosen once by McaStepper, which live
+// loops step tick by tick too; this file only collects series.
 //
 //   CueingTrace trace = RunCueing(config, head_motions, dt);
 //   ConsistencyReport report = EvaluateConsistency(config, trace, dt);
 
 #include <array>
+#include <memory>
+#include <optional>
 #include <vector>
 
 #include "mca/config.h"
@@ -17,6 +20,28 @@
 #include "mca/washout.h"
 
 namespace pwsim::mca {
+
+/// The configured algorithm, stepped tick by tick: the classical washout or the MPC. Live, no
+/// trial lies ahead: the MPC holds the current input (SetPreview gives it one offline).
+/// Construction allocates; Step does not.
+class McaStepper {
+ public:
+  McaStepper(const McaConfig& config, double dt);
+  ~McaStepper();
+  /// The trial ahead, for the MPC when config.mpc.preview (MpcCueing::SetPreview).
+  void SetPreview(const std::vector<HeadMotion>* trial);
+  const McaCommand& Step(const HeadMotion& input);
+  /// The last Step's command.
+  const McaCommand& command() const { return mpc_ ? mpc_->command() : washout_->command(); }
+  McaAlgorithm algorithm() const { return mpc_ ? McaAlgorithm::kMpc : McaAlgorithm::kWashout; }
+  bool using_preview() const { return mpc_ && mpc_->using_preview(); }
+  /// Solves, fallbacks, fault ticks of the MPC (zero for the washout).
+  MpcStats mpc_stats() const { return mpc_ ? mpc_->stats() : MpcStats{}; }
+
+ private:
+  std::optional<ClassicalWashout> washout_;  ///< config.algorithm kWashout
+  std::unique_ptr<MpcCueing> mpc_;           ///< kMpc
+};
 
 struct CueingTrace {
   std::vector<HeadMotion> truth;       ///< the vehicle's head motion (input)

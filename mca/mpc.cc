@@ -77,6 +77,19 @@ std::string CheckWeight(const char* name, double w) {
 
 }  // namespace
 
+double StepFollowRate(double follow_rate, double vehicle_rate, double brake_accel, double dt) {
+  const double step = brake_accel * dt;
+  return std::clamp(vehicle_rate, follow_rate - step, follow_rate + step);
+}
+
+RateWindow TiltBand(double follow_rate, double threshold) {
+  return {std::min(0.0, follow_rate) - threshold, std::max(0.0, follow_rate) + threshold};
+}
+
+double TiltCoordinationRate(double platform_rate, double follow_rate) {
+  return platform_rate - std::clamp(platform_rate, std::min(0.0, follow_rate), std::max(0.0, follow_rate));
+}
+
 int MpcParams::BlockCount() const {
   if (!(block > 0.0) || !(horizon > control_period)) return 1;
   return 1 + static_cast<int>(std::ceil((horizon - control_period) / block - 1e-9));
@@ -97,8 +110,7 @@ std::string MpcParams::Validate() const {
     if (auto s = CheckWeight("weight_canal", weight_canal[static_cast<std::size_t>(j)]); !s.empty()) return s;
   }
   for (auto [name, w] : {std::pair{"weight_neutral", weight_neutral},
-                         std::pair{"weight_neutral_rate", weight_neutral_rate},
-                         std::pair{"weight_tilt_rate", weight_tilt_rate}}) {
+                         std::pair{"weight_neutral_rate", weight_neutral_rate}}) {
     if (auto s = CheckWeight(name, w); !s.empty()) return s;
   }
   if (!std::isfinite(weight_effort) || weight_effort <= 0.0) return "weight_effort must be finite and > 0";
@@ -127,7 +139,6 @@ MpcParams ParseMpcParams(YamlMap& map, const MpcParams& base) {
     p.weight_neutral = w.NumberOr("neutral", p.weight_neutral, weight);
     p.weight_neutral_rate = w.NumberOr("neutral_rate", p.weight_neutral_rate, weight);
     p.weight_effort = w.NumberOr("effort", p.weight_effort, Range{0.0, 1e9, true, false, ""});
-    p.weight_tilt_rate = w.NumberOr("tilt_rate", p.weight_tilt_rate, weight);
     w.Finish();
   }
   if (const std::string problem = p.Validate(); !problem.empty()) {
@@ -151,7 +162,10 @@ MpcModel BuildMpcModel(const MpcParams& params, const VestibularParams& vestibul
   PWSIM_DEMAND(m > 0);
   for (int a = 0; a < m; ++a) {
     const Dof d = model.axes[static_cast<std::size_t>(a)];
-    if (d == Dof::kRoll || d == Dof::kPitch) model.tilt_axes.push_back(a);
+    if (d == Dof::kRoll || d == Dof::kPitch) {
+      model.tilt_axes.push_back(a);
+      model.tilt_brake[d == Dof::kPitch ? 1 : 0] = platform.limits(d).brake_accel();
+    }
   }
   const Couplings k = MakeCouplings(model.axes, platform.head_from_pivot);
 
@@ -229,10 +243,8 @@ MpcModel BuildMpcModel(const MpcParams& params, const VestibularParams& vestibul
   }
 
   const int n_tilt = static_cast<int>(model.tilt_axes.size());
-  const int nu = m * n_blocks;
-  model.nz = nu + n_tilt * n_blocks;
+  model.nz = m * n_blocks;
   const int nz = model.nz;
-  auto slack_col = [&](int t, int kb) { return nu + t * n_blocks + kb; };
 
   // scales per axis
   std::vector<double> travel(static_cast<std::size_t>(m)), pose_scale(static_cast<std::size_t>(m)),
@@ -259,14 +271,13 @@ MpcModel BuildMpcModel(const MpcParams& params, const VestibularParams& vestibul
     return static_cast<int>(e_rows.size()) - 1;
   };
   auto add_con = [&](const Eigen::RowVectorXd& row, const Eigen::RowVectorXd& dx, double l, double h, int tilt_block,
-                     int channel, double sign) {
+                     int channel) {
     c_rows.push_back(row);
     dx_rows.push_back(dx);
     lo.push_back(l);
     hi.push_back(h);
     model.con_tilt_block.push_back(tilt_block);
     model.con_tilt_channel.push_back(channel);
-    model.con_tilt_sign.push_back(sign);
   };
   const Eigen::RowVectorXd zero_x = Eigen::RowVectorXd::Zero(nx);
   for (int kb = 0; kb < n_blocks; ++kb) {
@@ -300,11 +311,11 @@ MpcModel BuildMpcModel(const MpcParams& params, const VestibularParams& vestibul
       effort(kb * m + i) = std::sqrt(params.weight_effort * wt) / accel[s];
       add_cost(effort, zero_x);
       // constraints at the block's end
-      add_con(lk.row(2 * i + 1), mk.row(2 * i + 1), -speed[s], speed[s], -1, 0, 0.0);
+      add_con(lk.row(2 * i + 1), mk.row(2 * i + 1), -speed[s], speed[s], -1, 0);
       if (std::isfinite(travel[s])) {
-        add_con(lk.row(2 * i), mk.row(2 * i), -travel[s], travel[s], -1, 0, 0.0);
+        add_con(lk.row(2 * i), mk.row(2 * i), -travel[s], travel[s], -1, 0);
         add_con(lk.row(2 * i) + brake_c[s] * lk.row(2 * i + 1), mk.row(2 * i) + brake_c[s] * mk.row(2 * i + 1),
-                -travel[s], travel[s], -1, 0, 0.0);
+                -travel[s], travel[s], -1, 0);
       }
     }
     for (int t = 0; t < n_tilt; ++t) {
@@ -312,15 +323,7 @@ MpcModel BuildMpcModel(const MpcParams& params, const VestibularParams& vestibul
       const bool pitch = model.axes[static_cast<std::size_t>(i)] == Dof::kPitch;
       const int channel = pitch ? 1 : 0;  // vehicle rate: roll w_x, pitch nose-up −w_y
       const double thr = vestibular.thresholds.tilt_rate;
-      Eigen::RowVectorXd minus = lk.row(2 * i + 1), plus = lk.row(2 * i + 1);
-      minus(slack_col(t, kb)) = -1.0;
-      plus(slack_col(t, kb)) = 1.0;
-      add_con(minus, mk.row(2 * i + 1), -kInf, thr, kb, channel, 1.0);  // + max(0, θ̇_veh)
-      add_con(plus, mk.row(2 * i + 1), -thr, kInf, kb, channel, -1.0);  // + min(0, θ̇_veh)
-      model.z_linear_entries.emplace_back(slack_col(t, kb), params.weight_tilt_rate * wt);
-      Eigen::RowVectorXd slack = Eigen::RowVectorXd::Zero(nz);
-      slack(slack_col(t, kb)) = std::sqrt(params.weight_tilt_rate * wt) + 1e-3;
-      add_cost(slack, zero_x);
+      add_con(lk.row(2 * i + 1), mk.row(2 * i + 1), -thr, thr, kb, channel);  // the tilt band, hard
     }
   }
   const auto rows = static_cast<Eigen::Index>(e_rows.size());
@@ -344,8 +347,6 @@ MpcModel BuildMpcModel(const MpcParams& params, const VestibularParams& vestibul
     model.con_lo[r] = lo[s];
     model.con_hi[r] = hi[s];
   }
-  model.z_linear = Eigen::VectorXd::Zero(nz);
-  for (const auto& [col, w] : model.z_linear_entries) model.z_linear[col] = w;
   model.z_lo.resize(nz);
   model.z_hi.resize(nz);
   for (int kb = 0; kb < n_blocks; ++kb) {
@@ -353,10 +354,6 @@ MpcModel BuildMpcModel(const MpcParams& params, const VestibularParams& vestibul
       model.z_lo[kb * m + i] = -accel[static_cast<std::size_t>(i)];
       model.z_hi[kb * m + i] = accel[static_cast<std::size_t>(i)];
     }
-  }
-  for (int col = nu; col < nz; ++col) {
-    model.z_lo[col] = 0.0;
-    model.z_hi[col] = kInf;
   }
   return model;
 }
@@ -388,6 +385,7 @@ MpcCueing::MpcCueing(const MpcParams& params, const WashoutParams& washout,
   xv_scratch_.resize(model_.vc.cols());
   xv_next_.resize(model_.vc.cols());
   x_next_.resize(model_.nx);
+  for (std::size_t c = 0; c < 2; ++c) band_margin_[c] = 1.5 * model_.tilt_brake[c] * dt;
   Reset();
 }
 
@@ -410,6 +408,7 @@ void MpcCueing::Reset() {
   fault_run_ = 0;
   held_ = HeadMotion{};
   vehicle_pitch_ = vehicle_roll_ = 0.0;
+  follow_rate_ = {};
   stats_ = MpcStats{};
   command_ = McaCommand{};
   washout_.Reset();
@@ -434,8 +433,9 @@ bool Finite(const HeadMotion& h) {
 
 void MpcCueing::PredictVehicle() {
   // per block: the vehicle's input (held, or the preview's mean over the block), then its
-  // perceived output at the block's end
+  // perceived output and the followable roll and pitch rates ω̂_f at the block's end
   xv_scratch_ = xv_;
+  std::array<double, 2> follow = follow_rate_;
   const bool preview = using_preview();
   std::int64_t start = tick_;
   for (int kb = 0; kb < model_.blocks; ++kb) {
@@ -458,8 +458,11 @@ void MpcCueing::PredictVehicle() {
     xv_next_.noalias() += model_.vgamma[static_cast<std::size_t>(kb)] * qv;
     xv_scratch_.swap(xv_next_);
     ref_.col(kb).noalias() = model_.vc * xv_scratch_;
-    rate_ref_(0, kb) = q[3];
-    rate_ref_(1, kb) = -q[4];
+    const double h = model_.block_length[static_cast<std::size_t>(kb)];
+    follow[0] = StepFollowRate(follow[0], q[3], model_.tilt_brake[0], h);
+    follow[1] = StepFollowRate(follow[1], -q[4], model_.tilt_brake[1], h);
+    rate_ref_(0, kb) = follow[0];
+    rate_ref_(1, kb) = follow[1];
     start += len;
   }
 }
@@ -472,17 +475,17 @@ void MpcCueing::Solve() {
     e_[model_.ref_row[r]] -= model_.ref_scale[r] * ref_(model_.ref_channel[r], model_.ref_block[r]);
   }
   b_.noalias() = model_.cost_et * e_;
-  b_ += model_.z_linear;
   dx_.noalias() = model_.con_dx * x_;
   for (Eigen::Index r = 0; r < c_lo_.size(); ++r) {
     const auto s = static_cast<std::size_t>(r);
-    double shift = -dx_[r];
-    if (model_.con_tilt_block[s] >= 0) {
-      const double rate = rate_ref_(model_.con_tilt_channel[s], model_.con_tilt_block[s]);
-      shift += model_.con_tilt_sign[s] > 0.0 ? std::max(0.0, rate) : std::min(0.0, rate);
+    c_lo_[r] = model_.con_lo[r] - dx_[r];
+    c_hi_[r] = model_.con_hi[r] - dx_[r];
+    if (model_.con_tilt_block[s] >= 0) {  // the tilt band about ω̂_f, widened by μ
+      const auto channel = static_cast<std::size_t>(model_.con_tilt_channel[s]);
+      const double follow = rate_ref_(model_.con_tilt_channel[s], model_.con_tilt_block[s]);
+      c_lo_[r] += std::min(0.0, follow) - band_margin_[channel];
+      c_hi_[r] += std::max(0.0, follow) + band_margin_[channel];
     }
-    c_lo_[r] = model_.con_lo[r] + shift;  // −inf stays −inf
-    c_hi_[r] = model_.con_hi[r] + shift;
   }
   const QpStatus status = active_set_ ? active_set_->Solve(b_, model_.z_lo, model_.z_hi, c_lo_, c_hi_, z_)
                                       : alglib_->Solve(b_, model_.z_lo, model_.z_hi, c_lo_, c_hi_, z_);
@@ -521,6 +524,9 @@ const McaCommand& MpcCueing::Step(const HeadMotion& raw) {
     fault_run_ = 0;
     held_ = raw;
   }
+  // the vehicle's roll and nose-up pitch rates as the platform can follow them (ω_f)
+  follow_rate_[0] = StepFollowRate(follow_rate_[0], input.w[0], model_.tilt_brake[0], dt_);
+  follow_rate_[1] = StepFollowRate(follow_rate_[1], -input.w[1], model_.tilt_brake[1], dt_);
   const auto m = static_cast<int>(model_.axes.size());
   if (params_.whole_trial) {
     if (tick_ == 0) {
@@ -574,11 +580,19 @@ const McaCommand& MpcCueing::Step(const HeadMotion& raw) {
       target_rate = (target - nominal_pose_[d]) / dt_;
       nominal_rate_[d] += u * dt_;
     }
-    limiter_[d] = StepLimiter(limits, limiter_[d], target, target_rate, kInf, dt_);
-    if (fallback_ || std::abs(limiter_[d].pose - target) > 1e-9 * std::max(1.0, std::abs(target))) {
-      nominal_rate_[d] = limiter_[d].rate;  // the limiter acted: resynchronise the plan
+    const bool tilt = dof == Dof::kRoll || dof == Dof::kPitch;
+    const std::size_t channel = dof == Dof::kPitch ? 1 : 0;
+    const RateWindow window =
+        tilt ? TiltBand(follow_rate_[channel], vestibular_.thresholds.tilt_rate) : RateWindow{};
+    limiter_[d] = StepLimiter(limits, limiter_[d], target, target_rate, window, dt_);
+    if (params_.whole_trial && !fallback_) {
+      nominal_pose_[d] = target;  // the whole trial's plan runs open loop; the limiter closes any gap
+    } else {
+      if (fallback_ || std::abs(limiter_[d].pose - target) > 1e-9 * std::max(1.0, std::abs(target))) {
+        nominal_rate_[d] = limiter_[d].rate;  // the limiter acted: resynchronise the plan
+      }
+      nominal_pose_[d] = limiter_[d].pose;
     }
-    nominal_pose_[d] = limiter_[d].pose;
     command_.desired[d] = target;
     command_.pose[d] = limiter_[d].pose;
     command_.rate[d] = limiter_[d].rate;
@@ -586,6 +600,10 @@ const McaCommand& MpcCueing::Step(const HeadMotion& raw) {
   }
   command_.tilt_pitch = platform_.Has(Dof::kPitch) ? command_.pose[Index(Dof::kPitch)] - vehicle_pitch_ : 0.0;
   command_.tilt_roll = platform_.Has(Dof::kRoll) ? command_.pose[Index(Dof::kRoll)] - vehicle_roll_ : 0.0;
+  command_.tilt_rate_pitch =
+      platform_.Has(Dof::kPitch) ? TiltCoordinationRate(command_.rate[Index(Dof::kPitch)], follow_rate_[1]) : 0.0;
+  command_.tilt_rate_roll =
+      platform_.Has(Dof::kRoll) ? TiltCoordinationRate(command_.rate[Index(Dof::kRoll)], follow_rate_[0]) : 0.0;
   ++tick_;
   return command_;
 }

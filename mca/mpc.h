@@ -17,30 +17,55 @@
 // `block_s` long (move blocking); horizon = period + (N−1)·block ≥ horizon_s.
 // Cost (block k of length h_k, H the horizon; thresholds from mca.vestibular):
 //   Σ_k h_k/H · [ Σ_j w_j ((ŷ_plat,j − ŷ_veh,j)/threshold_j)²
-//                 + Σ_i w_n (p_i/P_i)² + w_r (v_i/V_i)² + w_e (u_i/A_i)² + w_t (s_k² + s_k) ]
-//   (the linear term on the slack s_k makes the penalty exact: s = 0 whenever the band can
-//   be kept at a marginal cost below w_t)
+//                 + Σ_i w_n (p_i/P_i)² + w_r (v_i/V_i)² + w_e (u_i/A_i)² ]
 //   P_i the travel (π rad for an endless axis), V_i the speed, A_i the acceleration limit.
 // Constraints at every block end, for every axis:
-//   |u_i| ≤ A_i = brake acceleration (the steady one where the drive has one)
-//   |v_i| ≤ V̄_i = min(speed, √(A_i T_i))      T_i travel
-//   |p_i| ≤ T_i,  |p_i + c_i v_i| ≤ T_i,  c_i = V̄_i / A_i
-// The last one says the platform can always brake to a stop before its end stops: with
-// v ≥ 0 it implies p + v²/(2A) ≤ T, and braking at A keeps p + c v from growing, so a feasible
-// plan stays feasible (recursive feasibility).
-// Tilt rate (pitch and roll, the axes that carry g·θ): the platform's rate stays in the band
-// between 0 and the vehicle's own rate θ̇_veh, widened by the tilt threshold:
-//   min(0, θ̇_veh) − threshold − s_k ≤ θ̇ ≤ max(0, θ̇_veh) + threshold + s_k,  s_k ≥ 0
-// (a soft constraint): any rotation beyond the vehicle's, or against it, is kept below the
-// threshold, so tilt coordination is not perceived as rotation.
+//   (a) |u_i| ≤ A_i = brake acceleration (the steady one where the drive has one)
+//   (b) |v_i| ≤ V̄_i = min(speed, √(A_i T_i))      T_i travel
+//   (c) |p_i| ≤ T_i,  (d) |p_i + c_i v_i| ≤ T_i,  c_i = V̄_i / A_i
+// (d) says the platform can always brake to a stop before its end stops: with v ≥ 0 it
+// implies p + v²/(2A) ≤ T.
+//
+// Tilt rate: a guarantee, not a penalty. On pitch and roll (the axes that carry g·θ) let
+// ω_veh be the vehicle's own rate (roll w_x, nose-up pitch −w_y) and ω_f the same rate as the
+// platform could follow it, its change per tick limited to the axis's brake acceleration A:
+//   ω_f,k = clamp(ω_veh,k, ω_f,k−1 − A dt, ω_f,k−1 + A dt)
+// The platform's rate r_k (pose difference per tick) stays in the tilt band
+//   B_k = [min(0, ω_f,k) − τ, max(0, ω_f,k) + τ],   τ = thresholds.tilt_rate (3 deg/s)
+// so the tilt-coordination rate, the rotation beyond the vehicle's or against it,
+//   r − clamp(r, min(0, ω_f), max(0, ω_f))      (McaCommand::tilt_rate_pitch, tilt_rate_roll)
+// is never above the threshold: tilt coordination, and the return to neutral, are not
+// perceived as rotation. (ω_f rather than ω_veh: a vehicle's rate can fall faster than any
+// platform brakes, and a band about ω_veh itself is then infeasible.)
+//   Every tick — the QP's plan, the washout fallback and the fault path alike — the limiter
+// takes its rate from [r_k−1 ± a dt] ∩ [±speed] ∩ travel window ∩ B_k (StepLimiter with a
+// RateWindow). These meet: r_k−1 ∈ B_k−1 and B's edges move at most A dt ≤ a dt per tick
+// (min(0, ·) and max(0, ·) are 1-Lipschitz), so [r_k−1 ± a dt] meets B_k; the travel window,
+// [±speed] and B_k all contain 0; intervals of a line that meet pairwise have a
+// common point. From rest (r = 0 ∈ B) r_k ∈ B_k on every tick, by induction.
+//   In the QP the band is a hard row at every block end: v_k ∈ B̂_k widened by μ = 1.5 A dt,
+// with ω̂_f predicted at the block's vehicle rate (held or previewed), moving at most A h_k.
+// Recursive feasibility: from a state inside (b)–(d) with v within μ of the band, the plan
+// "brake to rest", u_k = −sgn(v_k)·min(A, |v_k|/h_k), meets every row (v > 0 shown; v < 0 is
+// the mirror image): |v| only falls, so (a), (b) hold; if v ≥ A h then v' = v − A h ≥ 0 and
+//   p' + c v' = p + c v + h (v − c A) − A h²/2 ≤ p + c v ≤ T   (v ≤ V̄ = c A),  p' ≥ p ≥ −T;
+// if v < A h then v' = 0 and p' = p + v h/2 ≤ p + c v ≤ T as h ≤ 2c (block_s ≤ 2 V̄/A, checked
+// at load, CheckMpcStart); the band's edges move at most A h per block, so v_k ≤ U_k + μ gives
+//   v_k+1 = max(0, v_k − A h) ≤ max(0, U_k+1 + μ) = U_k+1 + μ,   v_k+1 ≥ 0 ≥ L_k+1 − μ.
+// The premise holds at each solve after a period in which the plan was followed: the plan kept
+// (b)–(d); the model's end-of-tick rate lies within ½ A dt of the tick's mean rate r_k ∈ B_k,
+// and B moves at most A dt more by the solve: μ = 1.5 A dt. Where the limiter had to change the
+// plan (the per-tick band is narrower than the block-end rows, or a fault), (d) may not hold;
+// a solve that fails then falls back to the washout for that period (counted; none on the
+// shipped scenes, MpcCliTest), still under the per-tick band.
 // Vehicle prediction: without a preview the current input is held over the horizon; with one
 // (SetPreview: a recorded or simulated trial), each block gets that trial's mean input.
 // Each control period one QP is solved (mca/qp_active_set.h by default, ALGLIB minqp as the
 // alternatives, mca/qp_alglib.h), warm-started from the last active set;
 // every engine tick the planned pose passes the platform limiter (StepLimiter), which never
-// lets a command leave the limits. A failed solve falls back to the classical washout for that
-// period (counted); a non-finite input holds the last finite one for fault.hold_s, then
-// assumes rest (the neutral pull brings the platform home).
+// lets a command leave the limits nor, on pitch and roll, the tilt band. A failed solve falls
+// back to the classical washout for that period (counted); a non-finite input holds the last
+// finite one for fault.hold_s, then assumes rest (the neutral pull brings the platform home).
 //
 //   MpcCueing mpc(config.mpc, config.washout, config.vestibular, config.platform, 1e-3);
 //   const McaCommand& cmd = mpc.Step(head_motion);
@@ -65,6 +90,14 @@
 
 namespace pwsim::mca {
 
+/// ω_f of the header: the vehicle's rate `vehicle_rate` as a platform braking at
+/// `brake_accel` can follow it, one tick `dt` after `follow_rate`.
+double StepFollowRate(double follow_rate, double vehicle_rate, double brake_accel, double dt);
+/// The tilt band B = [min(0, ω_f) − τ, max(0, ω_f) + τ] for the platform's rate.
+RateWindow TiltBand(double follow_rate, double threshold);
+/// The tilt-coordination rate of a platform rate: r − clamp(r, min(0, ω_f), max(0, ω_f)).
+double TiltCoordinationRate(double platform_rate, double follow_rate);
+
 /// Most blocks the solver meets in real time (2 ms per control step on the 2-core machine,
 /// bench/mpc_bench.cc; docs/mca.md).
 inline constexpr int kMpcMaxBlocks = 24;
@@ -80,7 +113,6 @@ struct MpcParams {
   double weight_neutral{0.1};       ///< pull back to neutral, on (p/P)² [-]
   double weight_neutral_rate{0.01}; ///< on (v/V)² [-]
   double weight_effort{1e-3};       ///< on (u/A)² [-]
-  double weight_tilt_rate{1.0e4};   ///< on the tilt-rate excess s² [1/(rad/s)²]
   /// The offline ceiling (mca/offline_optimum.h): one solve at tick 0 over the whole horizon,
   /// the plan then followed open loop; not a scene key, and not bound by kMpcMaxBlocks.
   bool whole_trial{false};
@@ -99,10 +131,11 @@ MpcParams ParseMpcParams(YamlMap& map, const MpcParams& base);
 struct MpcModel {
   std::vector<Dof> axes;                ///< present platform axes, in Dof order
   std::vector<int> tilt_axes;           ///< indices into axes of pitch and roll (tilt rate)
+  std::array<double, 2> tilt_brake{};   ///< A of roll, pitch [rad/s²]: ω_f's rate of change
   int blocks{0};
   std::vector<double> block_length;     ///< [s]
   int nx{0};                            ///< platform model states: (p, v) per axis + perceived
-  int nz{0};                            ///< QP variables: u per axis per block, then slacks
+  int nz{0};                            ///< QP variables: u per axis per block
   // platform model over one control period (exact ZOH)
   Eigen::MatrixXd phi_period, gamma_period;
   // vehicle perceived model (inputs f_x, f_y, f_z, ω_x, ω_y, ω_z): per control period, per block
@@ -114,15 +147,13 @@ struct MpcModel {
   std::vector<int> ref_row;             ///< perceived rows: cost row
   std::vector<int> ref_block, ref_channel;
   std::vector<double> ref_scale;
-  // constraints  c_lo − Dx x0 (+ r) ≤ C z ≤ c_hi − Dx x0 (+ r)
+  // constraints  c_lo − Dx x0 ≤ C z ≤ c_hi − Dx x0; a tilt-band row's bounds (±τ) also
+  // move by min(0, ω̂_f) below and max(0, ω̂_f) above and widen by μ (MpcCueing)
   Eigen::MatrixXd con_c, con_dx;
   Eigen::VectorXd con_lo, con_hi;
-  std::vector<int> con_tilt_block;      ///< −1, or the block whose vehicle rate shifts the bounds
-  std::vector<int> con_tilt_channel;    ///< which ω channel (0 roll, 1 pitch) and its sign below
-  std::vector<double> con_tilt_sign;    ///< +1: upper row (+ max(0, rate)); −1: lower row (+ min(0, rate))
+  std::vector<int> con_tilt_block;      ///< −1, or the block whose ω̂_f shifts the bounds
+  std::vector<int> con_tilt_channel;    ///< which ω channel (0 roll, 1 pitch)
   Eigen::VectorXd z_lo, z_hi;
-  Eigen::VectorXd z_linear;             ///< constant linear cost: the exact (L1) penalty on slacks
-  std::vector<std::pair<int, double>> z_linear_entries;
 };
 
 MpcModel BuildMpcModel(const MpcParams& params, const VestibularParams& vestibular,
@@ -185,9 +216,11 @@ class MpcCueing {
   std::int64_t fault_run_{0};
   HeadMotion held_;
   double vehicle_pitch_{0.0}, vehicle_roll_{0.0};
+  std::array<double, 2> follow_rate_{};  ///< ω_f of roll, pitch this tick [rad/s]
+  std::array<double, 2> band_margin_{};  ///< μ = 1.5 A dt of roll, pitch [rad/s]
   // scratch
   Eigen::MatrixXd ref_;               ///< 6 × blocks: predicted vehicle perceived outputs
-  Eigen::MatrixXd rate_ref_;          ///< 2 × blocks: vehicle roll and pitch (nose-up) rates
+  Eigen::MatrixXd rate_ref_;          ///< 2 × blocks: predicted ω̂_f of roll, pitch at block ends
   Eigen::VectorXd e_, b_, c_lo_, c_hi_, dx_, xv_scratch_, xv_next_, x_next_;
   const std::vector<HeadMotion>* preview_{nullptr};
   MpcStats stats_;

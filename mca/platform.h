@@ -72,11 +72,26 @@ struct LimiterState {
   bool operator==(const LimiterState&) const = default;
 };
 
+/// An extra window on the rate [m/s | rad/s], lo ≤ 0 ≤ hi (e.g. the MPC's tilt band).
+struct RateWindow {
+  double lo{-kUnlimited};
+  double hi{kUnlimited};
+};
+
 /// Moves one tick towards `target` (a pose) that itself moves at `target_rate`, staying inside
-/// the limits whatever the target: the rate window is [rate ± a·dt] ∩ [±min(speed, speed_cap)],
+/// the limits whatever the target: the rate window is [rate ± a·dt] ∩ [±speed] ∩ `window`,
 /// and the rate is also small enough that braking at brake_accel() stops inside the travel.
 /// Tracks the target exactly (dead-beat) whenever that is feasible. No allocation.
-/// @pre state within limits (it stays so); dt > 0.
+/// The acceleration, travel and speed limits always hold; `window` holds whenever it meets the
+/// acceleration window [rate ± a·dt] — guaranteed when the last rate lay in the last window
+/// and neither edge of the window moved by more than brake_accel()·dt since (the windows, the
+/// travel window [−StoppableSpeed(T+p), StoppableSpeed(T−p)] and [±speed] all contain 0, so
+/// they meet pairwise, hence all together: intervals on a line). Otherwise the rate is the
+/// point of the acceleration window nearest to `window`.
+/// @pre state within limits (it stays so); dt > 0; window.lo ≤ 0 ≤ window.hi.
+LimiterState StepLimiter(const DofLimits& limits, const LimiterState& state, double target,
+                         double target_rate, RateWindow window, double dt);
+/// The same with the symmetric window [±speed_cap].
 LimiterState StepLimiter(const DofLimits& limits, const LimiterState& state, double target,
                          double target_rate, double speed_cap, double dt);
 
@@ -93,7 +108,7 @@ inline double StoppableSpeed(double distance, double brake, double dt) {
 }
 
 inline LimiterState StepLimiter(const DofLimits& limits, const LimiterState& state, double target,
-                         double target_rate, double speed_cap, double dt) {
+                         double target_rate, RateWindow window, double dt) {
   const double brake = limits.brake_accel();
   const double accel = std::isfinite(limits.steady_accel) &&
                                state.heat >= (limits.accel - limits.steady_accel) * limits.peak_time
@@ -116,7 +131,7 @@ inline LimiterState StepLimiter(const DofLimits& limits, const LimiterState& sta
     desired = target_rate + std::copysign(close, gap);
   }
 
-  // feasible window: acceleration, then travel (always compatible), then speed
+  // feasible window: acceleration, then travel (always compatible), then speed and `window`
   double lo = state.rate - accel * dt;
   double hi = state.rate + accel * dt;
   if (std::isfinite(limits.travel)) {
@@ -128,14 +143,15 @@ inline LimiterState StepLimiter(const DofLimits& limits, const LimiterState& sta
     }
     if (lo > hi) lo = hi = 0.5 * (lo + hi);  // rounding only
   }
-  const double cap = std::min(limits.speed, speed_cap);
-  if (hi < -cap) {
+  const double lo_cap = std::max(-limits.speed, window.lo);
+  const double hi_cap = std::min(limits.speed, window.hi);
+  if (hi < lo_cap) {
     lo = hi;
-  } else if (lo > cap) {
+  } else if (lo > hi_cap) {
     hi = lo;
   } else {
-    lo = std::max(lo, -cap);
-    hi = std::min(hi, cap);
+    lo = std::max(lo, lo_cap);
+    hi = std::min(hi, hi_cap);
   }
   const double rate = std::clamp(desired, lo, hi);
 
@@ -148,6 +164,11 @@ inline LimiterState StepLimiter(const DofLimits& limits, const LimiterState& sta
     next.heat = std::max(0.0, state.heat + (std::abs(next.accel) - limits.steady_accel) * dt);
   }
   return next;
+}
+
+inline LimiterState StepLimiter(const DofLimits& limits, const LimiterState& state, double target,
+                         double target_rate, double speed_cap, double dt) {
+  return StepLimiter(limits, state, target, target_rate, RateWindow{-speed_cap, speed_cap}, dt);
 }
 
 }  // namespace pwsim::mca

@@ -308,6 +308,8 @@ void ClassicalWashout::Limit(const DofArray& desired, double speed_fraction) {
   }
   state_.desired_prev = desired;
   command_.desired = desired;
+  command_.tilt_rate_pitch = (state_.tilt[0].pose - command_.tilt_pitch) / dt_;
+  command_.tilt_rate_roll = (state_.tilt[1].pose - command_.tilt_roll) / dt_;
   command_.tilt_pitch = state_.tilt[0].pose;
   command_.tilt_roll = state_.tilt[1].pose;
 }

@@ -109,6 +109,11 @@ struct McaCommand {
   DofArray desired{};  ///< washout + tilt before the limiter
   double tilt_pitch{0.0};  ///< [rad] tilt-coordination part of the pitch (not to be seen)
   double tilt_roll{0.0};   ///< [rad] tilt-coordination part of the roll (not to be seen)
+  /// [rad/s] the commanded tilt-coordination rates, held below the tilt-rate threshold: the
+  /// washout's tilt channel's rate; the MPC's rotation beyond or against the vehicle's own
+  /// (mca/mpc.h). The false-cue count of the tilt rate (EvaluateConsistency) reads these.
+  double tilt_rate_pitch{0.0};
+  double tilt_rate_roll{0.0};
   bool fault{false};       ///< this tick's input was not finite
   bool operator==(const McaCommand&) const = default;
 };

@@ -1,9 +1,11 @@
 // Part of hardware_session_alloc_test (see session_alloc_test.cc): the live drive source's Fill
 // with the counting allocator on, from the shipped R-Net log and from R-Net frames on the
-// in-process bus.
+// in-process bus; the chair's with either MCA.
 #include <atomic>
 #include <filesystem>
+#include <optional>
 
+#include "engine/check.h"
 #include "hardware/car_drive_source.h"
 #include "hardware/chair_drive_source.h"
 #include "hardware/rnet_joystick.h"
@@ -35,11 +37,13 @@ long LiveDriveFillAllocations(std::atomic<bool>& counting, std::atomic<long>& al
   return allocations.load();
 }
 
-long ChairDriveFillAllocations(std::atomic<bool>& counting, std::atomic<long>& allocations, double* distance) {
+long ChairDriveFillAllocations(std::atomic<bool>& counting, std::atomic<long>& allocations, double* distance,
+                               std::optional<mca::McaAlgorithm> algorithm) {
   const Scene scene = LoadScene(std::filesystem::path(PWSIM_SOURCE_DIR) / "scenes/circuit_course.yaml");
   RnetLogJoystick log(ReadCandumpFile(std::filesystem::path(PWSIM_SOURCE_DIR) / "assets/rnet/joystick_synthetic.log"),
                       scene.clock.rate_hz, {-1, 100}, "log");
-  ChairDriveSource source(scene, log, 4200);
+  ChairDriveSource source(scene, log, 4200, algorithm);
+  if (algorithm) PWSIM_DEMAND(source.pw4dof_mca().algorithm == *algorithm && source.session_mca().algorithm == *algorithm);
   SessionInputs in;
   counting = false;
   allocations = 0;
@@ -49,6 +53,9 @@ long ChairDriveFillAllocations(std::atomic<bool>& counting, std::atomic<long>& a
     counting = false;
   }
   *distance = source.last_sample().distance;
+  if (algorithm == mca::McaAlgorithm::kMpc) {
+    PWSIM_DEMAND(source.pw4dof_mpc_stats().solves > 400 && source.session_mpc_stats().solves > 400);
+  }
   return allocations.load();
 }
 

@@ -7,10 +7,12 @@
 #include <atomic>
 #include <cstdlib>
 #include <new>
+#include <optional>
 #include <sstream>
 
 #include "tests/counting_allocator.h"
 #include "tests/hardware/session_world.h"
+#include "mca/config.h"
 
 using pwsim_test::g_allocations;
 using pwsim_test::g_counting;
@@ -20,8 +22,10 @@ namespace pwsim::hw {
 /// In live_drive_alloc.cc: counts (through the two counters) the allocations inside
 /// CarDriveSource::Fill over a drive; `speed` gets the final speed of the bus-driven car.
 long LiveDriveFillAllocations(std::atomic<bool>& counting, std::atomic<long>& allocations, double* speed);
-/// The same for ChairDriveSource::Fill through circuit_course; `distance` the chair's path length.
-long ChairDriveFillAllocations(std::atomic<bool>& counting, std::atomic<long>& allocations, double* distance);
+/// The same for ChairDriveSource::Fill through circuit_course with `algorithm` (--mca) over the
+/// scene's; `distance` the chair's path length.
+long ChairDriveFillAllocations(std::atomic<bool>& counting, std::atomic<long>& allocations, double* distance,
+                               std::optional<mca::McaAlgorithm> algorithm);
 
 namespace {
 
@@ -98,9 +102,20 @@ TEST(SessionAlloc, TheLiveDriveSourceFillsWithoutAllocating) {
 
 TEST(SessionAlloc, TheChairDriveSourceFillsWithoutAllocating) {
   double distance = 0.0;
-  const long n = ChairDriveFillAllocations(g_counting, g_allocations, &distance);
+  const long n = ChairDriveFillAllocations(g_counting, g_allocations, &distance, std::nullopt);
   EXPECT_GT(distance, 0.5) << "the R-Net log should drive the chair";
   EXPECT_EQ(n, 0) << "allocations inside ChairDriveSource::Fill";
+}
+
+// The same with both MCAs the model-predictive cueing (--mca mpc): a QP every 10 ms, no
+// allocation in the tick; the chair drives the same path whatever cues it.
+TEST(SessionAlloc, TheChairDriveSourceWithTheMpcFillsWithoutAllocating) {
+  double washout_distance = 0.0, mpc_distance = 0.0;
+  ChairDriveFillAllocations(g_counting, g_allocations, &washout_distance, mca::McaAlgorithm::kWashout);
+  const long n = ChairDriveFillAllocations(g_counting, g_allocations, &mpc_distance, mca::McaAlgorithm::kMpc);
+  EXPECT_GT(mpc_distance, 0.5) << "the R-Net log should drive the chair";
+  EXPECT_EQ(mpc_distance, washout_distance);
+  EXPECT_EQ(n, 0) << "allocations inside ChairDriveSource::Fill with the MPC";
 }
 
 }  // namespace

@@ -618,6 +618,42 @@ TEST(SessionEndToEnd, RnetJoystickLogDrivesTheChairThroughACircuit) {
   EXPECT_EQ(replay.Wait(kGuardS), 0) << replay.Output();
 }
 
+// The chair's live drive with the model-predictive cueing (--mca mpc): the recorded R-Net log
+// drives the chair through circuit_course, both MCAs (the scene's pw4dof, reported, and the
+// rail + yaw on the CAN) are MPCs holding the current input (no trial ahead live); the session
+// ends parked inside every limit, report.json names the algorithm, the held input and the
+// solves without a fallback, and the drive replays bit for bit; an unknown --mca is refused.
+TEST(SessionEndToEnd, RnetJoystickLogDrivesTheChairThroughACircuitWithTheMpc) {
+  if (!fs::exists(kPwsim)) GTEST_SKIP() << kPwsim << " not built";
+  E2e e("chair_rnet_mpc");
+  const E2e::Result r =
+      e.Run({}, {}, 4.5, nullptr,
+            {kPwsim, "drive", std::string(PWSIM_SOURCE_DIR) + "/scenes/circuit_course.yaml", "--joystick",
+             "rnet-log:" + std::string(PWSIM_SOURCE_DIR) + "/assets/rnet/joystick_synthetic.log", "--mca", "mpc"});
+  ASSERT_EQ(r.session, 0) << e.Outputs();
+  ExpectWithinLimits(r);
+  EXPECT_EQ(r.report["final_state"], "parked");
+  EXPECT_GT(r.report["peak_abs_command"][1].get<double>(), 0.01) << "the chair's surge should move the rail";
+  ExpectTrainingMetrics(r.report);
+  const nlohmann::json& mca = r.report["chair"]["mca"];
+  ASSERT_TRUE(mca.is_object()) << r.report.dump();
+  EXPECT_EQ(mca["algorithm"], "mpc");
+  EXPECT_NE(mca["preview"].get<std::string>().find("held"), std::string::npos);
+  for (const char* platform : {"pw4dof", "can"}) {
+    EXPECT_GT(mca[platform]["solves"].get<int>(), 400) << platform;  // 100 a second over > 4.5 s
+    EXPECT_EQ(mca[platform]["fallbacks_to_washout"].get<int>(), 0) << platform;
+  }
+  EXPECT_GT(r.report["chair"]["pw4dof_peak_command"]["pitch"].get<double>(), 0.0);
+  Child replay({kPwsim, "replay", (e.dir / "out" / "session.log").string()});
+  EXPECT_EQ(replay.Wait(kGuardS), 0) << replay.Output();
+  // an unknown --mca is refused before any link opens (usage error: exit 2)
+  Child refused({kPwsim, "drive", std::string(PWSIM_SOURCE_DIR) + "/scenes/circuit_course.yaml", "--joystick",
+                 "rnet-log:" + std::string(PWSIM_SOURCE_DIR) + "/assets/rnet/joystick_synthetic.log", "--can",
+                 "udp:127.0.0.1:9", "--mca", "lqr"});
+  EXPECT_EQ(refused.Wait(kGuardS), 2) << refused.Output();
+  EXPECT_NE(refused.Output().find("--mca: expected washout or mpc"), std::string::npos) << refused.Output();
+}
+
 TEST(SessionEndToEnd, SocketCanOnAKernelWithoutCanFailsWithAClearMessage) {
   if (!fs::exists(kPwsim)) GTEST_SKIP() << kPwsim << " not built";
   E2e e("socketcan");

@@ -1,16 +1,30 @@
 // MpcCueing::Step with the active-set solver allocates nothing: global operator new is replaced
-// by a counting one (its own test executable). The ALGLIB solvers are not covered: minqp
-// allocates while it solves (docs/mca.md).
+// by a counting one (its own test executable). ALGLIB's minqp, the alternative, allocates while
+// it solves (one reason it is not the default, docs/mca.md): counted too.
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
+#include <cstddef>
 #include <limits>
+#include <string>
 
 #include "mca/mpc.h"
 #include "tests/counting_allocator.h"
 
 using pwsim_test::g_allocations;
+
+// ALGLIB allocates through malloc, not operator new: the executable's malloc interposes the C
+// library's for the whole process (shared libraries included) and counts the calls.
+extern "C" void* __libc_malloc(std::size_t size);
+namespace {
+std::atomic<long> g_mallocs{0};
+}  // namespace
+extern "C" void* malloc(std::size_t size) {
+  g_mallocs.fetch_add(1, std::memory_order_relaxed);
+  return __libc_malloc(size);
+}
 
 namespace pwsim::mca {
 namespace {
@@ -33,6 +47,24 @@ TEST(MpcAllocTest, StepDoesNotAllocate) {
     EXPECT_EQ(g_allocations.load() - before, 0);
     EXPECT_TRUE(std::isfinite(sink));
   }
+}
+
+// Tests that ALGLIB's minqp (DENSE-IPM, the fastest of its solvers here) allocates on every
+// solve: the reason, beside its time, that the real-time tick uses the active set.
+TEST(MpcAllocTest, AlglibSolvesAllocate) {
+  MpcParams params;
+  params.solver = QpAlgorithm::kDenseIpm;
+  MpcCueing dut(params, DefaultWashoutParams(), VestibularParams{}, MakePw4DofPlatform(), 1e-3);
+  const long before = g_mallocs.load();
+  for (int k = 0; k < 1000; ++k) {  // 100 solves
+    HeadMotion m;
+    m.fs[0] = 2.0 * std::sin(k * 1e-3);
+    dut.Step(m);
+  }
+  EXPECT_EQ(dut.stats().solves, 100);
+  const long mallocs = g_mallocs.load() - before;
+  RecordProperty("mallocs_per_solve", std::to_string(mallocs / dut.stats().solves));
+  EXPECT_GE(mallocs, dut.stats().solves);
 }
 
 }  // namespace

@@ -10,6 +10,9 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
+#include <map>
+#include <numbers>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -74,6 +77,83 @@ TEST(MpcCliTest, CarScenesWithMpcAndOffline) {
   EXPECT_NE(std::system(("'" + kBinary.string() + "' run --mca fuzzy --no-video --out /tmp/pwsim_mpc_bad > /dev/null 2>&1").c_str()), 0);
 }
 
+
+/// The columns of a trial.csv by name.
+std::map<std::string, std::vector<double>> ReadColumns(const std::filesystem::path& csv_file) {
+  std::ifstream csv(csv_file);
+  std::string line;
+  std::getline(csv, line);
+  std::vector<std::string> header;
+  std::stringstream names(line);
+  for (std::string cell; std::getline(names, cell, ',');) header.push_back(cell);
+  std::map<std::string, std::vector<double>> columns;
+  while (std::getline(csv, line)) {
+    std::stringstream row(line);
+    std::string cell;
+    for (std::size_t i = 0; i < header.size() && std::getline(row, cell, ','); ++i) {
+      char* end = nullptr;
+      const double value = std::strtod(cell.c_str(), &end);  // a text cell (a car's gear name ...) is NaN
+      columns[header[i]].push_back(end != cell.c_str() ? value : std::numeric_limits<double>::quiet_NaN());
+    }
+  }
+  return columns;
+}
+
+// Tests the MPC's tilt-rate guarantee (mca/mpc.h) on every shipped scene, held input and
+// previewed, from trial.csv alone: the platform's pitch (roll) rate r, the pose difference per
+// tick, stays within [min(0, ω_f) − τ, max(0, ω_f) + τ], τ = 3 deg/s, where ω_f is the
+// vehicle's own nose-up pitch rate −head_w_y (roll rate head_w_x) changing by at most the
+// axis's acceleration limit per tick (recomputed here from the definition); only floating-point
+// slack is allowed. The car platform has no pitch or roll (no columns): nothing to tilt.
+TEST(MpcCliTest, TiltCoordinationRateNeverAboveThresholdOnEveryShippedScene) {
+  const double deg = std::numbers::pi / 180.0;
+  const double threshold = 3.0 * deg;
+  int tilt_runs = 0;
+  double worst = 0.0;
+  for (const auto& entry : std::filesystem::directory_iterator(kSource / "scenes")) {
+    if (entry.path().extension() != ".yaml") continue;
+    const std::string scene = "scenes/" + entry.path().filename().string();
+    for (const std::string preview : {"", " --mca-preview"}) {
+      const std::string name = "mpc_tilt_" + entry.path().stem().string() + (preview.empty() ? "" : "_preview");
+      const std::filesystem::path out = std::filesystem::path(PWSIM_BINARY_DIR) / "test-out" / name;
+      std::filesystem::remove_all(out);
+      const std::string command = "cd '" + kSource.string() + "' && '" + kBinary.string() + "' run " + scene +
+                                  " --no-video --mca mpc" + preview + " --out '" + out.string() + "' > /dev/null";
+      ASSERT_EQ(std::system(command.c_str()), 0) << command;
+      std::ifstream in(out / "summary.json");
+      const nlohmann::json mca = nlohmann::json::parse(in)["mca"];
+      if (mca["false_cues"].contains("tilt_rate_count")) {  // platforms with a tilt axis
+        EXPECT_EQ(mca["false_cues"]["tilt_rate_count"].get<int>(), 0) << name;
+      }
+      const std::map<std::string, std::vector<double>> c = ReadColumns(out / "trial.csv");
+      const std::vector<double>& t = c.at("t_s");
+      ASSERT_GT(t.size(), 100u) << name;
+      const double dt = t[1] - t[0];
+      for (const char* axis : {"pitch", "roll"}) {
+        const auto pose = c.find(std::string("plat_") + axis + "_rad");
+        if (pose == c.end()) continue;
+        // pw4dof's roll and pitch: 300 deg/s², no sustained limit (scenes/platforms/pw4dof.yaml)
+        ASSERT_EQ(mca["platform"]["name"], "pw4dof") << name;
+        const double accel_limit = 300.0 * deg;
+        const bool pitch = std::string(axis) == "pitch";
+        const std::vector<double>& w = c.at(pitch ? "head_w_y_radps" : "head_w_x_radps");
+        double follow = 0.0, previous = 0.0;
+        for (std::size_t k = 0; k < t.size(); ++k) {
+          const double vehicle = pitch ? -w[k] : w[k];
+          follow = std::clamp(vehicle, follow - accel_limit * dt, follow + accel_limit * dt);
+          const double rate = (pose->second[k] - previous) / dt;
+          previous = pose->second[k];
+          const double beyond = std::max({0.0, rate - std::max(0.0, follow), std::min(0.0, follow) - rate});
+          worst = std::max(worst, beyond);
+          ASSERT_LE(beyond, threshold * (1.0 + 1e-9) + 1e-9) << name << " " << axis << " tick " << k;
+        }
+        ++tilt_runs;
+      }
+    }
+  }
+  EXPECT_GE(tilt_runs, 2 * (1 + 3 * 2));  // speed cushion (pitch) and three circuits (pitch, roll)
+  EXPECT_GT(worst, 0.9 * threshold) << "the band binds somewhere (the check is not vacuous)";
+}
 
 /// `pwsim drive SCENE --no-realtime` (the scene's own controls) with `args`; the plat_surge_m
 /// column of drive.csv and stdout.

@@ -107,6 +107,51 @@ TEST(PlatformTest, LimiterNeverExceedsLimits) {
   }
 }
 
+// Tests the rate window (RateWindow, the MPC's tilt band): wild targets while the window
+// [lo, hi] ∋ [−τ, τ] wanders with each edge moving at most brake_accel()·dt per tick (jumps
+// of exactly that size, random walks, long holds) — on pw4dof's pitch and on the car's rail with
+// its peak budget, at three step sizes. The rate stays in the window on every tick (floating
+// point aside) and every limit holds; a window edge jumping by more is then, by design, not
+// guaranteed: the acceleration limit wins (checked on one jump).
+TEST(PlatformTest, LimiterKeepsAMovingRateWindow) {
+  std::mt19937_64 rng(20261125);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  const DofLimits pitch = MakePw4DofPlatform().limits(Dof::kPitch);
+  const DofLimits rail = MakeCar2DofPlatform().limits(Dof::kSurge);
+  for (const DofLimits& limits : {pitch, rail}) {
+    const double tau = 0.05 * limits.speed;
+    for (double dt : {1e-3, 4e-3, 1e-2}) {
+      const double step = limits.brake_accel() * dt;
+      LimiterState state;
+      double centre = 0.0;  // the window is [min(0, c) − τ, max(0, c) + τ]
+      for (int k = 0; k < 100000; ++k) {
+        switch ((k / 700) % 3) {
+          case 0: centre += step * (uniform(rng) > 0.0 ? 1.0 : -1.0); break;  // full-size moves
+          case 1: centre += step * uniform(rng); break;
+          default: break;  // held
+        }
+        centre = std::clamp(centre, -limits.speed, limits.speed);
+        const RateWindow window{std::min(0.0, centre) - tau, std::max(0.0, centre) + tau};
+        const double target = (k / 300) % 2 ? 10.0 * uniform(rng) : limits.travel * std::sin(0.01 * k);
+        const LimiterState next = StepLimiter(limits, state, target, 1e3 * uniform(rng), window, dt);
+        ASSERT_GE(next.rate, window.lo - 1e-9) << k << " dt " << dt;
+        ASSERT_LE(next.rate, window.hi + 1e-9) << k << " dt " << dt;
+        ASSERT_LE(std::abs(next.pose), limits.travel) << k;
+        ASSERT_LE(std::abs(next.rate), limits.speed * (1.0 + 1e-9)) << k;
+        ASSERT_LE(std::abs(next.accel), limits.accel * (1.0 + 1e-6)) << k;
+        state = next;
+      }
+    }
+  }
+  // beyond the premise: from 10 deg/s, a window collapsing to [±τ] in one tick is left at the
+  // nearest rate the acceleration limit allows
+  LimiterState moving;
+  moving.rate = 10.0 * kDegToRad;
+  const double tau = 3.0 * kDegToRad, dt = 1e-3;
+  const LimiterState next = StepLimiter(pitch, moving, 0.0, 0.0, RateWindow{-tau, tau}, dt);
+  EXPECT_NEAR(next.rate, moving.rate - pitch.accel * dt, 1e-9);
+}
+
 // Tests the stopping bound: braking from StoppableSpeed(d) at `brake` stays within d.
 TEST(PlatformTest, StoppableSpeedStops) {
   for (double d : {1e-6, 0.01, 0.3, 0.6}) {
