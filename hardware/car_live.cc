@@ -3,11 +3,7 @@
 namespace pwsim::hw {
 
 CarLiveLoop::CarLiveLoop(const vehicle::CarScene& scene, const mca::McaConfig& config)
-    : scene_(scene), washout_(config.washout, config.platform, scene.clock.dt()) {
-  if (config.algorithm == mca::McaAlgorithm::kMpc) {
-    mpc_ = std::make_unique<mca::MpcCueing>(config.mpc, config.washout, config.vestibular, config.platform,
-                                            scene.clock.dt());
-  }
+    : scene_(scene), mca_(config, scene.clock.dt()) {
   tick_.sample = vehicle::FirstCarSample(scene);
   Cue();
 }
@@ -17,7 +13,7 @@ void CarLiveLoop::Cue() {
   mca::HeadMotion head;
   head.fs = m.fs;
   head.w = m.w;
-  tick_.command = mpc_ ? mpc_->Step(head) : washout_.Step(head);
+  tick_.command = mca_.Step(head);
   const auto& c = tick_.command;
   const double x = c.pose[mca::Index(mca::Dof::kSurge)];
   const double r = c.rate[mca::Index(mca::Dof::kYaw)];

@@ -1,19 +1,17 @@
 #pragma once
 // A car driven live, tick by tick: the controls of this tick in (a real wheel through
 // hardware/sdl, or any other source), the car's step and the MCA's platform command out.
-// The same per-tick functions as the offline run (vehicle::NextCarSample, ClassicalWashout::Step
-// or, with `mca: {algorithm: mpc}`, MpcCueing::Step with the held-input prediction, the rail-yaw
-// false cue), so a live drive and `pwsim run` of the same controls agree exactly.
+// The same per-tick functions as the offline run (vehicle::NextCarSample, the MCA through
+// mca::McaStepper: the washout or, with `mca: {algorithm: mpc}`, the MPC with the held-input
+// prediction; the rail-yaw false cue), so a live drive and `pwsim run` of the same controls agree
+// exactly.
 //
 //   CarLiveLoop loop(scene, mca::LoadCarMcaConfig(scene));
 //   while (running) { const CarLiveTick& t = loop.Step(wheel.Poll()); send(t.command.pose); }
 
 #include "engine/vehicle/car_scene.h"
-#include <memory>
-
 #include "mca/config.h"
-#include "mca/mpc.h"
-#include "mca/washout.h"
+#include "mca/cueing.h"
 
 namespace pwsim::hw {
 
@@ -36,8 +34,7 @@ class CarLiveLoop {
   void Cue();
 
   const vehicle::CarScene& scene_;
-  mca::ClassicalWashout washout_;
-  std::unique_ptr<mca::MpcCueing> mpc_;  ///< when config.algorithm is kMpc
+  mca::McaStepper mca_;  ///< the washout or the MPC, as config.algorithm says
   CarLiveTick tick_;
 };
 
