@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "engine/input_error.h"
 #include "engine/number_format.h"
@@ -49,6 +50,36 @@ double FloorMap::HeightAt(double x_W, double y_W) const {
   if (features.empty() && !grid) return z;  // the sagittal terrain, bit for bit
   for (const FloorFeature& feature : features) z += feature.HeightAt(x_W, y_W);
   if (grid) z += grid->HeightAt(x_W, y_W);
+  return z;
+}
+
+double FloorMap::AddLayersNear(double z_profile, double x_W, double y_W, FloorHint& hint) const {
+  double z = z_profile;
+  // the clear interval around x: bounded by the nearest span ends on either side, empty when
+  // x is inside a span (or NaN: every comparison false)
+  double lo = -std::numeric_limits<double>::infinity();
+  double hi = std::numeric_limits<double>::infinity();
+  bool inside = false;
+  const auto clear_of = [&](double span_lo, double span_hi) {
+    if (span_hi < x_W) {
+      lo = std::max(lo, span_hi);
+    } else if (span_lo > x_W) {
+      hi = std::min(hi, span_lo);
+    } else {
+      inside = true;
+    }
+  };
+  for (const FloorFeature& feature : features) {
+    z += feature.HeightAt(x_W, y_W);
+    clear_of(feature.x_min, feature.x_max);
+  }
+  if (grid) {
+    z += grid->HeightAt(x_W, y_W);
+    // grown by a cell: HeightGrid's own test is on (x - x0) / cell, rounded
+    clear_of(grid->x0 - grid->cell, grid->x0 + grid->nx * grid->cell);
+  }
+  hint.clear_lo = inside ? x_W : lo;
+  hint.clear_hi = inside ? x_W : hi;
   return z;
 }
 

@@ -87,6 +87,15 @@ struct HeightGrid {
   double HeightAt(double x_W, double y_W) const;
 };
 
+/// What a lookup that moves little between calls (one wheel from tick to tick) carries over:
+/// the profile's segment, and an interval clear_lo < x < clear_hi that no feature's [x_min,
+/// x_max] nor the grid's x span (grown by a cell) reaches. There every feature and the grid add
+/// exactly +0 (each is 0 outside its x span), so z = z_profile + 0 without visiting them.
+struct FloorHint {
+  std::size_t segment{0};               ///< the profile's segment (Terrain::HeightAtNear)
+  double clear_lo{0.0}, clear_hi{0.0};  ///< [m] the clear interval; empty until a lookup
+};
+
 struct FloorMap {
   Terrain profile;                    ///< along x, uniform in y (may be empty: flat)
   std::vector<FloorFeature> features;
@@ -94,18 +103,23 @@ struct FloorMap {
 
   /// z(x, y) [m].
   double HeightAt(double x_W, double y_W) const;
-  /// The same, bit for bit, with the profile's breakpoint search started at `hint` (updated).
-  double HeightAtNear(double x_W, double y_W, std::size_t& hint) const;
+  /// The same, bit for bit, starting from `hint` (updated): the profile's search at its
+  /// segment, and no feature or grid visited while x stays in its clear interval.
+  double HeightAtNear(double x_W, double y_W, FloorHint& hint) const;
   /// Highest point of every layer, summed (an upper bound, for rendering and checks) [m].
   double MaxHeightBound() const;
+
+ private:
+  /// z_profile + Σ_k f_k + z_grid, summed in HeightAt's order; sets hint's clear interval.
+  double AddLayersNear(double z_profile, double x_W, double y_W, FloorHint& hint) const;
 };
 
-inline double FloorMap::HeightAtNear(double x_W, double y_W, std::size_t& hint) const {
-  double z = profile.HeightAtNear(x_W, hint);
+inline double FloorMap::HeightAtNear(double x_W, double y_W, FloorHint& hint) const {
+  const double z = profile.HeightAtNear(x_W, hint.segment);
   if (features.empty() && !grid) return z;
-  for (const FloorFeature& feature : features) z += feature.HeightAt(x_W, y_W);
-  if (grid) z += grid->HeightAt(x_W, y_W);
-  return z;
+  // z + 0 + 0 ... is z + 0 (+0 turns a -0 profile into +0 once, then changes nothing)
+  if (x_W > hint.clear_lo && x_W < hint.clear_hi) return z + 0.0;
+  return AddLayersNear(z, x_W, y_W, hint);
 }
 
 /// A floor that is the sagittal terrain alone.
