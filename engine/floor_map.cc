@@ -83,6 +83,46 @@ double FloorMap::AddLayersNear(double z_profile, double x_W, double y_W, FloorHi
   return z;
 }
 
+double FloorMap::HeightAtNearUpdatingHint(double x_W, double y_W, FloorHint& hint) const {
+  const double z_profile = profile.HeightAtNear(x_W, hint.segment);
+  const bool layers = !features.empty() || grid.has_value();
+  double z = z_profile;
+  if (layers) {
+    // z + 0 + 0 ... is z + 0 (+0 turns a -0 profile into +0 once, then changes nothing)
+    z = x_W > hint.clear_lo && x_W < hint.clear_hi ? z_profile + 0.0 : AddLayersNear(z_profile, x_W, y_W, hint);
+  }
+  // The level interval around x: the open piece of the profile x is in when that piece is level
+  // (HeightAt is 0 beyond the ends, z_k + 0 on a level segment: Terrain::HeightAtNear), within
+  // the clear interval when there are layers; empty otherwise (and for NaN).
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const std::vector<double>& xs = profile.x;
+  const std::vector<double>& zs = profile.z;
+  double lo = x_W, hi = x_W;  // empty
+  if (xs.empty()) {
+    lo = -kInf;
+    hi = kInf;
+  } else if (x_W < xs.front()) {
+    lo = -kInf;
+    hi = xs.front();
+  } else if (x_W > xs.back()) {
+    lo = xs.back();
+    hi = kInf;
+  } else if (const std::size_t k = hint.segment;
+             k + 1 < xs.size() && x_W > xs[k] && x_W < xs[k + 1] && zs[k] == zs[k + 1]) {
+    lo = xs[k];
+    hi = xs[k + 1];
+  }
+  if (layers) {
+    const bool clear = x_W > hint.clear_lo && x_W < hint.clear_hi;
+    lo = clear ? std::max(lo, hint.clear_lo) : x_W;
+    hi = clear ? std::min(hi, hint.clear_hi) : x_W;
+  }
+  hint.level_lo = lo;
+  hint.level_hi = hi;
+  hint.level_z = z;
+  return z;
+}
+
 double FloorMap::MaxHeightBound() const {
   double bound = profile.x.empty() ? 0.0 : profile.MaxHeight();
   for (const FloorFeature& f : features) {

@@ -87,13 +87,20 @@ struct HeightGrid {
   double HeightAt(double x_W, double y_W) const;
 };
 
-/// What a lookup that moves little between calls (one wheel from tick to tick) carries over:
-/// the profile's segment, and an interval clear_lo < x < clear_hi that no feature's [x_min,
-/// x_max] nor the grid's x span (grown by a cell) reaches. There every feature and the grid add
-/// exactly +0 (each is 0 outside its x span), so z = z_profile + 0 without visiting them.
+/// What a lookup that moves little between calls (one wheel from tick to tick) carries over,
+/// each part an interval of x in which a lookup's work is known in advance:
+///   segment   the profile's segment (Terrain::HeightAtNear's search starts there);
+///   clear     clear_lo < x < clear_hi reaches no feature's [x_min, x_max] nor the grid's x span
+///             (grown by a cell): there every feature and the grid add exactly +0 (each is 0
+///             outside its x span), so z = z_profile + 0 without visiting them;
+///   level     level_lo < x < level_hi is also inside one level piece of the profile (a level
+///             segment, or beyond its ends): there z is level_z, whatever x and y.
+/// Any hint gives the same bits as HeightAt; a fresh one is empty.
 struct FloorHint {
-  std::size_t segment{0};               ///< the profile's segment (Terrain::HeightAtNear)
-  double clear_lo{0.0}, clear_hi{0.0};  ///< [m] the clear interval; empty until a lookup
+  std::size_t segment{0};
+  double clear_lo{0.0}, clear_hi{0.0};  ///< [m]
+  double level_lo{0.0}, level_hi{0.0};  ///< [m]
+  double level_z{0.0};                  ///< [m]
 };
 
 struct FloorMap {
@@ -110,16 +117,15 @@ struct FloorMap {
   double MaxHeightBound() const;
 
  private:
+  /// HeightAtNear outside the hint's level interval; sets the hint's intervals around x.
+  double HeightAtNearUpdatingHint(double x_W, double y_W, FloorHint& hint) const;
   /// z_profile + Σ_k f_k + z_grid, summed in HeightAt's order; sets hint's clear interval.
   double AddLayersNear(double z_profile, double x_W, double y_W, FloorHint& hint) const;
 };
 
 inline double FloorMap::HeightAtNear(double x_W, double y_W, FloorHint& hint) const {
-  const double z = profile.HeightAtNear(x_W, hint.segment);
-  if (features.empty() && !grid) return z;
-  // z + 0 + 0 ... is z + 0 (+0 turns a -0 profile into +0 once, then changes nothing)
-  if (x_W > hint.clear_lo && x_W < hint.clear_hi) return z + 0.0;
-  return AddLayersNear(z, x_W, y_W, hint);
+  if (x_W > hint.level_lo && x_W < hint.level_hi) return hint.level_z;
+  return HeightAtNearUpdatingHint(x_W, y_W, hint);
 }
 
 /// A floor that is the sagittal terrain alone.

@@ -641,8 +641,10 @@ const FullChairSample& FullChairSimulator::AdvanceSetpoints(const ControllerStat
   sample_.drive = {sample_.drive.x + dx * ch + dy * sh, p.v, a_x};
 
   ContactsAt(p);
-  Vertical(pitch_torque, roll_torque);
+  // Loads before Vertical (neither reads what the other writes): the loads feed the next tick's
+  // forces, the vertical model only itself, so the next tick can start while it completes.
   Loads(a_x, a_y);
+  Vertical(pitch_torque, roll_torque);
   ++sample_.tick;
   return sample_;
 }

@@ -26,10 +26,11 @@ TEST(FloorMapTest, ProfileAloneIsTheTerrainBitForBit) {
   }
 }
 
-// Tests that the hinted lookup of a wheel (HeightAtNear: the profile's segment and the interval
-// clear of every feature and the grid carried from call to call) returns HeightAt's bits on a
-// path that enters and leaves sharp and tapered features, the grid and the profile's ends, and
-// jumps back and forth (the hint then misses and is rebuilt).
+// Tests that the hinted lookup of a wheel (HeightAtNear: the profile's segment, the interval
+// clear of every feature and the grid, and the level interval carried from call to call)
+// returns HeightAt's bits on a path that enters and leaves level and sloped profile segments,
+// sharp and tapered features, the grid and the profile's ends, and jumps back and forth (the
+// hint then misses and is rebuilt).
 TEST(FloorMapTest, HintedLookupIsHeightAtBitForBit) {
   FloorMap floor = Parse(
       "profile_m: [[0, 0], [1.8, 0], [2.1, 0.065], [3.6, 0.065], [3.9, 0], [12, 0]]\n"
