@@ -90,15 +90,17 @@ struct HeightGrid {
 /// What a lookup that moves little between calls (one wheel from tick to tick) carries over,
 /// each part an interval of x in which a lookup's work is known in advance:
 ///   segment   the profile's segment (Terrain::HeightAtNear's search starts there);
-///   clear     clear_lo < x < clear_hi reaches no feature's [x_min, x_max] nor the grid's x span
-///             (grown by a cell): there every feature and the grid add exactly +0 (each is 0
-///             outside its x span), so z = z_profile + 0 without visiting them;
+///   clear     clear_lo < x < clear_hi reaches no feature's [x_min, x_max] but the active one's
+///             (if any) nor the grid's x span (grown by a cell): there every other feature and
+///             the grid add exactly +0 (each is 0 outside its x span), so z = z_profile + 0, or
+///             z_profile [+ 0] + f_active [+ 0], without visiting them;
 ///   level     level_lo < x < level_hi is also inside one level piece of the profile (a level
 ///             segment, or beyond its ends): there z is level_z, whatever x and y.
 /// Any hint gives the same bits as HeightAt; a fresh one is empty.
 struct FloorHint {
   std::size_t segment{0};
   double clear_lo{0.0}, clear_hi{0.0};  ///< [m]
+  int active{-1};                       ///< the feature whose x span the clear interval is in
   double level_lo{0.0}, level_hi{0.0};  ///< [m]
   double level_z{0.0};                  ///< [m]
 };

@@ -29,8 +29,8 @@ TEST(FloorMapTest, ProfileAloneIsTheTerrainBitForBit) {
 // Tests that the hinted lookup of a wheel (HeightAtNear: the profile's segment, the interval
 // clear of every feature and the grid, and the level interval carried from call to call)
 // returns HeightAt's bits on a path that enters and leaves level and sloped profile segments,
-// sharp and tapered features, the grid and the profile's ends, and jumps back and forth (the
-// hint then misses and is rebuilt).
+// sharp and tapered features (one on another), the grid and the profile's ends, and jumps back
+// and forth (the hint then misses and is rebuilt).
 TEST(FloorMapTest, HintedLookupIsHeightAtBitForBit) {
   FloorMap floor = Parse(
       "profile_m: [[0, 0], [1.8, 0], [2.1, 0.065], [3.6, 0.065], [3.9, 0], [12, 0]]\n"
@@ -38,6 +38,7 @@ TEST(FloorMapTest, HintedLookupIsHeightAtBitForBit) {
       "  - {bump: {name: step, x_m: [2, 6], y_m: [0, 1], height_m: 0.05}}\n"
       "  - {bump: {name: kerb, x_m: [7, 7.5], y_m: [-1, 0.2], height_m: -0.03, ramp_m: 0.1}}\n"
       "  - {plane: {name: cross, x_m: [10, 20], y_m: [-2, 2], grade_y: 0.05, ramp_m: 0.5}}\n"
+      "  - {bump: {name: patch on the plane, x_m: [12, 13], y_m: [-1.1, 1.1], height_m: 0.02, ramp_m: 0.05}}\n"
       "grid: {origin_m: [8, -1], cell_m: 0.5, rows: [[0, 0.01, 0.02], [0.01, 0.03, -0.01], [0, 0, 0.02]]}\n");
   floor.profile.z[0] = -0.0;  // a -0 start: the clear interval's z + 0 must turn it into +0 as HeightAt does
   FloorHint hint;
