@@ -65,7 +65,11 @@ double Ramp(double value, double target, double grow, double shrink, double dt) 
 
 ControllerState StepController(const ControllerProfile& profile, const ControllerState& state,
                                const JoystickInput& input, double dt) {
-  const ControllerState target = ControllerTarget(profile, input);
+  return StepControllerToward(profile, state, ControllerTarget(profile, input), dt);
+}
+
+ControllerState StepControllerToward(const ControllerProfile& profile, const ControllerState& state,
+                                     const ControllerState& target, double dt) {
   ControllerState next;
   const bool reverse = state.speed < 0.0 || (state.speed == 0.0 && target.speed < 0.0);
   next.speed = Ramp(state.speed, target.speed, reverse ? profile.reverse_accel : profile.forward_accel,

@@ -62,6 +62,11 @@ ControllerState ControllerTarget(const ControllerProfile& profile, const Joystic
 /// [-1, 1] or NaN are read as 0 (the safe reaction of the real-time path).
 ControllerState StepController(const ControllerProfile& profile, const ControllerState& state,
                                const JoystickInput& input, double dt);
+/// The same tick toward targets already computed by ControllerTarget (a caller that holds the
+/// deflection over many ticks computes them once): StepController(profile, state, input, dt)
+/// is StepControllerToward(profile, state, ControllerTarget(profile, input), dt), bit for bit.
+ControllerState StepControllerToward(const ControllerProfile& profile, const ControllerState& state,
+                                     const ControllerState& target, double dt);
 
 /// Reads a profile mapping (every field optional, defaults above):
 ///   {max_forward_speed_mps, max_reverse_speed_mps, max_turn_rate_degps, turn_rate_at_speed,

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "engine/input_error.h"
 #include "engine/number_format.h"
@@ -49,6 +50,96 @@ double FloorMap::HeightAt(double x_W, double y_W) const {
   if (features.empty() && !grid) return z;  // the sagittal terrain, bit for bit
   for (const FloorFeature& feature : features) z += feature.HeightAt(x_W, y_W);
   if (grid) z += grid->HeightAt(x_W, y_W);
+  return z;
+}
+
+double FloorMap::AddLayersNear(double z_profile, double x_W, double y_W, FloorHint& hint) const {
+  double z = z_profile;
+  // The clear interval around x: bounded by the nearest span ends on either side of x; when one
+  // feature's x span holds x (the active one), within that span; empty when x is in the spans
+  // of two features, or of the grid (or NaN: every comparison false).
+  double lo = -std::numeric_limits<double>::infinity();
+  double hi = std::numeric_limits<double>::infinity();
+  int active = -1;
+  bool several = false;
+  const auto clear_of = [&](double span_lo, double span_hi, int index) {
+    if (span_hi < x_W) {
+      lo = std::max(lo, span_hi);
+    } else if (span_lo > x_W) {
+      hi = std::min(hi, span_lo);
+    } else {
+      several = several || active >= 0 || index < 0;
+      active = index;
+    }
+  };
+  for (std::size_t k = 0; k < features.size(); ++k) {
+    z += features[k].HeightAt(x_W, y_W);
+    clear_of(features[k].x_min, features[k].x_max, static_cast<int>(k));
+  }
+  if (grid) {
+    z += grid->HeightAt(x_W, y_W);
+    // grown by a cell: HeightGrid's own test is on (x - x0) / cell, rounded
+    clear_of(grid->x0 - grid->cell, grid->x0 + grid->nx * grid->cell, -1);
+  }
+  if (active >= 0) {  // and within the active feature's span (beyond it, no layer is active)
+    lo = std::max(lo, features[static_cast<std::size_t>(active)].x_min);
+    hi = std::min(hi, features[static_cast<std::size_t>(active)].x_max);
+  }
+  hint.clear_lo = several ? x_W : lo;
+  hint.clear_hi = several ? x_W : hi;
+  hint.active = several ? -1 : active;
+  return z;
+}
+
+double FloorMap::HeightAtNearUpdatingHint(double x_W, double y_W, FloorHint& hint) const {
+  const double z_profile = profile.HeightAtNear(x_W, hint.segment);
+  const bool layers = !features.empty() || grid.has_value();
+  double z = z_profile;
+  const bool clear = x_W > hint.clear_lo && x_W < hint.clear_hi;
+  if (layers) {
+    // In the clear interval every layer but the active feature (if any) adds +0: z + 0 + 0 ...
+    // is z + 0 (+0 turns a -0 into +0 once, then changes nothing), so the sum in HeightAt's
+    // order is z_profile [+ 0] + f_active [+ 0], the +0 where layers come before or after it.
+    if (!clear) {
+      z = AddLayersNear(z_profile, x_W, y_W, hint);
+    } else if (hint.active < 0) {
+      z = z_profile + 0.0;
+    } else {
+      const std::size_t k = static_cast<std::size_t>(hint.active);
+      if (k > 0) z += 0.0;
+      z += features[k].HeightAt(x_W, y_W);
+      if (k + 1 < features.size() || grid) z += 0.0;
+    }
+  }
+  // The level interval around x: the open piece of the profile x is in when that piece is level
+  // (HeightAt is 0 beyond the ends, z_k + 0 on a level segment: Terrain::HeightAtNear), within
+  // the clear interval when there are layers; empty otherwise (and for NaN).
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const std::vector<double>& xs = profile.x;
+  const std::vector<double>& zs = profile.z;
+  double lo = x_W, hi = x_W;  // empty
+  if (xs.empty()) {
+    lo = -kInf;
+    hi = kInf;
+  } else if (x_W < xs.front()) {
+    lo = -kInf;
+    hi = xs.front();
+  } else if (x_W > xs.back()) {
+    lo = xs.back();
+    hi = kInf;
+  } else if (const std::size_t k = hint.segment;
+             k + 1 < xs.size() && x_W > xs[k] && x_W < xs[k + 1] && zs[k] == zs[k + 1]) {
+    lo = xs[k];
+    hi = xs[k + 1];
+  }
+  if (layers) {  // level only where no layer is active (AddLayersNear may have moved the hint)
+    const bool level = x_W > hint.clear_lo && x_W < hint.clear_hi && hint.active < 0;
+    lo = level ? std::max(lo, hint.clear_lo) : x_W;
+    hi = level ? std::min(hi, hint.clear_hi) : x_W;
+  }
+  hint.level_lo = lo;
+  hint.level_hi = hi;
+  hint.level_z = z;
   return z;
 }
 

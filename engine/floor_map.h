@@ -87,6 +87,24 @@ struct HeightGrid {
   double HeightAt(double x_W, double y_W) const;
 };
 
+/// What a lookup that moves little between calls (one wheel from tick to tick) carries over,
+/// each part an interval of x in which a lookup's work is known in advance:
+///   segment   the profile's segment (Terrain::HeightAtNear's search starts there);
+///   clear     clear_lo < x < clear_hi reaches no feature's [x_min, x_max] but the active one's
+///             (if any) nor the grid's x span (grown by a cell): there every other feature and
+///             the grid add exactly +0 (each is 0 outside its x span), so z = z_profile + 0, or
+///             z_profile [+ 0] + f_active [+ 0], without visiting them;
+///   level     level_lo < x < level_hi is also inside one level piece of the profile (a level
+///             segment, or beyond its ends): there z is level_z, whatever x and y.
+/// Any hint gives the same bits as HeightAt; a fresh one is empty.
+struct FloorHint {
+  std::size_t segment{0};
+  double clear_lo{0.0}, clear_hi{0.0};  ///< [m]
+  int active{-1};                       ///< the feature whose x span the clear interval is in
+  double level_lo{0.0}, level_hi{0.0};  ///< [m]
+  double level_z{0.0};                  ///< [m]
+};
+
 struct FloorMap {
   Terrain profile;                    ///< along x, uniform in y (may be empty: flat)
   std::vector<FloorFeature> features;
@@ -94,18 +112,22 @@ struct FloorMap {
 
   /// z(x, y) [m].
   double HeightAt(double x_W, double y_W) const;
-  /// The same, bit for bit, with the profile's breakpoint search started at `hint` (updated).
-  double HeightAtNear(double x_W, double y_W, std::size_t& hint) const;
+  /// The same, bit for bit, starting from `hint` (updated): the profile's search at its
+  /// segment, and no feature or grid visited while x stays in its clear interval.
+  double HeightAtNear(double x_W, double y_W, FloorHint& hint) const;
   /// Highest point of every layer, summed (an upper bound, for rendering and checks) [m].
   double MaxHeightBound() const;
+
+ private:
+  /// HeightAtNear outside the hint's level interval; sets the hint's intervals around x.
+  double HeightAtNearUpdatingHint(double x_W, double y_W, FloorHint& hint) const;
+  /// z_profile + Σ_k f_k + z_grid, summed in HeightAt's order; sets hint's clear interval.
+  double AddLayersNear(double z_profile, double x_W, double y_W, FloorHint& hint) const;
 };
 
-inline double FloorMap::HeightAtNear(double x_W, double y_W, std::size_t& hint) const {
-  double z = profile.HeightAtNear(x_W, hint);
-  if (features.empty() && !grid) return z;
-  for (const FloorFeature& feature : features) z += feature.HeightAt(x_W, y_W);
-  if (grid) z += grid->HeightAt(x_W, y_W);
-  return z;
+inline double FloorMap::HeightAtNear(double x_W, double y_W, FloorHint& hint) const {
+  if (x_W > hint.level_lo && x_W < hint.level_hi) return hint.level_z;
+  return HeightAtNearUpdatingHint(x_W, y_W, hint);
 }
 
 /// A floor that is the sagittal terrain alone.

@@ -66,19 +66,19 @@ std::vector<std::array<double, 2>> ConvexHull(std::vector<std::array<double, 2>>
   return hull;
 }
 
-/// Inside (or on the edge of) a counter-clockwise convex polygon.
-bool InsideConvex(const std::vector<std::array<double, 2>>& polygon, double x, double y) {
-  // every edge (a, b), starting with the closing one (p[n-1], p[0]): no integer division per edge
-  if (polygon.empty()) return true;
-  const std::array<double, 2>* a = &polygon.back();
-  for (const std::array<double, 2>& b : polygon) {
-    if ((b[0] - (*a)[0]) * (y - (*a)[1]) - (b[1] - (*a)[1]) * (x - (*a)[0]) < 0.0) return false;
+}  // namespace
+
+ConvexPolygon ConvexPolygon::FromVertices(const std::vector<std::array<double, 2>>& vertices) {
+  // every edge (a, b), starting with the closing one (p[n-1], p[0])
+  ConvexPolygon polygon;
+  PWSIM_DEMAND(vertices.size() <= polygon.edges.size());
+  const std::array<double, 2>* a = vertices.empty() ? nullptr : &vertices.back();
+  for (const std::array<double, 2>& b : vertices) {
+    polygon.edges[polygon.count++] = {(*a)[0], (*a)[1], b[0] - (*a)[0], b[1] - (*a)[1]};
     a = &b;
   }
-  return true;
+  return polygon;
 }
-
-}  // namespace
 
 PlanarLayout DefaultPlanarLayout(const Chair& chair, double track) {
   PWSIM_DEMAND(chair.gm.has_value() && track > 0.0);
@@ -232,6 +232,7 @@ FullChairSimulator::FullChairSimulator(const Chair& chair, const PlanarLayout& l
   drive_x_ = chair.wheels[drive_row_].x;
   track_ = 2.0 * layout.rows[drive_row_].half_track;
   const double e = layout.cm_x - drive_x_;
+  cm_ahead_ = e;
   // I_z scales with the moving mass (occupant and chair alike about the centre of mass).
   yaw_inertia_D_ = layout.yaw_inertia * mass_ / chair.mass + mass_ * e * e;
   roll_params_ = {layout.roll_inertia + cm_height_ * cm_height_ * mass_, layout.c_roll, layout.k_roll};
@@ -249,6 +250,7 @@ FullChairSimulator::FullChairSimulator(const Chair& chair, const PlanarLayout& l
   half_mass_ = 0.5 * mass_;
   integral_gain_ = 0.25 * layout.speed_loop_gain * layout.speed_loop_gain;
   for (int i = 0; i < rows_; ++i) inv_row_track_[i] = 1.0 / (2.0 * layout.rows[i].half_track);
+  target_ = ControllerTarget(layout_.controller, target_joystick_);
 
   ground_contacts_ = 2 * rows_;
   for (int i = 0; i < rows_; ++i) {
@@ -261,7 +263,6 @@ FullChairSimulator::FullChairSimulator(const Chair& chair, const PlanarLayout& l
       contact_role_[c] = row.role;
     }
     roll_weight_[i] = row.roll_weight;
-    role_[i] = row.role;
   }
   int contacts = ground_contacts_;
   if (layout.anti_tip.present) {
@@ -290,10 +291,16 @@ FullChairSimulator::FullChairSimulator(const Chair& chair, const PlanarLayout& l
   }
   std::vector<std::array<double, 2>> points;
   for (int c = 0; c < ground_contacts_; ++c) points.push_back({rest_x_[c], rest_y_[c]});
-  support_ = ConvexHull(points);
-  polygon_rear_ = rear_x_;
+  support_ = ConvexPolygon::FromVertices(ConvexHull(points));
   for (int c = ground_contacts_; c < contacts; ++c) points.push_back({rest_x_[c], rest_y_[c]});
-  support_anti_tip_ = ConvexHull(points);
+  support_anti_tip_ = ConvexPolygon::FromVertices(ConvexHull(points));
+
+  for (int c = 0; c < ground_contacts_; ++c) {
+    if (contact_role_[c] == WheelRole::kDrive) continue;
+    undriven_[undriven_count_++] = c;
+    pivot_x_[c] = contact_role_[c] == WheelRole::kCaster ? rest_x_[c] + layout.caster.trail : rest_x_[c];
+    lever_x_[c] = pivot_x_[c] - drive_x_;
+  }
 }
 
 void FullChairSimulator::ContactsAt(const PlanarState& pose) {
@@ -388,9 +395,9 @@ void FullChairSimulator::Loads(double a_x, double a_y) {
   const double inv_weight = 1.0 / weight;
   sample_.cop_x = sum_x * inv_weight;
   sample_.cop_y = sum_y * inv_weight;
-  const bool inside = InsideConvex(support_, sample_.cop_x, sample_.cop_y);
+  const bool inside = support_.Contains(sample_.cop_x, sample_.cop_y);
   if (layout_.anti_tip.present) {
-    const bool inside_anti_tip = InsideConvex(support_anti_tip_, sample_.cop_x, sample_.cop_y);
+    const bool inside_anti_tip = support_anti_tip_.Contains(sample_.cop_x, sample_.cop_y);
     sample_.on_anti_tip = !inside && inside_anti_tip;
     sample_.tip_over = !inside_anti_tip;
   } else {
@@ -480,9 +487,8 @@ const FullChairSample& FullChairSimulator::AdvanceAlong(const Longitudinal& driv
   sample_.torque_limited = false;
   for (int c = 0; c < ground_contacts_; ++c) {
     if (contact_role_[c] != WheelRole::kCaster) continue;
-    const double pivot_x = rest_x_[c] + layout_.caster.trail;
     const CasterForce f = StepCaster(layout_.caster, caster_constants_, sample_.casters[c], caster_cos_[c],
-                                     caster_sin_[c], pivot_x, rest_y_[c], drive.v, 0.0, 0.0, sample_.contacts[c].load);
+                                     caster_sin_[c], pivot_x_[c], rest_y_[c], drive.v, 0.0, 0.0, sample_.contacts[c].load);
     caster_cos_[c] = f.cos_angle;
     caster_sin_[c] = f.sin_angle;
     sample_.contacts[c].force_x = f.fx;
@@ -497,7 +503,11 @@ const FullChairSample& FullChairSimulator::AdvanceAlong(const Longitudinal& driv
 }
 
 const FullChairSample& FullChairSimulator::Advance(const JoystickInput& joystick) {
-  const ControllerState setpoints = StepController(layout_.controller, sample_.controller, joystick, lumped_.dt);
+  if (!(joystick == target_joystick_)) {  // the targets change only with the deflection
+    target_joystick_ = joystick;
+    target_ = ControllerTarget(layout_.controller, joystick);
+  }
+  const ControllerState setpoints = StepControllerToward(layout_.controller, sample_.controller, target_, lumped_.dt);
   AdvanceSetpoints(setpoints);
   sample_.joystick = joystick;
   return sample_;
@@ -512,7 +522,7 @@ const FullChairSample& FullChairSimulator::AdvanceSetpoints(const ControllerStat
   const double v = before.v;
   const double w = before.yaw_rate;
   const double half_b = 0.5 * track_;
-  const double e = layout_.cm_x - drive_x_;
+  const double e = cm_ahead_;
 
   // Gravity along the floor, in V.
   const double g_x = -g * floor_sin_pitch_;
@@ -553,33 +563,30 @@ const FullChairSample& FullChairSimulator::AdvanceSetpoints(const ControllerStat
   }
 
   // Casters (implicit swivel) and fixed wheels (sideways scrub) at their contacts.
-  for (int c = 0; c < ground_contacts_; ++c) {
-    const WheelRole role = contact_role_[c];
-    if (role == WheelRole::kDrive) continue;
-    double fx = 0.0, fy = 0.0, px = rest_x_[c], py = rest_y_[c];
+  for (int n = 0; n < undriven_count_; ++n) {
+    const int c = undriven_[n];
+    const double py = rest_y_[c];
     const double load = sample_.contacts[c].load;
-    if (role == WheelRole::kCaster) {
-      const double pivot_x = rest_x_[c] + layout_.caster.trail;
-      const double vx = v - w * py;
-      const double vy = w * (pivot_x - drive_x_);
+    const double vx = v - w * py;          // the pivot's (or wheel's) velocity in V
+    const double vy = w * lever_x_[c];
+    double fx = 0.0, fy = 0.0, lever_x = lever_x_[c], lever_y = py;
+    if (contact_role_[c] == WheelRole::kCaster) {
       const CasterForce f = StepCaster(layout_.caster, caster_constants_, sample_.casters[c], caster_cos_[c],
-                                       caster_sin_[c], pivot_x, py, vx, vy, w, load);
+                                       caster_sin_[c], pivot_x_[c], py, vx, vy, w, load);
       caster_cos_[c] = f.cos_angle;
       caster_sin_[c] = f.sin_angle;
       fx = f.fx;
       fy = f.fy;
-      px = f.contact_x;
-      py = f.contact_y;
+      lever_x = f.contact_x - drive_x_;
+      lever_y = f.contact_y;
     } else if (load > 0.0) {
-      const double vx = v - w * py;
-      const double vy = w * (px - drive_x_);
       fx = -layout_.caster.rolling_resistance * load * std::clamp(vx * 100.0, -1.0, 1.0);
       fy = -layout_.caster.lateral_damping * vy;
     }
     sample_.contacts[c].force_x = fx;
     sample_.contacts[c].force_y = fy;
     force_x += fx;
-    moment_z += (px - drive_x_) * fy - py * fx;
+    moment_z += lever_x * fy - lever_y * fx;
   }
 
   if (braked) {
@@ -610,9 +617,14 @@ const FullChairSample& FullChairSimulator::AdvanceSetpoints(const ControllerStat
   p.yaw_rate = braked && !limited ? 0.0 : w + w_dot * dt;
   // midpoint heading ψ + ω dt/2, then the new heading ψ + ω dt, by two half-step rotations
   const double half_turn = 0.5 * p.yaw_rate * dt;
-  RotateBy(yaw_cos_, yaw_sin_, half_turn);
-  const double ch = yaw_cos_, sh = yaw_sin_;
-  RotateBy(yaw_cos_, yaw_sin_, half_turn);
+  double ch = yaw_cos_, sh = yaw_sin_;
+  if (half_turn != 0.0) {
+    const SmallRotation half_step = MakeSmallRotation(half_turn);  // cos, sin evaluated once
+    ApplyRotation(yaw_cos_, yaw_sin_, half_step);
+    ch = yaw_cos_;
+    sh = yaw_sin_;
+    ApplyRotation(yaw_cos_, yaw_sin_, half_step);
+  }
   const double lateral = -p.yaw_rate * drive_x_;
   p.x = before.x + (p.v * ch - lateral * sh) * dt;
   p.y = before.y + (p.v * sh + lateral * ch) * dt;
@@ -629,8 +641,10 @@ const FullChairSample& FullChairSimulator::AdvanceSetpoints(const ControllerStat
   sample_.drive = {sample_.drive.x + dx * ch + dy * sh, p.v, a_x};
 
   ContactsAt(p);
-  Vertical(pitch_torque, roll_torque);
+  // Loads before Vertical (neither reads what the other writes): the loads feed the next tick's
+  // forces, the vertical model only itself, so the next tick can start while it completes.
   Loads(a_x, a_y);
+  Vertical(pitch_torque, roll_torque);
   ++sample_.tick;
   return sample_;
 }

@@ -187,6 +187,26 @@ struct FullChairSample {
   int gates_passed{0};          ///< route gates passed in order so far
 };
 
+/// A convex polygon (counter-clockwise) kept as its edges, each from vertex a along (dx, dy) to
+/// the next vertex: (x, y) is inside or on it when dx (y - a_y) - dy (x - a_x) >= 0 for every edge.
+struct ConvexPolygon {
+  struct Edge {
+    double ax{0.0}, ay{0.0}, dx{0.0}, dy{0.0};
+  };
+  std::array<Edge, kMaxContacts> edges{};
+  int count{0};  ///< 0: no polygon (everything inside)
+
+  /// From the vertices (counter-clockwise, as ConvexHull returns them).
+  static ConvexPolygon FromVertices(const std::vector<std::array<double, 2>>& vertices);
+  bool Contains(double x, double y) const {
+    for (int k = 0; k < count; ++k) {
+      const Edge& e = edges[k];
+      if (e.dx * (y - e.ay) - e.dy * (x - e.ax) < 0.0) return false;
+    }
+    return true;
+  }
+};
+
 /// The sagittal ChairSample view of a full-chair sample (same fields, same bits).
 ChairSample SagittalView(const FullChairSample& sample);
 
@@ -234,6 +254,7 @@ class FullChairSimulator {
   double PitchTorqueNow() const;
   double RollTorqueNow() const;
 
+  // --- parameters ---
   const FloorMap& floor_;
   PlanarLayout layout_;
   GeometricModel gm_;
@@ -242,35 +263,50 @@ class FullChairSimulator {
   AxisParams roll_params_;
   PitchTorqueParams pitch_torque_;
   RollTorqueParams roll_torque_;
+
+  // --- derived once by the constructor (constant per chair: nothing of it is recomputed per tick) ---
   double mass_{0.0}, cm_height_{0.0}, drive_x_{0.0}, track_{0.0};
   double yaw_inertia_D_{0.0};  ///< I_z + m e² [kg m^2]
+  double cm_ahead_{0.0};       ///< e = x_c - x_D [m]
   int rows_{0};
-  std::array<double, kMaxContacts> rest_x_{}, rest_y_{};  ///< contact at rest in V
+  int drive_row_{0};
+  int ground_contacts_{0};     ///< 2 per row (the anti-tip pair follows)
+  double front_x_{0.0}, rear_x_{0.0};  ///< first and last rows' x [m]
+  std::array<double, kMaxContacts> rest_x_{}, rest_y_{};  ///< contact at rest in V [m]
+  std::array<WheelRole, kMaxContacts> contact_role_{};
   std::array<double, kMaxContacts> share_{};              ///< k_i per contact
   std::array<double, kMaxContacts> load_c0_{}, load_cx_{}, load_cy_{};
+  /// The ground contacts that are not driven (casters and fixed wheels), in contact order.
+  std::array<int, kMaxContacts> undriven_{};
+  int undriven_count_{0};
+  /// Per contact: a caster's pivot x in V, x_p = x_rest + t [m] (the contact at rest otherwise).
+  std::array<double, kMaxContacts> pivot_x_{};
+  /// Per contact: x_p - x_D, the pivot's (or fixed wheel's) lever about D along x [m].
+  std::array<double, kMaxContacts> lever_x_{};
   std::array<double, kMaxWheels> roll_weight_{};
-  std::array<WheelRole, kMaxWheels> role_{};
-  std::vector<std::array<double, 2>> support_;  ///< convex support polygon in V (ccw)
-  double polygon_rear_{0.0};
-  std::vector<std::array<double, 2>> support_anti_tip_;  ///< with the anti-tip wheels (ccw)
-  std::array<WheelRole, kMaxContacts> contact_role_{};
-  int ground_contacts_{0};     ///< 2 per row (the anti-tip pair follows)
-  int drive_row_{0};
-  double front_x_{0.0}, rear_x_{0.0};  ///< first and last rows' x [m]
-  double along_x0_{0.0}, along_y0_{0.0}, along_c_{1.0}, along_s_{0.0};  ///< AdvanceAlong line
-  // inclination of the floor under the chair: tan from the contacts, cos and sin from the tan
-  double floor_tan_pitch_{0.0}, floor_tan_roll_{0.0};
-  double yaw_cos_{1.0}, yaw_sin_{0.0};
+  std::array<double, kMaxWheels> inv_row_track_{};  ///< 1 / (2 half_track_i)
+  ConvexPolygon support_;            ///< support polygon of the ground wheels in V
+  ConvexPolygon support_anti_tip_;   ///< with the anti-tip wheels
   CasterStepConstants caster_constants_;
   double inv_mass_{0.0}, inv_yaw_inertia_D_{0.0}, inv_dt_{0.0}, inv_roll_inertia_{0.0};
   double inv_track_{0.0}, inv_wheelbase_{0.0};
   double motor_force_limit_{0.0};  ///< max motor torque / drive radius [N]
   double half_mass_{0.0};          ///< M / 2 [kg], each drive wheel's share of the body
   double integral_gain_{0.0};      ///< k_v² / 4 [1/s²] of the speed loops
-  std::array<double, kMaxWheels> inv_row_track_{};  ///< 1 / (2 half_track_i)  ///< cos ψ, sin ψ carried with the yaw (small_rotation.h)
+
+  // --- state carried from tick to tick besides the sample ---
+  double along_x0_{0.0}, along_y0_{0.0}, along_c_{1.0}, along_s_{0.0};  ///< AdvanceAlong line
+  double yaw_cos_{1.0}, yaw_sin_{0.0};  ///< cos ψ, sin ψ carried with the yaw (small_rotation.h)
+  // inclination of the floor under the chair: tan from the contacts, cos and sin from the tan
+  double floor_tan_pitch_{0.0}, floor_tan_roll_{0.0};
   double floor_cos_pitch_{1.0}, floor_sin_pitch_{0.0}, floor_cos_roll_{1.0}, floor_sin_roll_{0.0};
   std::array<double, kMaxContacts> caster_cos_{}, caster_sin_{};  ///< of each caster's δ
-  std::array<std::size_t, kMaxContacts> floor_hints_{};  ///< profile segment of each contact
+
+  // --- caches (results kept to spare a lookup; any value gives the same bits) ---
+  std::array<FloorHint, kMaxContacts> floor_hints_{};  ///< each contact's floor lookup hint
+  JoystickInput target_joystick_;  ///< the deflection target_ was computed for
+  ControllerState target_;         ///< ControllerTarget(layout_.controller, target_joystick_)
+
   FullChairSample sample_;
 };
 

@@ -10,22 +10,34 @@
 
 namespace pwsim {
 
-inline void RotateBy(double& c, double& s, double delta) {
-  if (delta == 0.0) return;
-  double cd = 0.0, sd = 0.0;
+/// (cos δ, sin δ) of one small step δ, as RotateBy evaluates them: computed once, a rotation
+/// by the same δ can be applied several times (ApplyRotation) with the same bits as RotateBy.
+struct SmallRotation {
+  double cos_delta{1.0}, sin_delta{0.0};
+};
+
+inline SmallRotation MakeSmallRotation(double delta) {
   if (std::abs(delta) <= 0.01) {
     const double d2 = delta * delta;
-    cd = 1.0 - d2 * (0.5 - d2 * (1.0 / 24.0 - d2 * (1.0 / 720.0)));
-    sd = delta * (1.0 - d2 * (1.0 / 6.0 - d2 * (1.0 / 120.0)));
-  } else {
-    cd = std::cos(delta);
-    sd = std::sin(delta);
+    return {1.0 - d2 * (0.5 - d2 * (1.0 / 24.0 - d2 * (1.0 / 720.0))),
+            delta * (1.0 - d2 * (1.0 / 6.0 - d2 * (1.0 / 120.0)))};
   }
-  const double next_c = c * cd - s * sd;
-  const double next_s = s * cd + c * sd;
+  return {std::cos(delta), std::sin(delta)};
+}
+
+/// (c, s) rotated by the step and renormalised. @pre the step is not 0 (RotateBy leaves the
+/// pair untouched then).
+inline void ApplyRotation(double& c, double& s, const SmallRotation& step) {
+  const double next_c = c * step.cos_delta - s * step.sin_delta;
+  const double next_s = s * step.cos_delta + c * step.sin_delta;
   const double inverse_length = 1.5 - 0.5 * (next_c * next_c + next_s * next_s);
   c = next_c * inverse_length;
   s = next_s * inverse_length;
+}
+
+inline void RotateBy(double& c, double& s, double delta) {
+  if (delta == 0.0) return;
+  ApplyRotation(c, s, MakeSmallRotation(delta));
 }
 
 }  // namespace pwsim

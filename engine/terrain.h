@@ -29,8 +29,16 @@ struct Terrain {
 
 inline double Terrain::HeightAtNear(double x_W, std::size_t& hint) const {
   // the branches of HeightAt and InterpolateLinear, in the same order, with the hinted search
-  if (x.empty() || x_W <= x.front() || x_W >= x.back()) return HeightAt(x_W);
+  if (x.empty()) return 0.0;
+  if (x_W <= x.front() || x_W >= x.back()) {  // HeightAt's ends, inline (a wheel past the profile)
+    if (x_W == x.front()) return z.front();
+    if (x_W == x.back()) return z.back();
+    return 0.0;
+  }
   const KnotSegment seg = FindKnotSegmentNear(x, x_W, hint);
+  // A level segment: Lerp adds s · (+0) = +0 for any s in [0, 1], so z_k + 0 is its result bit
+  // for bit (the s above is then unused and its division skipped).
+  if (z[seg.k] == z[seg.k + 1]) return z[seg.k] + 0.0;
   return Lerp(z[seg.k], z[seg.k + 1], seg.s);
 }
 

@@ -26,6 +26,43 @@ TEST(FloorMapTest, ProfileAloneIsTheTerrainBitForBit) {
   }
 }
 
+// Tests that the hinted lookup of a wheel (HeightAtNear: the profile's segment, the interval
+// clear of every feature and the grid, and the level interval carried from call to call)
+// returns HeightAt's bits on a path that enters and leaves level and sloped profile segments,
+// sharp and tapered features (one on another), the grid and the profile's ends, and jumps back
+// and forth (the hint then misses and is rebuilt).
+TEST(FloorMapTest, HintedLookupIsHeightAtBitForBit) {
+  FloorMap floor = Parse(
+      "profile_m: [[0, 0], [1.8, 0], [2.1, 0.065], [3.6, 0.065], [3.9, 0], [12, 0]]\n"
+      "features:\n"
+      "  - {bump: {name: step, x_m: [2, 6], y_m: [0, 1], height_m: 0.05}}\n"
+      "  - {bump: {name: kerb, x_m: [7, 7.5], y_m: [-1, 0.2], height_m: -0.03, ramp_m: 0.1}}\n"
+      "  - {plane: {name: cross, x_m: [10, 20], y_m: [-2, 2], grade_y: 0.05, ramp_m: 0.5}}\n"
+      "  - {bump: {name: patch on the plane, x_m: [12, 13], y_m: [-1.1, 1.1], height_m: 0.02, ramp_m: 0.05}}\n"
+      "grid: {origin_m: [8, -1], cell_m: 0.5, rows: [[0, 0.01, 0.02], [0.01, 0.03, -0.01], [0, 0, 0.02]]}\n");
+  floor.profile.z[0] = -0.0;  // a -0 start: the clear interval's z + 0 must turn it into +0 as HeightAt does
+  FloorHint hint;
+  int clear_hits = 0;
+  for (int k = 0; k < 40000; ++k) {
+    const double x = -1.0 + 25.0 * (0.5 - 0.5 * std::cos(k * 1.7e-4)) + (k % 997 == 0 ? 3.0 : 0.0);
+    const double y = 1.2 * std::sin(k * 3.1e-4);
+    const bool clear = x > hint.clear_lo && x < hint.clear_hi;
+    const double z = floor.HeightAtNear(x, y, hint);
+    ASSERT_EQ(std::signbit(z), std::signbit(floor.HeightAt(x, y))) << x << " " << y;
+    ASSERT_EQ(z, floor.HeightAt(x, y)) << x << " " << y;
+    clear_hits += clear;
+  }
+  EXPECT_GT(clear_hits, 10000);  // the clear interval was really used
+  for (double x = 7.6; x < 9.9; x += 0.01) {  // into and out of the grid between two features
+    ASSERT_EQ(floor.HeightAtNear(x, -0.5, hint), floor.HeightAt(x, -0.5)) << x;
+  }
+  for (const double x : {1.0, 0.0, 2.0, 6.0, 7.0, 7.5, 10.0, 20.0, 8.0, 9.0, 12.0, 0.0}) {  // span ends
+    const double z = floor.HeightAtNear(x, 0.5, hint);
+    EXPECT_EQ(std::signbit(z), std::signbit(floor.HeightAt(x, 0.5))) << x;
+    EXPECT_EQ(z, floor.HeightAt(x, 0.5)) << x;
+  }
+}
+
 // Tests bumps and planes against their closed forms: a bump is h inside its tapered edges and
 // h·u/ramp on them; a plane is g_x (x - x_c) + g_y (y - y_c); both 0 outside.
 TEST(FloorMapTest, FeaturesFollowTheirClosedForms) {

@@ -343,5 +343,29 @@ TEST(FullChairTest, RearMidAndFrontDriveTurnOnCirclesOfRadiusSpeedOverYawRate) {
   }
 }
 
+// Tests that Advance (which keeps the controller's targets while the deflection stays) is the
+// controller's StepController followed by AdvanceSetpoints, bit for bit, through deflections
+// that hold, change, repeat, and are NaN or out of range (read as 0).
+TEST(FullChairTest, AdvanceIsTheControllerStepThenTheSetpoints) {
+  Rig rig;
+  rig.floor.features = {PlaneFeature(1.0, 6.0, -3.0, 3.0, 0.0, 0.04, 0.5)};
+  FullChairSimulator held(rig.chair, rig.layout, rig.floor, rig.load, 1e-3);
+  FullChairSimulator stepped(rig.chair, rig.layout, rig.floor, rig.load, 1e-3);
+  held.Start({});
+  stepped.Start({});
+  const std::array<JoystickInput, 6> deflections{
+      {{0.8, 0.0}, {0.8, 0.5}, {std::nan(""), 0.5}, {0.8, 0.5}, {-0.6, 1.5}, {0.0, 0.0}}};
+  for (int k = 0; k < 12000; ++k) {
+    const JoystickInput joystick = deflections[(k / 700) % deflections.size()];
+    const FullChairSample& a = held.Advance(joystick);
+    const ControllerState set = StepController(rig.layout.controller, stepped.sample().controller, joystick, 1e-3);
+    const FullChairSample& b = stepped.AdvanceSetpoints(set);
+    ASSERT_EQ(a.controller, b.controller) << k;
+    ASSERT_EQ(a.planar, b.planar) << k;
+    ASSERT_EQ(a.roll, b.roll) << k;
+  }
+  EXPECT_GT(std::abs(held.sample().planar.yaw), 0.5);  // it really turned
+}
+
 }  // namespace
 }  // namespace pwsim
