@@ -91,9 +91,8 @@ std::vector<ResidualRecord> ResidualRecords(const std::vector<FitTrial>& trials,
 namespace {
 
 /// The splits as fit trials for one chair (its GM; the records' own when null). Every candidate
-/// is simulated on identification's grid (FitStep), so each split but the training one (the
-/// fits put it there themselves) is put on it once and serves the base model and every
-/// extension alike. Rebuilt when the GM is identified again under a marker lever, and then
+/// is simulated on identification's grid (FitStep), so each split is put on it once (its input
+/// caches filled) and serves the base model and every extension alike. Rebuilt when the GM is identified again under a marker lever, and then
 /// with a_x estimated from O_V's x rather than the marker's (a lever r_z turns a pitch
 /// oscillation into a swing of the measured x).
 struct Splits {
@@ -112,16 +111,18 @@ Splits MakeSplits(const std::vector<effects::TrialRecord>& records, const std::v
                                                       lever->marker_lever_z, rest_window);
       accel = effects::EstimateAcceleration(records[i].t, o.x);
     }
-    FitTrial f = MakeFitTrial(records[i], chair ? *chair : records[i].chair, rest_window, std::move(accel));
-    out.all.push_back(f);
+    out.all.push_back(MakeFitTrial(records[i], chair ? *chair : records[i].chair, rest_window, std::move(accel)));
+  }
+  out.all = WithFitStep(out.all, std::nullopt);
+  for (std::size_t i = 0; i < records.size(); ++i) {
     if (report[i]) {
-      out.report.push_back(std::move(f));
+      out.report.push_back(out.all[i]);
       out.report_index.push_back(i);
     } else if (selection[i]) {
-      out.selection.push_back(std::move(f));
+      out.selection.push_back(out.all[i]);
       out.selection_index.push_back(i);
     } else {
-      out.training.push_back(std::move(f));
+      out.training.push_back(out.all[i]);
     }
   }
   if (out.selection.empty()) {  // too few trials: choose on the training ones
@@ -129,9 +130,6 @@ Splits MakeSplits(const std::vector<effects::TrialRecord>& records, const std::v
     for (std::size_t i = 0; i < records.size(); ++i)
       if (!report[i]) out.selection_index.push_back(i);
   }
-  out.report = WithFitStep(out.report, std::nullopt);
-  out.selection = WithFitStep(out.selection, std::nullopt);
-  out.all = WithFitStep(out.all, std::nullopt);
   return out;
 }
 
@@ -267,7 +265,7 @@ std::optional<Candidate> BestJoint(const Splits& splits, const std::vector<RankE
         solo.delta_bic < options.bic_threshold)
       tried.push_back(&solo);
   std::vector<std::optional<Candidate>> joint(tried.size());  // fitted concurrently
-  ParallelFor(tried.size(), options.threads, [&](std::size_t i) {
+  ParallelFor(tried.size(), [&](std::size_t i) {
     std::vector<EffectId> list = found;
     list.push_back(tried[i]->effect);
     effects::ExtendedParams from = current.params;
@@ -323,7 +321,7 @@ void RegeometryUnderLever(const std::vector<effects::TrialRecord>& records,
 std::vector<RankEntry> Rank(const Splits& splits, const FitResult& base, double base_sel,
                             const ChannelWeights& w, const DiagnoseOptions& options) {
   std::vector<RankEntry> ranking(options.candidates.size());
-  ParallelFor(options.candidates.size(), options.threads, [&](std::size_t i) {
+  ParallelFor(options.candidates.size(), [&](std::size_t i) {
     RankEntry& e = ranking[i];
     e.effect = options.candidates[i];
     e.fit = FitModel(splits.training, e.effect, base.params.lm, w, options.fit);
@@ -459,10 +457,8 @@ void ReportOnHeldOut(const std::vector<effects::TrialRecord>& records,
   dx.extended_parameters = NamedParameters(dx.extended);
 }
 
-}  // namespace
-
-Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records_given,
-                   const DiagnoseOptions& options) {
+Diagnosis DiagnoseOnPool(const std::vector<effects::TrialRecord>& records_given,
+                         const DiagnoseOptions& options) {
   PWSIM_DEMAND(records_given.size() >= 2);
   std::vector<effects::TrialRecord> records = records_given;  // in the order of their names
   std::stable_sort(records.begin(), records.end(), [](const effects::TrialRecord& a, const effects::TrialRecord& b) {
@@ -515,4 +511,12 @@ Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records_given,
   return dx;
 }
 
+}  // namespace
+
+Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records_given,
+                   const DiagnoseOptions& options) {
+  Diagnosis dx;
+  WithThreads(options.threads, [&] { dx = DiagnoseOnPool(records_given, options); });
+  return dx;
+}
 }  // namespace pwsim::diagnose
