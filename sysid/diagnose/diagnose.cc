@@ -62,11 +62,11 @@ std::vector<ResidualRecord> ResidualRecords(const std::vector<FitTrial>& trials,
                                             const std::vector<effects::TrialRecord>& records,
                                             const std::vector<std::size_t>& index,
                                             const effects::ExtendedParams& params) {
-  std::vector<ResidualRecord> out;
-  for (std::size_t k = 0; k < trials.size(); ++k) {
+  std::vector<ResidualRecord> out(trials.size());
+  ParallelFor(trials.size(), [&](std::size_t k) {  // each trial its own slot
     const TrialResidual r = ComputeResidual(trials[k], params);
     const effects::TrialRecord& rec = records[index[k]];
-    ResidualRecord rr;
+    ResidualRecord& rr = out[k];
     rr.name = rec.name;
     rr.speed = rec.speed;
     rr.load_kg = rec.load_kg;
@@ -81,8 +81,7 @@ std::vector<ResidualRecord> ResidualRecords(const std::vector<FitTrial>& trials,
       rr.e_z.assign(rec.t.size(), 1.0);
       rr.e_pitch.assign(rec.t.size(), 1.0);
     }
-    out.push_back(std::move(rr));
-  }
+  });
   return out;
 }
 
@@ -203,10 +202,10 @@ std::vector<TrialAnalysis> BaseAnalysis(const std::vector<effects::TrialRecord>&
                                         const std::vector<bool>& report,
                                         const std::vector<FitTrial>& all,
                                         const effects::ExtendedParams& base) {
-  std::vector<TrialAnalysis> out;
-  for (std::size_t i = 0; i < all.size(); ++i) {
+  std::vector<TrialAnalysis> out(all.size());
+  ParallelFor(all.size(), [&](std::size_t i) {  // each trial its own slot
     const TrialResidual r = ComputeResidual(all[i], base);
-    TrialAnalysis a;
+    TrialAnalysis& a = out[i];
     a.name = records[i].name;
     a.heldout = report[i];
     a.speed = records[i].speed;
@@ -220,8 +219,7 @@ std::vector<TrialAnalysis> BaseAnalysis(const std::vector<effects::TrialRecord>&
     a.pitch_base = a.pitch_ext = r.pitch_model;
     a.z_gm = r.model.z_gm;
     a.pitch_gm = r.model.pitch_gm;
-    out.push_back(std::move(a));
-  }
+  });
   return out;
 }
 
@@ -447,12 +445,12 @@ void ReportExtended(const std::vector<Stage>& models, Diagnosis& dx) {
   if (!dx.causes.empty()) {
     const Splits& last = *models.back().splits;
     dx.extended_heldout = PooledFitPct(last.report, dx.extended.params);
-    for (std::size_t i = 0; i < last.all.size(); ++i) {
+    ParallelFor(last.all.size(), [&](std::size_t i) {  // each trial its own slot
       const TrialResidual r = ComputeResidual(last.all[i], dx.extended.params);
-      if (!r.finite) continue;
+      if (!r.finite) return;
       dx.trials[i].z_ext = r.z_model;
       dx.trials[i].pitch_ext = r.pitch_model;
-    }
+    });
   }
   dx.extended_parameters = NamedParameters(dx.extended);
 }
