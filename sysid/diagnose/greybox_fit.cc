@@ -46,7 +46,7 @@ struct Mapper {
   }
 };
 
-/// Adds trial's weighted squared residuals to `sse` (the criterion's one formula).
+/// Adds a trial's weighted squared residuals to `sse` (the criterion's one formula).
 void AddWeightedSquares(const std::vector<double>& e_z, const std::vector<double>& e_pitch,
                         const ChannelWeights& w, double& sse) {
   for (std::size_t k = 0; k < e_z.size(); ++k)
@@ -140,14 +140,17 @@ class TrialBatch {
     std::vector<double> delta(size);
     for (std::size_t j = 0; j < size; ++j)
       delta[j] = std::max(std::sqrt(std::numeric_limits<double>::epsilon()), std::abs(p.u[j]) * 1e-6);
-    // Every trial at every perturbed point, concurrently: slot (i, j).
-    std::vector<TrialResidual> moved(trials * size);
+    // Every trial at every perturbed point, concurrently: slot (i, j), its weighted residuals.
+    std::vector<std::vector<double>> moved(trials * size);
+    std::vector<char> moved_finite(trials * size, 0);
     ParallelFor(trials * size, [&](std::size_t slot) {
       const std::size_t i = slot / size, j = slot % size;
       if (!p.residuals[i].finite) return;
       std::vector<double> u = p.u;
       u[j] = p.u[j] + delta[j];
-      moved[slot] = ComputeResidual(trials_[i], map_.Params(u.data()));
+      const TrialResidual res = ComputeResidual(trials_[i], map_.Params(u.data()));
+      moved_finite[slot] = res.finite;
+      if (res.finite) moved[slot] = Weighted(res);
     });
     p.jacobian.assign(trials, {});
     p.jacobian_finite.assign(trials, false);
@@ -158,10 +161,9 @@ class TrialBatch {
       jac.assign(r0.size() * size, 0.0);
       bool finite = true;
       for (std::size_t j = 0; j < size && finite; ++j) {
-        const TrialResidual& m = moved[i * size + j];
-        finite = m.finite;
+        finite = moved_finite[i * size + j] != 0;
         if (!finite) break;
-        const std::vector<double> r1 = Weighted(m);
+        const std::vector<double>& r1 = moved[i * size + j];
         const double one_over_delta = 1.0 / delta[j];
         for (std::size_t row = 0; row < r0.size(); ++row) jac[row * size + j] = (r1[row] - r0[row]) * one_over_delta;
       }
