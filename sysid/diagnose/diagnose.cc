@@ -269,7 +269,7 @@ std::optional<Candidate> BestJoint(const Splits& splits, const std::vector<RankE
     effects::ExtendedParams from = current.params;
     effects::CopyEffect(tried[i]->effect, tried[i]->fit.params.fx, from.fx);
     joint[i] = judge(FitModelJoint(splits.training, list, from, w, screen));
-  });
+  }, Waiting::kAnyTask);
   std::optional<Candidate> best;
   for (std::optional<Candidate>& c : joint)  // in ranking order: the first of equal gains
     if (c && (!best || c->gain > best->gain)) best = std::move(c);
@@ -328,7 +328,7 @@ std::vector<RankEntry> Rank(const Splits& splits, const FitResult& base, double 
     e.selection_gain = base_sel > 0.0 ? 1.0 - sel / base_sel : 0.0;
     e.earns = e.delta_bic < options.bic_threshold && e.selection_gain >= options.min_heldout_gain;
     e.parameters = NamedParameters(e.fit);
-  });
+  }, Waiting::kAnyTask);
   std::stable_sort(ranking.begin(), ranking.end(), [](const RankEntry& a, const RankEntry& b) {
     if (a.earns != b.earns) return a.earns;
     return a.selection_gain > b.selection_gain;

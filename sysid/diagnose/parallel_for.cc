@@ -10,22 +10,24 @@
 
 namespace pwsim::diagnose {
 
-void ParallelFor(std::size_t n, const std::function<void(std::size_t)>& task) {
+void ParallelFor(std::size_t n, const std::function<void(std::size_t)>& task, Waiting waiting) {
   if (n == 0) return;
   if (n == 1) {
     task(0);
     return;
   }
-  // One index per task (the tasks are whole simulations or fits, of very different sizes);
-  // isolated, so that a thread waiting for these tasks takes none of an enclosing loop's.
-  oneapi::tbb::this_task_arena::isolate([&] {
+  // One index per task (the tasks are whole simulations or fits, of very different sizes).
+  auto loop = [&] {
     oneapi::tbb::parallel_for(
         oneapi::tbb::blocked_range<std::size_t>(0, n, 1),
         [&](const oneapi::tbb::blocked_range<std::size_t>& range) {
           for (std::size_t i = range.begin(); i != range.end(); ++i) task(i);
         },
         oneapi::tbb::simple_partitioner());
-  });
+  };
+  // Isolated: a thread waiting here takes none of an enclosing loop's tasks.
+  if (waiting == Waiting::kOwnTasks) oneapi::tbb::this_task_arena::isolate(loop);
+  else loop();
 }
 
 void WithThreads(int threads, const std::function<void()>& work) {
@@ -38,7 +40,7 @@ void WithThreads(int threads, const std::function<void()>& work) {
 }
 
 void ParallelFor(std::size_t n, int threads, const std::function<void(std::size_t)>& task) {
-  WithThreads(threads, [&] { ParallelFor(n, task); });
+  WithThreads(threads, [&] { ParallelFor(n, task, Waiting::kAnyTask); });
 }
 
 }  // namespace pwsim::diagnose

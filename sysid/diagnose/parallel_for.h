@@ -6,23 +6,33 @@
 // perturbation of its Jacobian) run concurrently as well, all on one pool whose threads take
 // whichever task is ready, so that neither a long fit nor a short round leaves a core idle.
 //
-//   WithThreads(2, [&] { ParallelFor(fits.size(), [&](std::size_t i) { fits[i] = Fit(i); }); });
+//   WithThreads(2, [&] {
+//     ParallelFor(fits.size(), [&](std::size_t i) { fits[i] = Fit(i); }, Waiting::kAnyTask);
+//   });
 
 #include <cstddef>
 #include <functional>
 
 namespace pwsim::diagnose {
 
-/// Runs task(i) for i in [0, n) on the threads of the current pool (the caller's among them;
-/// the whole machine outside WithThreads). The caller waits for its own tasks only (a thread
-/// waiting here never starts an unrelated outer task). A task's exception is rethrown here.
-void ParallelFor(std::size_t n, const std::function<void(std::size_t)>& task);
+/// While it waits for the last of its tasks, the calling thread runs
+enum class Waiting {
+  kOwnTasks,  ///< only these tasks: the loop ends as soon as they do (a fit's simulations)
+  kAnyTask,   ///< any task of the pool, e.g. the simulations of a fit another thread runs (the
+              ///< candidate fits: the thread whose fit ended early helps the last one)
+};
 
-/// Runs `work` on a pool of at most `threads` threads (≥ 1): every ParallelFor inside it, nested
-/// ones included, shares them.
+/// Runs task(i) for i in [0, n) on the threads of the current pool (the caller's among them;
+/// the whole machine outside WithThreads). A task's exception is rethrown here.
+void ParallelFor(std::size_t n, const std::function<void(std::size_t)>& task,
+                 Waiting waiting = Waiting::kOwnTasks);
+
+/// Runs `work` on a pool of `threads` threads (≥ 1; more than the machine's cores if asked):
+/// every ParallelFor inside it, nested ones included, shares them. The count is a process-wide
+/// limit while `work` runs: one WithThreads at a time.
 void WithThreads(int threads, const std::function<void()>& work);
 
-/// WithThreads(threads, ParallelFor(n, task)).
+/// WithThreads(threads, ParallelFor(n, task, kAnyTask)).
 void ParallelFor(std::size_t n, int threads, const std::function<void(std::size_t)>& task);
 
 }  // namespace pwsim::diagnose
