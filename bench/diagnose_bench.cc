@@ -4,9 +4,11 @@
 // diagnosis is the measurement).
 //
 //   build/bench/diagnose_bench [--seeds N] [--strengths 0.7,1.5] [--trials 8] [--timing-only]
+//                              [--timing-rounds R] [--timing-trials 30]
 //
 // Prints Markdown tables (docs/diagnosis.md quotes them).
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -42,6 +44,15 @@ std::vector<double> ParseList(const std::string& text) {
   return out;
 }
 
+/// The machine's 1-minute load average (/proc/loadavg), as text; "?" where unreadable.
+std::string LoadAverage() {
+  std::FILE* f = std::fopen("/proc/loadavg", "r");
+  double load = 0.0;
+  const bool ok = f && std::fscanf(f, "%lf", &load) == 1;
+  if (f) std::fclose(f);
+  return ok ? std::to_string(load).substr(0, 4) : std::string("?");
+}
+
 double Seconds(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
 }
@@ -52,6 +63,7 @@ int main(int argc, char** argv) {
   int seeds = 3;
   int trials = 8;
   int timing_trials = 30;
+  int timing_rounds = 1;
   std::vector<double> strengths{0.7, 1.5};
   bool timing_only = false;
   bool matrix_only = false;
@@ -67,11 +79,12 @@ int main(int argc, char** argv) {
     else if (arg == "--matrix-only") matrix_only = true;
     else if (arg == "--only") only = next();
     else if (arg == "--timing-trials") timing_trials = std::atoi(next().c_str());
+    else if (arg == "--timing-rounds") timing_rounds = std::max(1, std::atoi(next().c_str()));
     else if (arg == "--paper-case") paper_strengths = ParseList(next());
     else if (arg.rfind("--benchmark", 0) == 0) timing_only = true;  // scripts/run-benchmarks.sh
     else {
       std::fprintf(stderr, "usage: diagnose_bench [--seeds N] [--trials N] [--strengths a,b] "
-                           "[--only EFFECT|none] [--timing-only] [--matrix-only]\n");
+                           "[--only EFFECT|none] [--timing-only] [--timing-rounds R] [--matrix-only]\n");
       return 2;
     }
   }
@@ -179,23 +192,33 @@ int main(int argc, char** argv) {
     config.trials = timing_trials;
     config.speeds = {0.6, 0.9, 1.2, 1.5, 1.8, 2.1, 2.4, 1.0, 2.0, 1.4};
     const auto set = pwsim::effects::MakeSyntheticTrials(config);
-    // On one thread and on two: the candidate fits run concurrently (DiagnoseOptions::threads),
-    // and the two diagnoses must agree to the bit.
-    pwsim::diagnose::DiagnoseOptions one;
-    one.threads = 1;
-    const auto t_one = std::chrono::steady_clock::now();
-    const Diagnosis d1 = Diagnose(set.trials, one);
-    const double seconds_one = Seconds(t_one);
-    pwsim::diagnose::DiagnoseOptions two;
-    two.threads = 2;
-    const auto t0 = std::chrono::steady_clock::now();
-    const Diagnosis d = Diagnose(set.trials, two);
-    const double seconds_two = Seconds(t0);
-    const bool same = d.selected.effect_values == d1.selected.effect_values && d.selected.bic == d1.selected.bic;
-    std::printf("\nTime to diagnose %zu trials: %.2f s on 2 threads, %.2f s on 1 (ratio %.2f; results %s) "
-                "(same-model generator, cause: %s, verdict: %s)\n",
-                set.trials.size(), seconds_two, seconds_one, seconds_one / seconds_two,
-                same ? "identical" : "DIFFER", d.cause.c_str(), pwsim::diagnose::VerdictName(d.verdict));
+    // On one thread and on two, interleaved over `timing_rounds` rounds: the candidate fits and
+    // the simulations inside each run concurrently (DiagnoseOptions::threads), and every
+    // diagnosis must agree with the first to the bit.
+    std::optional<Diagnosis> first;
+    bool same = true;
+    for (int round = 0; round < timing_rounds; ++round) {
+      double seconds[2] = {0.0, 0.0};
+      const std::string load_before = LoadAverage();
+      for (int threads : {1, 2}) {
+        pwsim::diagnose::DiagnoseOptions options;
+        options.threads = threads;
+        const auto t0 = std::chrono::steady_clock::now();
+        const Diagnosis d = Diagnose(set.trials, options);
+        seconds[threads - 1] = Seconds(t0);
+        if (!first) first = d;
+        same = same && d.selected.effect_values == first->selected.effect_values &&
+               d.selected.bic == first->selected.bic && d.ranking.size() == first->ranking.size();
+        for (std::size_t k = 0; same && k < d.ranking.size(); ++k)
+          same = d.ranking[k].parameters == first->ranking[k].parameters;
+      }
+      std::printf("\nTime to diagnose %zu trials: %.2f s on 2 threads, %.2f s on 1 (ratio %.2f; results %s) "
+                  "(same-model generator, cause: %s, verdict: %s; load average before %s, after %s)\n",
+                  set.trials.size(), seconds[1], seconds[0], seconds[0] / seconds[1],
+                  same ? "identical" : "DIFFER", first->cause.c_str(),
+                  pwsim::diagnose::VerdictName(first->verdict), load_before.c_str(), LoadAverage().c_str());
+      std::fflush(stdout);
+    }
 #ifdef PWSIM_HAVE_INDEPENDENT_TRUTH
     // The same on 30 trials of the independent truth (tests/truth/), two effects hidden, the base
     // model identified from the trials first (as `pwsim diagnose` does for a chair without gm/lm):

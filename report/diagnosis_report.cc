@@ -5,6 +5,7 @@
 #include "engine/atomic_file.h"
 #include "plot/plot.h"
 #include "report/format.h"
+#include "sysid/diagnose/parallel_for.h"
 #include "sysid/effects/effect_catalog.h"
 
 namespace pwsim::report {
@@ -286,14 +287,17 @@ void WriteDiagnosisReport(const std::filesystem::path& out, const Diagnosis& d,
   RemoveDiagnosisReport(out);
   std::filesystem::create_directories(out / "plots");
   std::vector<std::string> plots{"plots/located-residual.png"};
-  PlotLocated(d.residuals.located, out / plots.front());
-  long long drawn = 0;
+  std::vector<const diagnose::TrialAnalysis*> plotted;
   for (const auto& t : d.trials) {
-    if (!t.heldout || drawn >= max_plots) continue;
+    if (!t.heldout || static_cast<long long>(plotted.size()) >= max_plots) continue;
     plots.push_back("plots/residual-" + t.name + ".png");
-    PlotResiduals(t, d.cause, out / plots.back());
-    ++drawn;
+    plotted.push_back(&t);
   }
+  // One gnuplot process per figure: the figures are drawn concurrently (each its own files).
+  diagnose::ParallelFor(plots.size(), d.options.threads, [&](std::size_t i) {
+    if (i == 0) PlotLocated(d.residuals.located, out / plots.front());
+    else PlotResiduals(*plotted[i - 1], d.cause, out / plots[i]);
+  });
   WriteFileAtomically(out / "diagnosis.md", DiagnosisMarkdown(d, base_source, plots, seconds));
   WriteFileAtomically(out / "diagnosis.json", DiagnosisJson(d, base_source, seconds).dump(2) + "\n");
 }

@@ -3,7 +3,7 @@
 set -euo pipefail
 packages=(
   build-essential cmake pkg-config git
-  libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libceres-dev
+  libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libceres-dev libtbb-dev
   libopenscenegraph-dev libosmesa6-dev libopencv-dev ffmpeg
   libgtest-dev libgmock-dev googletest libbenchmark-dev
   python3 python3-numpy python3-scipy python3-yaml

@@ -5,7 +5,7 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$root/build}
-for name in chair_model_bench mca_bench mpc_bench render_bench can_codec_bench vehicle_bench; do
+for name in chair_model_bench effect_model_bench mca_bench mpc_bench render_bench can_codec_bench vehicle_bench; do
   echo "== $name"
   "$build/bench/$name" --benchmark_min_time=0.5
 done
@@ -13,5 +13,7 @@ echo "== identify_bench (pwsim vs scipy)"
 "$root/scripts/bench-identify.sh" "$build"
 echo "== diagnose_bench (time to diagnose 30 trials)"
 "$build/bench/diagnose_bench" --timing-only
+echo "== pwsim diagnose through the CLI (30 generated trials, 1 and 2 threads)"
+"$root/scripts/time-diagnose-cli.sh" "$build" 1
 echo "== platform identify (EMPS, pwsim vs scipy)"
 "$root/scripts/bench-platform.sh" "$build" || echo "(skipped: EMPS data absent)"

@@ -62,11 +62,11 @@ std::vector<ResidualRecord> ResidualRecords(const std::vector<FitTrial>& trials,
                                             const std::vector<effects::TrialRecord>& records,
                                             const std::vector<std::size_t>& index,
                                             const effects::ExtendedParams& params) {
-  std::vector<ResidualRecord> out;
-  for (std::size_t k = 0; k < trials.size(); ++k) {
+  std::vector<ResidualRecord> out(trials.size());
+  ParallelFor(trials.size(), [&](std::size_t k) {  // each trial its own slot
     const TrialResidual r = ComputeResidual(trials[k], params);
     const effects::TrialRecord& rec = records[index[k]];
-    ResidualRecord rr;
+    ResidualRecord& rr = out[k];
     rr.name = rec.name;
     rr.speed = rec.speed;
     rr.load_kg = rec.load_kg;
@@ -81,8 +81,7 @@ std::vector<ResidualRecord> ResidualRecords(const std::vector<FitTrial>& trials,
       rr.e_z.assign(rec.t.size(), 1.0);
       rr.e_pitch.assign(rec.t.size(), 1.0);
     }
-    out.push_back(std::move(rr));
-  }
+  });
   return out;
 }
 
@@ -91,9 +90,8 @@ std::vector<ResidualRecord> ResidualRecords(const std::vector<FitTrial>& trials,
 namespace {
 
 /// The splits as fit trials for one chair (its GM; the records' own when null). Every candidate
-/// is simulated on identification's grid (FitStep), so each split but the training one (the
-/// fits put it there themselves) is put on it once and serves the base model and every
-/// extension alike. Rebuilt when the GM is identified again under a marker lever, and then
+/// is simulated on identification's grid (FitStep), so each split is put on it once (its input
+/// caches filled) and serves the base model and every extension alike. Rebuilt when the GM is identified again under a marker lever, and then
 /// with a_x estimated from O_V's x rather than the marker's (a lever r_z turns a pitch
 /// oscillation into a swing of the measured x).
 struct Splits {
@@ -112,16 +110,18 @@ Splits MakeSplits(const std::vector<effects::TrialRecord>& records, const std::v
                                                       lever->marker_lever_z, rest_window);
       accel = effects::EstimateAcceleration(records[i].t, o.x);
     }
-    FitTrial f = MakeFitTrial(records[i], chair ? *chair : records[i].chair, rest_window, std::move(accel));
-    out.all.push_back(f);
+    out.all.push_back(MakeFitTrial(records[i], chair ? *chair : records[i].chair, rest_window, std::move(accel)));
+  }
+  out.all = WithFitStep(out.all, std::nullopt);
+  for (std::size_t i = 0; i < records.size(); ++i) {
     if (report[i]) {
-      out.report.push_back(std::move(f));
+      out.report.push_back(out.all[i]);
       out.report_index.push_back(i);
     } else if (selection[i]) {
-      out.selection.push_back(std::move(f));
+      out.selection.push_back(out.all[i]);
       out.selection_index.push_back(i);
     } else {
-      out.training.push_back(std::move(f));
+      out.training.push_back(out.all[i]);
     }
   }
   if (out.selection.empty()) {  // too few trials: choose on the training ones
@@ -129,9 +129,6 @@ Splits MakeSplits(const std::vector<effects::TrialRecord>& records, const std::v
     for (std::size_t i = 0; i < records.size(); ++i)
       if (!report[i]) out.selection_index.push_back(i);
   }
-  out.report = WithFitStep(out.report, std::nullopt);
-  out.selection = WithFitStep(out.selection, std::nullopt);
-  out.all = WithFitStep(out.all, std::nullopt);
   return out;
 }
 
@@ -205,10 +202,10 @@ std::vector<TrialAnalysis> BaseAnalysis(const std::vector<effects::TrialRecord>&
                                         const std::vector<bool>& report,
                                         const std::vector<FitTrial>& all,
                                         const effects::ExtendedParams& base) {
-  std::vector<TrialAnalysis> out;
-  for (std::size_t i = 0; i < all.size(); ++i) {
+  std::vector<TrialAnalysis> out(all.size());
+  ParallelFor(all.size(), [&](std::size_t i) {  // each trial its own slot
     const TrialResidual r = ComputeResidual(all[i], base);
-    TrialAnalysis a;
+    TrialAnalysis& a = out[i];
     a.name = records[i].name;
     a.heldout = report[i];
     a.speed = records[i].speed;
@@ -222,8 +219,7 @@ std::vector<TrialAnalysis> BaseAnalysis(const std::vector<effects::TrialRecord>&
     a.pitch_base = a.pitch_ext = r.pitch_model;
     a.z_gm = r.model.z_gm;
     a.pitch_gm = r.model.pitch_gm;
-    out.push_back(std::move(a));
-  }
+  });
   return out;
 }
 
@@ -267,13 +263,13 @@ std::optional<Candidate> BestJoint(const Splits& splits, const std::vector<RankE
         solo.delta_bic < options.bic_threshold)
       tried.push_back(&solo);
   std::vector<std::optional<Candidate>> joint(tried.size());  // fitted concurrently
-  ParallelFor(tried.size(), options.threads, [&](std::size_t i) {
+  ParallelFor(tried.size(), [&](std::size_t i) {
     std::vector<EffectId> list = found;
     list.push_back(tried[i]->effect);
     effects::ExtendedParams from = current.params;
     effects::CopyEffect(tried[i]->effect, tried[i]->fit.params.fx, from.fx);
     joint[i] = judge(FitModelJoint(splits.training, list, from, w, screen));
-  });
+  }, Waiting::kAnyTask);
   std::optional<Candidate> best;
   for (std::optional<Candidate>& c : joint)  // in ranking order: the first of equal gains
     if (c && (!best || c->gain > best->gain)) best = std::move(c);
@@ -323,7 +319,7 @@ void RegeometryUnderLever(const std::vector<effects::TrialRecord>& records,
 std::vector<RankEntry> Rank(const Splits& splits, const FitResult& base, double base_sel,
                             const ChannelWeights& w, const DiagnoseOptions& options) {
   std::vector<RankEntry> ranking(options.candidates.size());
-  ParallelFor(options.candidates.size(), options.threads, [&](std::size_t i) {
+  ParallelFor(options.candidates.size(), [&](std::size_t i) {
     RankEntry& e = ranking[i];
     e.effect = options.candidates[i];
     e.fit = FitModel(splits.training, e.effect, base.params.lm, w, options.fit);
@@ -332,7 +328,7 @@ std::vector<RankEntry> Rank(const Splits& splits, const FitResult& base, double 
     e.selection_gain = base_sel > 0.0 ? 1.0 - sel / base_sel : 0.0;
     e.earns = e.delta_bic < options.bic_threshold && e.selection_gain >= options.min_heldout_gain;
     e.parameters = NamedParameters(e.fit);
-  });
+  }, Waiting::kAnyTask);
   std::stable_sort(ranking.begin(), ranking.end(), [](const RankEntry& a, const RankEntry& b) {
     if (a.earns != b.earns) return a.earns;
     return a.selection_gain > b.selection_gain;
@@ -373,25 +369,12 @@ void ForwardSelect(const std::vector<effects::TrialRecord>& records, const std::
   }
 }
 
-/// The report: every figure read on the report trials, once, after every choice is made.
-/// The verdict's residual tests run on the selection + report trials (the report trials alone
-/// when there is no selection share); a cause counts for the verdict only when confirmed.
-void ReportOnHeldOut(const std::vector<effects::TrialRecord>& records,
-                     const std::vector<Stage>& models, const ChannelWeights& w, double noise_ms,
-                     Diagnosis& dx) {
+/// The ranking's figures on the report trials (held-out gain and fitness) and each entry's
+/// evidence line: the residual analysis' line, then the gains and the limits this run used.
+void ReportRanking(const Splits& base_splits, const effects::ExtendedParams& base,
+                   const ChannelWeights& w, Diagnosis& dx) {
   const DiagnoseOptions& options = dx.options;
-  const Splits& base_splits = *models.front().splits;
-  const effects::ExtendedParams& base = models.front().fit.params;
   const double base_error = HeldOutError(base_splits.report, base, w);
-  dx.base_heldout = PooledFitPct(base_splits.report, base);
-  {
-    std::vector<std::vector<double>> z, p;
-    for (std::size_t i : base_splits.report_index) {
-      z.push_back(records[i].z);
-      p.push_back(records[i].pitch);
-    }
-    dx.noise_floor = {NoiseFloorFitPct(z, dx.sigma_z), NoiseFloorFitPct(p, dx.sigma_pitch)};
-  }
   for (RankEntry& e : dx.ranking) {
     const double err = HeldOutError(base_splits.report, e.fit.params, w);
     e.heldout_gain = base_error > 0.0 ? 1.0 - err / base_error : 0.0;
@@ -402,21 +385,28 @@ void ReportOnHeldOut(const std::vector<effects::TrialRecord>& records,
                         100.0 * e.selection_gain, 100.0 * options.min_heldout_gain,
                         options.bic_threshold, 100.0 * e.heldout_gain);
   }
-  // The tests of the verdict: selection + report trials under the last GM.
-  auto checked = [&](const Stage& s) {
-    const Splits& sp = *s.splits;
-    std::vector<FitTrial> trials = sp.report;
-    std::vector<std::size_t> index = sp.report_index;
-    if (!dx.selection_trials.empty()) {
-      trials.insert(trials.end(), sp.selection.begin(), sp.selection.end());
-      index.insert(index.end(), sp.selection_index.begin(), sp.selection_index.end());
-    }
-    return Check(trials, records, index, s.fit.params, dx.noise, options.verdict);
-  };
-  dx.base_check = checked(models.front());
-  dx.extended_check = checked(models.back());
-  // Each cause: its gain on the report trials (share of the base model's error above the noise)
-  // and whether the report trials confirm it.
+}
+
+/// The verdict's residual tests of one model: on the selection + report trials under its GM
+/// (the report trials alone when there is no selection share).
+NoiseCheck CheckForVerdict(const std::vector<effects::TrialRecord>& records, const Stage& s,
+                           const Diagnosis& dx) {
+  const Splits& sp = *s.splits;
+  std::vector<FitTrial> trials = sp.report;
+  std::vector<std::size_t> index = sp.report_index;
+  if (!dx.selection_trials.empty()) {
+    trials.insert(trials.end(), sp.selection.begin(), sp.selection.end());
+    index.insert(index.end(), sp.selection_index.begin(), sp.selection_index.end());
+  }
+  return Check(trials, records, index, s.fit.params, dx.noise, dx.options.verdict);
+}
+
+/// Each cause's gain on the report trials (the share of the base model's error above the noise
+/// that adding it removed) and whether the report trials confirm it; returns the confirmed.
+std::size_t ReportCauses(const std::vector<Stage>& models, const ChannelWeights& w,
+                         double noise_ms, Diagnosis& dx) {
+  const Splits& base_splits = *models.front().splits;
+  const effects::ExtendedParams& base = models.front().fit.params;
   const double base_excess = std::max(0.0, MeanSquareError(base_splits.report, base, w) - noise_ms);
   std::size_t confirmed = 0;
   for (std::size_t k = 0; k < dx.causes.size(); ++k) {
@@ -434,7 +424,13 @@ void ReportOnHeldOut(const std::vector<effects::TrialRecord>& records,
     for (std::size_t i = 0; i < ms0.size(); ++i) c.report_trials_improved += ms1[i] < ms0[i];
     confirmed += c.confirmed;
   }
-  dx.verdict = Decide(dx.base_check, confirmed, dx.extended_check);
+  return confirmed;
+}
+
+/// The extended model the report shows (the base model when the verdict is adequate): its
+/// held-out fitness, its output on every trial, its parameters named; `cause` the first
+/// confirmed one.
+void ReportExtended(const std::vector<Stage>& models, Diagnosis& dx) {
   dx.extended_heldout = dx.base_heldout;
   if (dx.verdict == Verdict::kAdequate) {
     dx.causes.clear();
@@ -449,70 +445,105 @@ void ReportOnHeldOut(const std::vector<effects::TrialRecord>& records,
   if (!dx.causes.empty()) {
     const Splits& last = *models.back().splits;
     dx.extended_heldout = PooledFitPct(last.report, dx.extended.params);
-    for (std::size_t i = 0; i < last.all.size(); ++i) {
+    ParallelFor(last.all.size(), [&](std::size_t i) {  // each trial its own slot
       const TrialResidual r = ComputeResidual(last.all[i], dx.extended.params);
-      if (!r.finite) continue;
+      if (!r.finite) return;
       dx.trials[i].z_ext = r.z_model;
       dx.trials[i].pitch_ext = r.pitch_model;
-    }
+    });
   }
   dx.extended_parameters = NamedParameters(dx.extended);
 }
 
-}  // namespace
+/// The report: every figure read on the report trials, once, after every choice is made. A
+/// cause counts for the verdict only when confirmed.
+void ReportOnHeldOut(const std::vector<effects::TrialRecord>& records,
+                     const std::vector<Stage>& models, const ChannelWeights& w, double noise_ms,
+                     Diagnosis& dx) {
+  const Splits& base_splits = *models.front().splits;
+  dx.base_heldout = PooledFitPct(base_splits.report, models.front().fit.params);
+  {
+    std::vector<std::vector<double>> z, p;
+    for (std::size_t i : base_splits.report_index) {
+      z.push_back(records[i].z);
+      p.push_back(records[i].pitch);
+    }
+    dx.noise_floor = {NoiseFloorFitPct(z, dx.sigma_z), NoiseFloorFitPct(p, dx.sigma_pitch)};
+  }
+  ReportRanking(base_splits, models.front().fit.params, w, dx);
+  dx.base_check = CheckForVerdict(records, models.front(), dx);
+  dx.extended_check = CheckForVerdict(records, models.back(), dx);
+  const std::size_t confirmed = ReportCauses(models, w, noise_ms, dx);
+  dx.verdict = Decide(dx.base_check, confirmed, dx.extended_check);
+  ReportExtended(models, dx);
+}
 
-Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records_given,
-                   const DiagnoseOptions& options) {
-  PWSIM_DEMAND(records_given.size() >= 2);
-  std::vector<effects::TrialRecord> records = records_given;  // in the order of their names
+/// Step 1: the trials in the order of their names, split three ways (dx's split and name
+/// lists); returns them with the report flags.
+std::vector<effects::TrialRecord> SplitThreeWays(const std::vector<effects::TrialRecord>& given,
+                                                 std::vector<bool>& report, Diagnosis& dx) {
+  std::vector<effects::TrialRecord> records = given;
   std::stable_sort(records.begin(), records.end(), [](const effects::TrialRecord& a, const effects::TrialRecord& b) {
     return a.name < b.name;
   });
-  Diagnosis dx;
-  dx.options = options;
-  dx.chair = records.front().chair;
-  PWSIM_DEMAND(dx.chair.gm.has_value());
-  const std::vector<bool> report = ChooseHeldOut(records, &dx.split);
+  report = ChooseHeldOut(records, &dx.split);
   dx.selection = ChooseSelection(records, report);
   for (std::size_t i = 0; i < records.size(); ++i) {
     if (report[i]) dx.heldout_trials.push_back(records[i].name);
     else if (dx.selection[i]) dx.selection_trials.push_back(records[i].name);
     else dx.training_trials.push_back(records[i].name);
   }
+  return records;
+}
+
+/// Step 3: the noise model from the training + selection trials alone (noise_model.h).
+void EstimateNoise(const std::vector<effects::TrialRecord>& records, const std::vector<bool>& report,
+                   Diagnosis& dx) {
+  std::vector<effects::TrialRecord> chosen;
+  for (std::size_t i = 0; i < records.size(); ++i)
+    if (!report[i]) chosen.push_back(records[i]);
+  dx.noise = EstimateNoiseModel(chosen, dx.options.rest_window);
+  dx.sigma_z = dx.noise.z.sigma;
+  dx.sigma_pitch = dx.noise.pitch.sigma;
+}
+
+/// The steps of diagnose.h, on the current thread pool.
+Diagnosis DiagnoseOnPool(const std::vector<effects::TrialRecord>& given, const DiagnoseOptions& options) {
+  PWSIM_DEMAND(given.size() >= 2);
+  Diagnosis dx;
+  dx.options = options;
+  std::vector<bool> report;
+  const std::vector<effects::TrialRecord> records = SplitThreeWays(given, report, dx);  // 1
+  dx.chair = records.front().chair;
+  PWSIM_DEMAND(dx.chair.gm.has_value());
   // The splits under each GM used (a deque: references stay valid); the last is current.
   std::deque<Splits> geometries{MakeSplits(records, report, dx.selection, nullptr, nullptr, options.rest_window)};
   const Splits& first = geometries.front();
   const ChannelWeights w = MakeChannelWeights(first.training);
-  const LumpedParams start = dx.chair.lm.value_or(LumpedParams{});
-  dx.base = FitModel(first.training, std::nullopt, start, w, options.fit);
-
-  // Noise model from the training + selection trials alone (noise_model.h).
-  {
-    std::vector<effects::TrialRecord> chosen;
-    for (std::size_t i = 0; i < records.size(); ++i)
-      if (!report[i]) chosen.push_back(records[i]);
-    dx.noise = EstimateNoiseModel(chosen, options.rest_window);
-  }
-  dx.sigma_z = dx.noise.z.sigma;
-  dx.sigma_pitch = dx.noise.pitch.sigma;
-  const double noise_ms = 0.5 * (w.z * w.z * dx.sigma_z * dx.sigma_z +
-                                 w.pitch * w.pitch * dx.sigma_pitch * dx.sigma_pitch);
-  // Decisions: the base model's residual on the selection trials.
-  const NoiseCheck base_selection = Check(first.selection, records, first.selection_index,
-                                          dx.base.params, dx.noise, options.verdict);
-
-  dx.trials = BaseAnalysis(records, report, first.all, dx.base.params);
+  dx.base = FitModel(first.training, std::nullopt, dx.chair.lm.value_or(LumpedParams{}), w, options.fit);  // 2
+  EstimateNoise(records, report, dx);  // 3
+  const NoiseCheck base_selection =    // 4: decided on the selection trials
+      Check(first.selection, records, first.selection_index, dx.base.params, dx.noise, options.verdict);
+  dx.trials = BaseAnalysis(records, report, first.all, dx.base.params);  // 5
   dx.residuals = Analyse(dx.trials, dx.chair, records);
-
-  // Every extension alone (the ranking), then forward selection, on training + selection.
-  const double base_sel = HeldOutError(first.selection, dx.base.params, w);
+  const double base_sel = HeldOutError(first.selection, dx.base.params, w);  // 6
   dx.ranking = Rank(first, dx.base, base_sel, w, options);
   std::vector<Stage> models{{dx.base, &first}};  // the model after each cause
   if (!base_selection.NoiseLike()) ForwardSelect(records, report, geometries, base_sel, w, models, dx);
   dx.extended = models.back().fit;
   dx.selected = dx.extended;
+  const double noise_ms = 0.5 * (w.z * w.z * dx.sigma_z * dx.sigma_z +  // 7
+                                 w.pitch * w.pitch * dx.sigma_pitch * dx.sigma_pitch);
   ReportOnHeldOut(records, models, w, noise_ms, dx);
   return dx;
 }
 
+}  // namespace
+
+Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records_given,
+                   const DiagnoseOptions& options) {
+  Diagnosis dx;
+  WithThreads(options.threads, [&] { dx = DiagnoseOnPool(records_given, options); });
+  return dx;
+}
 }  // namespace pwsim::diagnose

@@ -50,14 +50,15 @@ namespace pwsim::diagnose {
 struct DiagnoseOptions {
   double min_heldout_gain{0.10};  ///< share of the held-out error an extension must remove
   double bic_threshold{-10.0};    ///< ΔBIC (extended - base) an extension must beat
-  FitOptions fit;  ///< threads 1 per fit: the candidates run concurrently (`threads`)
+  FitOptions fit;
   std::vector<effects::EffectId> candidates{effects::AllEffects().begin(),
                                             effects::AllEffects().end()};
   double rest_window{0.25};  ///< [s] initial window that centres each channel
   int max_causes{3};         ///< forward selection stops after this many
   int screen_iterations{6};  ///< solver iterations of the joint fits compared in rounds ≥ 2
-  /// Candidate fits run concurrently on this many threads (each fit single-threaded: the
-  /// results are the same to the bit whatever the count).
+  /// Threads of the pool (parallel_for.h) on which the candidate fits, and inside each fit the
+  /// simulations of every trial and parameter step, run concurrently; the results are the
+  /// same to the bit whatever the count.
   int threads{2};
   VerdictOptions verdict;
 };

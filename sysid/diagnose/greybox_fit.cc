@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "engine/check.h"
+#include "sysid/diagnose/parallel_for.h"
 
 namespace pwsim::diagnose {
 namespace {
@@ -45,20 +46,153 @@ struct Mapper {
   }
 };
 
-struct TrialFunctor {
-  const FitTrial* trial;
-  const Mapper* map;
-  ChannelWeights w;
+/// Adds a trial's weighted squared residuals to `sse` (the criterion's one formula).
+void AddWeightedSquares(const std::vector<double>& e_z, const std::vector<double>& e_pitch,
+                        const ChannelWeights& w, double& sse) {
+  for (std::size_t k = 0; k < e_z.size(); ++k)
+    sse += w.z * w.z * e_z[k] * e_z[k] + w.pitch * w.pitch * e_pitch[k] * e_pitch[k];
+}
 
-  bool operator()(double const* const* u, double* r) const {
-    const TrialResidual res = ComputeResidual(*trial, map->Params(u[0]));
-    if (!res.finite) return false;
-    for (std::size_t k = 0; k < res.e_z.size(); ++k) {
-      r[2 * k] = w.z * res.e_z[k];
-      r[2 * k + 1] = w.pitch * res.e_pitch[k];
-    }
+/// Σ over trials of their weighted squared residuals, in trial order; ∞ when one is not finite.
+double SumWeightedSquares(const std::vector<TrialResidual>& residuals, const ChannelWeights& w) {
+  double sse = 0.0;
+  for (const TrialResidual& res : residuals) {
+    if (!res.finite) return std::numeric_limits<double>::infinity();
+    AddWeightedSquares(res.e_z, res.e_pitch, w, sse);
+  }
+  return sse;
+}
+
+/// Every trial's residual for `params`, the simulations run concurrently (parallel_for.h).
+std::vector<TrialResidual> ComputeResiduals(const std::vector<FitTrial>& trials,
+                                            const effects::ExtendedParams& params) {
+  std::vector<TrialResidual> out(trials.size());
+  ParallelFor(trials.size(), [&](std::size_t i) { out[i] = ComputeResidual(trials[i], params); });
+  return out;
+}
+
+/// The training trials at the optimiser's points, for one solve. Ceres asks for the residuals
+/// (and Jacobian) of one trial's residual block at a time; the first request at a point
+/// simulates every trial at it, and for a Jacobian every trial at every perturbed point, all
+/// concurrently, and the other blocks read what it found. The Jacobian is the forward
+/// difference of Ceres' DynamicNumericDiffCostFunction<FORWARD> to the bit: for u_j the step
+///   δ_j = max(√ε, 10⁻⁶ |u_j|),   J_·j = (r(u + δ_j e_j) − r(u)) · (1 / δ_j),
+/// r the weighted residuals (w_Z e_Z, w_θ e_θ interleaved). The last points' residuals are
+/// kept: Ceres evaluates a candidate point, then, when it accepts it, the same point again with
+/// its Jacobian, and the fit scores the point it ends at; neither is simulated again.
+class TrialBatch {
+ public:
+  TrialBatch(const std::vector<FitTrial>& trials, const Mapper& map, const ChannelWeights& w)
+      : trials_(trials), map_(map), w_(w) {}
+
+  /// Trial `i`'s weighted residuals at u and, when `jacobian` is not null, its Jacobian
+  /// (row-major, residual × parameter). False where a simulation is not finite.
+  bool Evaluate(std::size_t i, const double* u, double* residuals, double* jacobian) {
+    Point& p = At(u, jacobian != nullptr);
+    if (!p.residuals[i].finite) return false;
+    const std::vector<double> r = Weighted(p.residuals[i]);
+    std::copy(r.begin(), r.end(), residuals);
+    if (!jacobian) return true;
+    if (!p.jacobian_finite[i]) return false;
+    std::copy(p.jacobian[i].begin(), p.jacobian[i].end(), jacobian);
     return true;
   }
+
+  /// WeightedSse of the training trials at u.
+  double Sse(const double* u) { return SumWeightedSquares(At(u, false).residuals, w_); }
+
+ private:
+  struct Point {
+    std::vector<double> u;
+    std::vector<TrialResidual> residuals;        ///< per trial
+    std::vector<std::vector<double>> jacobian;   ///< per trial, empty until asked
+    std::vector<bool> jacobian_finite;
+  };
+
+  std::vector<double> Weighted(const TrialResidual& res) const {
+    std::vector<double> r(2 * res.e_z.size());
+    for (std::size_t k = 0; k < res.e_z.size(); ++k) {
+      r[2 * k] = w_.z * res.e_z[k];
+      r[2 * k + 1] = w_.pitch * res.e_pitch[k];
+    }
+    return r;
+  }
+
+  Point& At(const double* u, bool with_jacobian) {
+    const std::size_t size = static_cast<std::size_t>(map_.Size());
+    auto found = std::find_if(points_.begin(), points_.end(), [&](const Point& p) {
+      return std::equal(p.u.begin(), p.u.end(), u);
+    });
+    if (found == points_.end()) {
+      if (points_.size() == kKept) points_.erase(points_.begin());
+      Point p;
+      p.u.assign(u, u + size);
+      p.residuals = ComputeResiduals(trials_, map_.Params(u));
+      points_.push_back(std::move(p));
+      found = points_.end() - 1;
+    }
+    if (with_jacobian && found->jacobian.empty()) AddJacobian(*found);
+    return *found;
+  }
+
+  void AddJacobian(Point& p) const {
+    const std::size_t size = p.u.size(), trials = trials_.size();
+    std::vector<double> delta(size);
+    for (std::size_t j = 0; j < size; ++j)
+      delta[j] = std::max(std::sqrt(std::numeric_limits<double>::epsilon()), std::abs(p.u[j]) * 1e-6);
+    // Every trial at every perturbed point, concurrently: slot (i, j), its weighted residuals.
+    std::vector<std::vector<double>> moved(trials * size);
+    std::vector<char> moved_finite(trials * size, 0);
+    ParallelFor(trials * size, [&](std::size_t slot) {
+      const std::size_t i = slot / size, j = slot % size;
+      if (!p.residuals[i].finite) return;
+      std::vector<double> u = p.u;
+      u[j] = p.u[j] + delta[j];
+      const TrialResidual res = ComputeResidual(trials_[i], map_.Params(u.data()));
+      moved_finite[slot] = res.finite;
+      if (res.finite) moved[slot] = Weighted(res);
+    });
+    p.jacobian.assign(trials, {});
+    p.jacobian_finite.assign(trials, false);
+    for (std::size_t i = 0; i < trials; ++i) {
+      if (!p.residuals[i].finite) continue;
+      const std::vector<double> r0 = Weighted(p.residuals[i]);
+      std::vector<double>& jac = p.jacobian[i];
+      jac.assign(r0.size() * size, 0.0);
+      bool finite = true;
+      for (std::size_t j = 0; j < size && finite; ++j) {
+        finite = moved_finite[i * size + j] != 0;
+        if (!finite) break;
+        const std::vector<double>& r1 = moved[i * size + j];
+        const double one_over_delta = 1.0 / delta[j];
+        for (std::size_t row = 0; row < r0.size(); ++row) jac[row * size + j] = (r1[row] - r0[row]) * one_over_delta;
+      }
+      p.jacobian_finite[i] = finite;
+    }
+  }
+
+  static constexpr std::size_t kKept = 3;
+  const std::vector<FitTrial>& trials_;
+  const Mapper& map_;
+  ChannelWeights w_;
+  std::vector<Point> points_;
+};
+
+/// Trial i's residual block, read from the batch.
+class TrialCost : public ceres::CostFunction {
+ public:
+  TrialCost(TrialBatch* batch, std::size_t trial, int parameters, int residuals)
+      : batch_(batch), trial_(trial) {
+    mutable_parameter_block_sizes()->push_back(parameters);
+    set_num_residuals(residuals);
+  }
+  bool Evaluate(double const* const* u, double* residuals, double** jacobians) const override {
+    return batch_->Evaluate(trial_, u[0], residuals, jacobians ? jacobians[0] : nullptr);
+  }
+
+ private:
+  TrialBatch* batch_;
+  std::size_t trial_;
 };
 
 /// LM log multipliers (u[0..3]) for a tyre start. The start's LM is the base model's, which
@@ -179,17 +313,14 @@ TrialResidual ComputeResidual(const FitTrial& trial, const effects::ExtendedPara
 
 double WeightedSse(const std::vector<FitTrial>& trials, const effects::ExtendedParams& params,
                    const ChannelWeights& w, std::size_t* residual_count) {
-  double sse = 0.0;
-  std::size_t count = 0;
-  for (const FitTrial& trial : trials) {
-    const TrialResidual res = ComputeResidual(trial, params);
-    count += 2 * trial.z.size();
-    if (!res.finite) return std::numeric_limits<double>::infinity();
-    for (std::size_t k = 0; k < res.e_z.size(); ++k) {
-      sse += w.z * w.z * res.e_z[k] * res.e_z[k] + w.pitch * w.pitch * res.e_pitch[k] * res.e_pitch[k];
-    }
+  const std::vector<TrialResidual> residuals = ComputeResiduals(trials, params);
+  const double sse = SumWeightedSquares(residuals, w);
+  const bool finite = std::all_of(residuals.begin(), residuals.end(),
+                                  [](const TrialResidual& r) { return r.finite; });
+  if (residual_count && finite) {
+    *residual_count = 0;
+    for (const FitTrial& trial : trials) *residual_count += 2 * trial.z.size();
   }
-  if (residual_count) *residual_count = count;
   return sse;
 }
 
@@ -202,10 +333,13 @@ double FitStep(std::optional<effects::EffectId>) {
 std::vector<FitTrial> WithFitStep(const std::vector<FitTrial>& trials,
                                   std::optional<effects::EffectId> effect) {
   std::vector<FitTrial> out = trials;
-  for (FitTrial& t : out) {
-    t.prepared.step = FitStep(effect);
-    effects::CacheInputs(t.prepared);
-  }
+  const double step = FitStep(effect);
+  ParallelFor(out.size(), [&](std::size_t i) {
+    effects::PreparedTrial& t = out[i].prepared;
+    if (t.step == step && t.cache_step == step) return;  // cached already (CacheInputs is pure)
+    t.step = step;
+    effects::CacheInputs(t);
+  });
   return out;
 }
 
@@ -339,15 +473,17 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
       if (specs[j].name.find("compliance") != std::string::npos)
         compliance_cols.push_back(last_col + static_cast<int>(j));
   }
+  // One solve from x: its iterations and the training error where it ends.
+  struct Solved {
+    int iterations;
+    double sse;
+  };
   auto solve = [&](std::vector<double>& x, bool hold_compliance, int max_iterations) {
+    TrialBatch batch(training, map, weights);
     ceres::Problem problem;
-    for (const FitTrial& trial : training) {
-      auto* cost = new ceres::DynamicNumericDiffCostFunction<TrialFunctor, ceres::FORWARD>(
-          new TrialFunctor{&trial, &map, weights});
-      cost->AddParameterBlock(size);
-      cost->SetNumResiduals(static_cast<int>(2 * trial.z.size()));
-      problem.AddResidualBlock(cost, nullptr, x.data());
-    }
+    for (std::size_t i = 0; i < training.size(); ++i)
+      problem.AddResidualBlock(new TrialCost(&batch, i, size, static_cast<int>(2 * training[i].z.size())),
+                               nullptr, x.data());
     if (hold_compliance && !compliance_cols.empty())
       problem.SetManifold(x.data(), new ceres::SubsetManifold(size, compliance_cols));
     for (int j = 0; j < 4; ++j) {
@@ -365,13 +501,13 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
     ceres::Solver::Options solver;
     solver.linear_solver_type = ceres::DENSE_QR;
     solver.max_num_iterations = max_iterations;
-    solver.num_threads = options.threads;
+    solver.num_threads = 1;  // the batch runs the simulations concurrently
     solver.function_tolerance = options.function_tolerance;
     solver.parameter_tolerance = 1e-7;
     solver.logging_type = ceres::SILENT;
     ceres::Solver::Summary summary;
     ceres::Solve(solver, &problem, &summary);
-    return static_cast<int>(summary.iterations.size());
+    return Solved{static_cast<int>(summary.iterations.size()), batch.Sse(x.data())};
   };
   double best_sse = std::numeric_limits<double>::infinity();
   int iterations = 0;
@@ -384,12 +520,11 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
   for (std::size_t k = 0; k < starts.size(); ++k) {
     map.base_fx = bases[k];
     std::vector<double> x = starts[k];
-    const int it = solve(x, stiff[k], first_pass);
-    const double sse = WeightedSse(training, map.Params(x.data()), weights);
-    if (k == 0 || sse < best_sse) {  // the first of equal errors
-      best_sse = sse;
+    const Solved solved = solve(x, stiff[k], first_pass);
+    if (k == 0 || solved.sse < best_sse) {  // the first of equal errors
+      best_sse = solved.sse;
       u = x;
-      iterations = it;
+      iterations = solved.iterations;
       basis = bases[k];
       held = stiff[k];
     }
@@ -397,8 +532,9 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
   map.base_fx = basis;
   if (screened && options.max_iterations > first_pass) {
     std::vector<double> x = u;
-    iterations += solve(x, held, options.max_iterations - first_pass);
-    if (WeightedSse(training, map.Params(x.data()), weights) <= best_sse) u = x;
+    const Solved solved = solve(x, held, options.max_iterations - first_pass);
+    iterations += solved.iterations;
+    if (solved.sse <= best_sse) u = x;
   }
 
   FitResult result;

@@ -49,7 +49,6 @@ TrialResidual ComputeResidual(const FitTrial& trial, const effects::ExtendedPara
 
 struct FitOptions {
   int max_iterations{15};
-  int threads{1};  ///< Ceres threads of one fit
   double function_tolerance{1e-6};
   /// FitModelJoint multi-starts its last effect; false: every effect starts from `start.fx`
   /// (a refinement of a previous fit).
@@ -68,7 +67,9 @@ struct FitResult {
 };
 
 /// Fits LM (+ the effect's parameters) on `training` from `start` (LM) with multi-start over
-/// the effect's catalogue starting points.
+/// the effect's catalogue starting points. The simulations of every trial (and of every
+/// parameter step of the Jacobian) run concurrently on the current pool (parallel_for.h); the
+/// result is the same to the bit whatever the number of threads.
 FitResult FitModel(const std::vector<FitTrial>& training, std::optional<effects::EffectId> effect,
                    const LumpedParams& start, const ChannelWeights& weights,
                    const FitOptions& options = {});
@@ -87,7 +88,8 @@ double WeightedSse(const std::vector<FitTrial>& trials, const effects::ExtendedP
 
 /// Grid step the fit uses for an effect: identification's (the same for every effect).
 double FitStep(std::optional<effects::EffectId> effect);
-/// Copies of `trials` set to FitStep(effect) with their input caches filled.
+/// Copies of `trials` set to FitStep(effect) with their input caches filled (kept where they
+/// were filled for that step already).
 std::vector<FitTrial> WithFitStep(const std::vector<FitTrial>& trials,
                                   std::optional<effects::EffectId> effect);
 

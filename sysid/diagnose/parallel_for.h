@@ -1,42 +1,38 @@
 #pragma once
-// Independent tasks on a fixed number of threads: task i writes only its own result slot, and
+// Independent tasks on a pool of threads (oneTBB): task i writes only its own result slot, and
 // the caller reduces the slots in index order afterwards, so the results are the same to the
-// bit whatever the thread count (each task itself runs single-threaded).
+// bit whatever the thread count. Calls nest: the candidate fits of the diagnosis run
+// concurrently, and inside each fit the simulations of every trial (and of every parameter
+// perturbation of its Jacobian) run concurrently as well, all on one pool whose threads take
+// whichever task is ready, so that neither a long fit nor a short round leaves a core idle.
+//
+//   WithThreads(2, [&] {
+//     ParallelFor(fits.size(), [&](std::size_t i) { fits[i] = Fit(i); }, Waiting::kAnyTask);
+//   });
 
-#include <algorithm>
-#include <atomic>
 #include <cstddef>
-#include <exception>
-#include <mutex>
-#include <thread>
-#include <vector>
+#include <functional>
 
 namespace pwsim::diagnose {
 
-/// Runs task(i) for i in [0, n) on min(threads, n) threads (the caller's among them). The
-/// first exception thrown by a task is rethrown after every thread has stopped.
-template <class Task>
-void ParallelFor(std::size_t n, int threads, Task task) {
-  std::atomic<std::size_t> next{0};
-  std::exception_ptr error;
-  std::mutex error_mutex;
-  auto work = [&] {
-    for (std::size_t i = next++; i < n; i = next++) {
-      try {
-        task(i);
-      } catch (...) {
-        const std::lock_guard<std::mutex> lock(error_mutex);
-        if (!error) error = std::current_exception();
-      }
-    }
-  };
-  const std::size_t extra = std::min<std::size_t>(n, static_cast<std::size_t>(std::max(1, threads))) - (n > 0 ? 1 : 0);
-  std::vector<std::thread> pool;
-  pool.reserve(extra);
-  for (std::size_t t = 0; t < extra; ++t) pool.emplace_back(work);
-  work();
-  for (std::thread& t : pool) t.join();
-  if (error) std::rethrow_exception(error);
-}
+/// While it waits for the last of its tasks, the calling thread runs
+enum class Waiting {
+  kOwnTasks,  ///< only these tasks: the loop ends as soon as they do (a fit's simulations)
+  kAnyTask,   ///< any task of the pool, e.g. the simulations of a fit another thread runs (the
+              ///< candidate fits: the thread whose fit ended early helps the last one)
+};
+
+/// Runs task(i) for i in [0, n) on the threads of the current pool (the caller's among them;
+/// the whole machine outside WithThreads). A task's exception is rethrown here.
+void ParallelFor(std::size_t n, const std::function<void(std::size_t)>& task,
+                 Waiting waiting = Waiting::kOwnTasks);
+
+/// Runs `work` on a pool of `threads` threads (≥ 1; more than the machine's cores if asked):
+/// every ParallelFor inside it, nested ones included, shares them. The count is a process-wide
+/// limit while `work` runs: one WithThreads at a time.
+void WithThreads(int threads, const std::function<void()>& work);
+
+/// WithThreads(threads, ParallelFor(n, task, kAnyTask)).
+void ParallelFor(std::size_t n, int threads, const std::function<void(std::size_t)>& task);
 
 }  // namespace pwsim::diagnose

@@ -436,6 +436,7 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
   std::array<double, kMaxWheels> off0{}, off{}, off_rate{}, zc_rate{};
   if (m.series) off_plane(zc0.data(), off0);
 
+  double sin_body = m.any_friction ? std::sin(body.pitch) : 0.0;  // sin θ at the step's start
   for (std::size_t j = 0; j + 1 < grid; ++j) {
     if (need_contacts) contacts(j + 1, body.pitch + dt * body.pitch_rate, h1.data());
     if (m.any_tyre) {
@@ -500,7 +501,8 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
     if (m.any_friction) {
       // Dahl: for the step's deflection rate ṙ_i held, F relaxes exactly towards F_c sgn ṙ_i
       // with rate |ṙ_i| / δ_p.
-      const double s0 = std::sin(body.pitch), s1 = std::sin(next.pitch);
+      const double s0 = sin_body, s1 = std::sin(next.pitch);
+      sin_body = s1;  // the next step's start
       for (int i = 0; i < w; ++i) {
         if (m.friction[i] <= 0.0) continue;
         const double r_rate = ((next.z + m.wheel_x[i] * s1) - (body.z + m.wheel_x[i] * s0) -

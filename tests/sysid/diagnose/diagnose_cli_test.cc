@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -21,6 +22,17 @@
 namespace {
 
 namespace fs = std::filesystem;
+
+/// How each effect's evidence line starts (sysid/diagnose/base_residuals.cc, EvidenceLine).
+const std::map<std::string, std::string> kSignature{
+    {"wheel_radius", "residual at the terrain breakpoints locked in space"},
+    {"tyre_compliance", "residual power above 6 Hz"},
+    {"cushion_compliance", "obstacle-top Z residual vs drive-wheel load"},
+    {"heave_pitch_coupling", "cross-channel: e_Z vs pitch_GM"},
+    {"nonlinear_stiffness", "measured/model pitch gain"},
+    {"suspension_friction", "residual vs -sign(suspension rate)"},
+    {"inertial_pitch", "pitch residual vs a_x r = "},
+    {"marker_offset", "Z residual vs model pitch: slope"}};
 
 using pwsim::test::Read;
 using pwsim::test::RunPwsim;
@@ -57,9 +69,19 @@ TEST_F(DiagnoseCliTest, GenerateHiddenEffectThenDiagnose) {
     }
     EXPECT_TRUE(e["heldout_fit_pct"].contains("z"));
     EXPECT_TRUE(e["heldout_fit_pct"].contains("pitch"));
-    EXPECT_TRUE(e["evidence"].is_string());
+    // Each line: the residual analysis' statistic of that effect's signature, then the gains
+    // and the limits this run used (the defaults: 10 % of the selection error, ΔBIC < -10).
+    const std::string evidence = e["evidence"].get<std::string>();
+    EXPECT_EQ(evidence.rfind(kSignature.at(e["effect"].get<std::string>()), 0), 0u) << evidence;
+    EXPECT_NE(evidence.find("(earns at ≥ 10 % and ΔBIC < -10)"), std::string::npos) << evidence;
   }
   ASSERT_EQ(j["ranking"][0]["effect"], "inertial_pitch");
+  // The hidden inertial torque shows in its own statistic: the pitch residual correlates with
+  // a_x (about 0.6 on the independent truth's inertial sets, 0.00 on its no-effect set).
+  const std::string inertial = j["ranking"][0]["evidence"].get<std::string>();
+  const std::string r_key = "pitch residual vs a_x r = ";
+  ASSERT_EQ(inertial.rfind(r_key, 0), 0u) << inertial;
+  EXPECT_GT(std::stod(inertial.substr(r_key.size())), 0.3) << inertial;
   // The truth (same-model generator): both centres of mass at d_CM = 0.43 m.
   EXPECT_NEAR(j.at("ranking").at(0).at("parameters").at("cm_lever_m").get<double>(), 0.43, 0.08);
   EXPECT_NEAR(j.at("ranking").at(0).at("parameters").at("load_cm_lever_m").get<double>(), 0.43, 0.08);
