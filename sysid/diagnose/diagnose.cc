@@ -468,6 +468,7 @@ Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records_given,
   std::stable_sort(records.begin(), records.end(), [](const effects::TrialRecord& a, const effects::TrialRecord& b) {
     return a.name < b.name;
   });
+  for (auto& r : records) r = WithoutOutliers(std::move(r), options.rest_window);  // noise_model.h
   Diagnosis dx;
   dx.options = options;
   dx.chair = records.front().chair;
@@ -492,6 +493,17 @@ Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records_given,
     for (std::size_t i = 0; i < records.size(); ++i)
       if (!report[i]) chosen.push_back(records[i]);
     dx.noise = EstimateNoiseModel(chosen, options.rest_window);
+  }
+  {  // Drift: the base model's level change between rests on training + selection (noise_model.h).
+    std::vector<FitTrial> chosen;
+    std::vector<std::size_t> index;
+    for (std::size_t i = 0; i < records.size(); ++i)
+      if (!report[i]) {
+        chosen.push_back(first.all[i]);
+        index.push_back(i);
+      }
+    AddDrift(ResidualRecords(chosen, records, index, dx.base.params), options.rest_window,
+             options.verdict.drift_budget, dx.noise);
   }
   dx.sigma_z = dx.noise.z.sigma;
   dx.sigma_pitch = dx.noise.pitch.sigma;

@@ -43,11 +43,18 @@ double SlopeOf(const std::vector<double>& x, const std::vector<double>& y) {
 ChannelCheck CheckChannel(const std::vector<ResidualRecord>& records, bool pitch,
                           const ChannelNoise& noise, const VerdictOptions& o) {
   ChannelCheck c;
-  const double sigma = noise.sigma_upper > 0.0 ? noise.sigma_upper : noise.sigma;
+  const double sigma_noise = noise.sigma_upper > 0.0 ? noise.sigma_upper : noise.sigma;
+  // With drift, the residual less its slow part against the noise plus the drift left above it.
+  const double sigma = std::sqrt(sigma_noise * sigma_noise + noise.drift_left);
   c.sigma = sigma;
+  c.slow_scale_s = noise.slow_scale_s;
   const double clip = o.clip_sigma * sigma;
   auto square = [&](double v) { return sigma > 0.0 ? std::min(v * v, clip * clip) : v * v; };
-  auto e_of = [&](const ResidualRecord& r) -> const std::vector<double>& { return pitch ? r.e_pitch : r.e_z; };
+  std::vector<std::vector<double>> fast;
+  for (const auto& r : records) fast.push_back(WithoutSlowPart(r.t, pitch ? r.e_pitch : r.e_z, noise.slow_scale_s));
+  auto e_of = [&](const ResidualRecord& r) -> const std::vector<double>& {
+    return fast[static_cast<std::size_t>(&r - records.data())];
+  };
   auto u_of = [&](const ResidualRecord& r) -> const std::vector<double>& { return pitch ? r.gm_pitch : r.gm_z; };
   // (a) magnitude over every record.
   double sum = 0.0;
@@ -136,16 +143,20 @@ ChannelCheck CheckChannel(const std::vector<ResidualRecord>& records, bool pitch
 }
 
 std::string ChannelLine(const char* name, const ChannelCheck& c, const VerdictOptions& o) {
-  char buf[1024];
+  char drift[128] = "";
+  if (c.slow_scale_s > 0.0)
+    std::snprintf(drift, sizeof(drift), "; drift in the data: judged above %.2f Hz (slow part of scale %.2f s removed)",
+                  1.0 / (2.0 * 3.14159265358979 * c.slow_scale_s), c.slow_scale_s);
+  char buf[1200];
   std::snprintf(buf, sizeof(buf),
                 "%s: structured RMS %.2f σ (limit %.2f)%s, worst %.2g s window %.2f σ (limit %.2f) at "
                 "x = %.2f m in %s%s, whiteness r̄ %.2f (noise %.2f)%s, input |r| %.2f (limit %.2f)%s, "
-                "ρ vs speed %+.2f per m/s, vs load %+.2f per 100 kg",
+                "ρ vs speed %+.2f per m/s, vs load %+.2f per 100 kg%s",
                 name, c.rho, o.rho_max, c.magnitude_fails ? " FAILS" : "", o.window_s, c.rho_local,
                 o.rho_local, c.local_x, c.local_trial.empty() ? "-" : c.local_trial.c_str(),
                 c.local_fails ? " FAILS" : "", c.whiteness, c.whiteness_noise,
                 c.whiteness_fails ? " FAILS" : "", c.input_r, o.input_r_max,
-                c.input_fails ? " FAILS" : "", c.speed_slope, c.load_slope);
+                c.input_fails ? " FAILS" : "", c.speed_slope, c.load_slope, drift);
   return buf;
 }
 
@@ -178,6 +189,16 @@ double NoiseFloorFitPct(const std::vector<std::vector<double>>& records, double 
   }
   if (dev <= 0.0) return 0.0;
   return 100.0 * (1.0 - std::sqrt(n * sigma * sigma) / std::sqrt(dev));
+}
+
+void AddDrift(const std::vector<ResidualRecord>& records, double rest_window, double budget, NoiseModel& noise) {
+  std::vector<RestLevelChange> z, pitch;
+  for (const auto& r : records) {
+    z.push_back(LevelChangeAtRest(r.t, r.x, r.e_z, rest_window));
+    pitch.push_back(LevelChangeAtRest(r.t, r.x, r.e_pitch, rest_window));
+  }
+  EstimateDrift(z, budget, noise.z);
+  EstimateDrift(pitch, budget, noise.pitch);
 }
 
 NoiseCheck CheckResidual(const std::vector<ResidualRecord>& records, const NoiseModel& noise,

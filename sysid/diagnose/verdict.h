@@ -79,10 +79,12 @@ struct VerdictOptions {
   double alpha{0.01};       ///< (b) family-wise false-alarm rate
   double input_r_max{0.4};  ///< (d)
   double clip_sigma{5.0};   ///< (a), (b): |e| above clip_sigma σ̂ counts as clip_sigma σ̂ (outliers)
+  double drift_budget{0.1};  ///< drift variance (in σ²) left above the slow part (noise_model.h)
 };
 
 struct ChannelCheck {
-  double sigma{0.0};           ///< σ̂ used (the noise model's upper bound)
+  double sigma{0.0};           ///< σ̂ used (the noise model's upper bound, with any drift left)
+  double slow_scale_s{0.0};    ///< [s] slow part removed before the tests (drift); 0: none
   double rho{0.0};             ///< (a)
   double rho_local{0.0};       ///< (b) worst window
   std::string local_trial;     ///< (b) where
@@ -109,6 +111,9 @@ struct NoiseCheck {
 /// Runs tests (a)-(e) on `records` against the noise model (noise_model.h).
 NoiseCheck CheckResidual(const std::vector<ResidualRecord>& records, const NoiseModel& noise,
                          const VerdictOptions& options = {});
+/// Sets the drift of `noise` (noise_model.h EstimateDrift) from `records`' residual level change
+/// between initial and final rest: the base model on the training + selection trials.
+void AddDrift(const std::vector<ResidualRecord>& records, double rest_window, double budget, NoiseModel& noise);
 /// The same with white noise of levels σ̂_z [m], σ̂_θ [rad].
 NoiseCheck CheckResidual(const std::vector<ResidualRecord>& records, double sigma_z,
                          double sigma_pitch, const VerdictOptions& options = {});
