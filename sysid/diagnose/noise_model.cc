@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <boost/math/distributions/chi_squared.hpp>
+#include <boost/math/distributions/students_t.hpp>
 #include <cmath>
 #include <limits>
 
@@ -292,7 +293,8 @@ RestLevelChange LevelChangeAtRest(const std::vector<double>& t, const std::vecto
   RestLevelChange out;
   if (e.size() != t.size()) return out;
   const std::size_t ns = std::min(RestSamples(t, x, rest_window), e.size());
-  const std::size_t ne = std::min(EndRestSamples(t, x, rest_window), e.size());
+  // The final rest's later half: the chair settles after it stops (a model error then, not drift).
+  const std::size_t ne = std::min(EndRestSamples(t, x, rest_window), e.size()) / 2;
   if (ns < kMinRestSamples || ne < kMinRestSamples || ns + ne > e.size()) return out;
   double start = 0.0, end = 0.0, t_start = 0.0, t_end = 0.0;
   for (std::size_t k = 0; k < ns; ++k) {
@@ -312,6 +314,7 @@ RestLevelChange LevelChangeAtRest(const std::vector<double>& t, const std::vecto
 
 void EstimateDrift(const std::vector<RestLevelChange>& changes, double budget, ChannelNoise& noise) {
   noise.drift_rate = noise.slow_scale_s = noise.drift_left = noise.drift_statistic = noise.drift_bound = 0.0;
+  noise.drift_systematic = false;
   const double var = noise.sigma * noise.sigma;
   if (!(var > 0.0)) return;
   double statistic = 0.0, excess = 0.0, span = 0.0;
@@ -329,6 +332,18 @@ void EstimateDrift(const std::vector<RestLevelChange>& changes, double budget, C
   noise.drift_statistic = statistic;
   noise.drift_bound = boost::math::quantile(boost::math::complement(chi, 0.01));
   if (statistic <= noise.drift_bound || !(excess > 0.0)) return;
+  // Drift has no sign: a mean change that a two-sided t test at 1 % tells from 0 is the model's.
+  if (count >= 3) {
+    double mean = 0.0, spread = 0.0;
+    for (const RestLevelChange& c : changes)
+      if (c.n_start > 0 && c.n_end > 0 && c.dt_s > 0.0) mean += c.change / static_cast<double>(count);
+    for (const RestLevelChange& c : changes)
+      if (c.n_start > 0 && c.n_end > 0 && c.dt_s > 0.0) spread += (c.change - mean) * (c.change - mean);
+    const double se = std::sqrt(spread / static_cast<double>(count - 1) / static_cast<double>(count));
+    const boost::math::students_t t(static_cast<double>(count - 1));
+    noise.drift_systematic = std::abs(mean) > boost::math::quantile(boost::math::complement(t, 0.005)) * se;
+    if (noise.drift_systematic) return;
+  }
   noise.drift_rate = excess / span;
   noise.slow_scale_s = std::clamp(budget * var / (kDriftLeftPerScale * noise.drift_rate), kMinSlowScale_s,
                                   kMaxSlowScale_s);

@@ -191,14 +191,44 @@ double NoiseFloorFitPct(const std::vector<std::vector<double>>& records, double 
   return 100.0 * (1.0 - std::sqrt(n * sigma * sigma) / std::sqrt(dev));
 }
 
-void AddDrift(const std::vector<ResidualRecord>& records, double rest_window, double budget, NoiseModel& noise) {
-  std::vector<RestLevelChange> z, pitch;
-  for (const auto& r : records) {
-    z.push_back(LevelChangeAtRest(r.t, r.x, r.e_z, rest_window));
-    pitch.push_back(LevelChangeAtRest(r.t, r.x, r.e_pitch, rest_window));
+namespace {
+
+/// The largest s_d of the grid 4 s · 2^{−j/2} (down to kMinSlowScale_s) at which the channel's
+/// residual less its slow part has a mean square (clipped at clip σ̂) within σ̂²(1 + budget).
+double SlowScaleOfResidual(const std::vector<ResidualRecord>& records, bool pitch, const ChannelNoise& noise,
+                           double budget, double clip_sigma) {
+  const double sigma = noise.sigma_upper > 0.0 ? noise.sigma_upper : noise.sigma;
+  const double clip2 = clip_sigma * clip_sigma * sigma * sigma;
+  double scale = kMaxSlowScale_s;
+  for (; scale > kMinSlowScale_s; scale /= std::sqrt(2.0)) {
+    double sum = 0.0;
+    std::size_t n = 0;
+    for (const auto& r : records) {
+      for (double v : WithoutSlowPart(r.t, pitch ? r.e_pitch : r.e_z, scale)) sum += std::min(v * v, clip2);
+      n += r.t.size();
+    }
+    if (n == 0 || sum / static_cast<double>(n) <= sigma * sigma * (1.0 + budget)) return scale;
   }
-  EstimateDrift(z, budget, noise.z);
-  EstimateDrift(pitch, budget, noise.pitch);
+  return kMinSlowScale_s;
+}
+
+}  // namespace
+
+void AddDrift(const std::vector<ResidualRecord>& records, const std::vector<ResidualRecord>& training,
+              double rest_window, const VerdictOptions& options, NoiseModel& noise) {
+  for (const bool pitch : {false, true}) {
+    ChannelNoise& channel = pitch ? noise.pitch : noise.z;
+    std::vector<RestLevelChange> changes;
+    for (const auto& r : records) changes.push_back(LevelChangeAtRest(r.t, r.x, pitch ? r.e_pitch : r.e_z, rest_window));
+    EstimateDrift(changes, options.drift_budget, channel);
+    if (!(channel.slow_scale_s > 0.0)) continue;
+    // The walk's scale may miss drift that the rests do not show (a slow wave whose period the
+    // trial nearly spans): the training residual's own slow power sets it then.
+    const double from_residual = SlowScaleOfResidual(training, pitch, channel, options.drift_budget, options.clip_sigma);
+    channel.slow_scale_s = std::min(channel.slow_scale_s, from_residual);
+    channel.drift_left = std::max(options.drift_budget * channel.sigma * channel.sigma,
+                                  kDriftLeftPerScale * channel.drift_rate * channel.slow_scale_s);
+  }
 }
 
 NoiseCheck CheckResidual(const std::vector<ResidualRecord>& records, const NoiseModel& noise,

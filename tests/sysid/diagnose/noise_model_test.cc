@@ -302,14 +302,15 @@ TEST(NoiseModelTest, ASmoothMotionHasNoOutliers) {
 }
 
 TEST(NoiseModelTest, KinksInLowPassedNoiseAreNoOutliersAgainstTheNoiseLevel) {
-  // 8 Hz Butterworth-filtered noise of σ = 1 makes d tiny (≈ 0.1 σ): a kink of 0.6 σ per sample
-  // (d ≈ 0.2 σ) stands out of d's own scale, not out of the noise's σ (RestSpread, the floor).
+  // 8 Hz Butterworth-filtered noise of σ = 1 makes d small: a kink of 1.5 σ per sample (d = 0.5 σ
+  // at both ends of the ramp) stands out of d's own scale, not out of the noise's σ (RestSpread,
+  // the floor).
   synth::NoiseProcess p;
   p.sigma = 1.0;
   p.low_pass_hz = 8.0;
   std::mt19937_64 rng(28);
   std::vector<double> y = synth::DrawNoise(p, 2000, 100.0, rng);
-  for (std::size_t k = 1000; k < y.size(); ++k) y[k] += 0.6 * static_cast<double>(std::min<std::size_t>(k - 1000, 40));
+  for (std::size_t k = 1000; k < y.size(); ++k) y[k] += 1.5 * static_cast<double>(std::min<std::size_t>(k - 1000, 40));
   std::vector<double> unfloored = y;
   EXPECT_GT(ReplaceOutliers(unfloored), 0u);
   const double sigma = RestSpread(y, 100);
@@ -355,7 +356,7 @@ TEST(NoiseModelTest, TheDriftRateOfARandomWalkIsFoundFromTheRestLevels) {
   p.drift_per_sqrt_s = 0.5;
   const std::vector<RestLevelChange> changes = LevelChanges(p, 400, 1000, 100, 24);
   ASSERT_GT(changes.front().n_start, 90u);
-  ASSERT_GT(changes.front().n_end, 90u);
+  ASSERT_EQ(changes.front().n_end, 49u);  // the later half of the final rest's 99 samples
   ChannelNoise noise = WhiteNoise(1.0);
   EstimateDrift(changes, 0.1, noise);
   EXPECT_GT(noise.drift_statistic, noise.drift_bound);
@@ -370,6 +371,15 @@ TEST(NoiseModelTest, TheDriftRateOfARandomWalkIsFoundFromTheRestLevels) {
   EXPECT_LT(still.drift_statistic, still.drift_bound);
   EXPECT_EQ(still.drift_rate, 0.0);
   EXPECT_EQ(still.slow_scale_s, 0.0);
+  // The same change of 0.5 σ in every trial (a settling the model gets wrong) is no drift,
+  // however significant: drift has no sign.
+  std::vector<RestLevelChange> shared = LevelChanges(p, 40, 1000, 100, 25);
+  for (RestLevelChange& c : shared) c.change += 0.5;
+  ChannelNoise model_error = WhiteNoise(1.0);
+  EstimateDrift(shared, 0.1, model_error);
+  EXPECT_GT(model_error.drift_statistic, model_error.drift_bound);
+  EXPECT_TRUE(model_error.drift_systematic);
+  EXPECT_EQ(model_error.slow_scale_s, 0.0);
 }
 
 TEST(NoiseModelTest, TheDriftLeftAboveTheSlowPartHasItsClosedForm) {
@@ -435,7 +445,7 @@ TEST(NoiseModelTest, DriftingNoiseIsNoiseLikeOnceTheDriftIsModelledAndALocalErro
   }
   NoiseModel model{WhiteNoise(1.0), WhiteNoise(1.0)};
   EXPECT_FALSE(CheckResidual(records, model).NoiseLike());
-  AddDrift(records, 0.25, VerdictOptions{}.drift_budget, model);
+  AddDrift(records, records, 0.25, VerdictOptions{}, model);
   ASSERT_GT(model.z.slow_scale_s, 0.0);
   const NoiseCheck check = CheckResidual(records, model);
   EXPECT_TRUE(check.NoiseLike()) << check.Evidence();
