@@ -495,20 +495,15 @@ Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records_given,
     dx.noise = EstimateNoiseModel(chosen, options.rest_window);
   }
   {  // Drift: the base model's level change between rests on training + selection (noise_model.h).
-    std::vector<FitTrial> chosen, training;
-    std::vector<std::size_t> index, training_index;
-    for (std::size_t i = 0; i < records.size(); ++i) {
-      if (report[i]) continue;
-      chosen.push_back(first.all[i]);
-      index.push_back(i);
-      if (!dx.selection[i]) {
-        training.push_back(first.all[i]);
-        training_index.push_back(i);
+    std::vector<FitTrial> chosen;
+    std::vector<std::size_t> index;
+    for (std::size_t i = 0; i < records.size(); ++i)
+      if (!report[i]) {
+        chosen.push_back(first.all[i]);
+        index.push_back(i);
       }
-    }
-    AddDrift(ResidualRecords(chosen, records, index, dx.base.params),
-             ResidualRecords(training, records, training_index, dx.base.params), options.rest_window,
-             options.verdict, dx.noise);
+    AddDrift(ResidualRecords(chosen, records, index, dx.base.params), options.rest_window,
+             options.verdict.drift_budget, dx.noise);
   }
   dx.sigma_z = dx.noise.z.sigma;
   dx.sigma_pitch = dx.noise.pitch.sigma;

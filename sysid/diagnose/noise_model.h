@@ -45,11 +45,11 @@
 // of rate q leaves above it the variance
 //     q s_d ∫₀^∞ (1 − e^{−u²/2})² / u² du / π = q s_d (√2 − 1) / √π  ≈ 0.2337 q s_d,
 // and s_d is chosen so that this is `drift_budget` σ² (clamped to [0.15, 4] s; what is left
-// is added to the noise variance the tests allow). A slow wave whose period a trial nearly
-// spans hides from the rests, so the verdict (verdict.h AddDrift) takes the smaller of this
-// s_d and the scale at which the training residual less its slow part is down to the noise.
-// Slow model errors below 1/(2π s_d) are then not told from drift: the price of drifting data,
-// paid only when the rests show drift.
+// is added to the noise variance the tests allow). s_d comes from the rests alone, never from
+// the residual's own slow power, which carries the model's errors (a slow inertial-pitch error
+// would be taken for drift and removed). Slow model errors below 1/(2π s_d) are not told from
+// drift: the price of drifting data, paid only when the rests show drift. A slow wave whose
+// period a trial nearly spans hides from the rests (D ≈ 0) and is then taken for structure.
 //
 // What the verdict needs from the model (verdict.h):
 //  effective samples of n consecutive residual samples, n_eff = n² / Σ_{i,j} r(|i − j|)²

@@ -50,12 +50,18 @@ ChannelCheck CheckChannel(const std::vector<ResidualRecord>& records, bool pitch
   c.slow_scale_s = noise.slow_scale_s;
   const double clip = o.clip_sigma * sigma;
   auto square = [&](double v) { return sigma > 0.0 ? std::min(v * v, clip * clip) : v * v; };
-  std::vector<std::vector<double>> fast;
-  for (const auto& r : records) fast.push_back(WithoutSlowPart(r.t, pitch ? r.e_pitch : r.e_z, noise.slow_scale_s));
+  // Residual and input in the band judged: both less their slow part (none without drift).
+  std::vector<std::vector<double>> fast, fast_input;
+  for (const auto& r : records) {
+    fast.push_back(WithoutSlowPart(r.t, pitch ? r.e_pitch : r.e_z, noise.slow_scale_s));
+    fast_input.push_back(WithoutSlowPart(r.t, pitch ? r.gm_pitch : r.gm_z, noise.slow_scale_s));
+  }
   auto e_of = [&](const ResidualRecord& r) -> const std::vector<double>& {
     return fast[static_cast<std::size_t>(&r - records.data())];
   };
-  auto u_of = [&](const ResidualRecord& r) -> const std::vector<double>& { return pitch ? r.gm_pitch : r.gm_z; };
+  auto u_of = [&](const ResidualRecord& r) -> const std::vector<double>& {
+    return fast_input[static_cast<std::size_t>(&r - records.data())];
+  };
   // (a) magnitude over every record.
   double sum = 0.0;
   std::size_t n = 0;
@@ -112,7 +118,11 @@ ChannelCheck CheckChannel(const std::vector<ResidualRecord>& records, bool pitch
     weight += w;
   }
   c.whiteness = weight > 0.0 ? rbar / weight : 0.0;
-  c.whiteness_noise = noise.MeanAutocorrelation(5);
+  // The drift left above the slow part is noise too, correlated over far more than 5 lags.
+  const double stationary = sigma_noise * sigma_noise;
+  c.whiteness_noise = stationary + noise.drift_left > 0.0
+                          ? (stationary * noise.MeanAutocorrelation(5) + noise.drift_left) / (stationary + noise.drift_left)
+                          : noise.MeanAutocorrelation(5);
   double bartlett = 1.0;
   for (std::size_t k = 1; k < noise.acf.size(); ++k) bartlett += 2.0 * noise.acf[k] * noise.acf[k];
   c.whiteness_bound = weight > 0.0 ? kZ99 * std::sqrt(bartlett) / std::sqrt(5.0 * weight) : 0.0;
@@ -191,43 +201,11 @@ double NoiseFloorFitPct(const std::vector<std::vector<double>>& records, double 
   return 100.0 * (1.0 - std::sqrt(n * sigma * sigma) / std::sqrt(dev));
 }
 
-namespace {
-
-/// The largest s_d of the grid 4 s · 2^{−j/2} (down to kMinSlowScale_s) at which the channel's
-/// residual less its slow part has a mean square (clipped at clip σ̂) within σ̂²(1 + budget).
-double SlowScaleOfResidual(const std::vector<ResidualRecord>& records, bool pitch, const ChannelNoise& noise,
-                           double budget, double clip_sigma) {
-  const double sigma = noise.sigma_upper > 0.0 ? noise.sigma_upper : noise.sigma;
-  const double clip2 = clip_sigma * clip_sigma * sigma * sigma;
-  double scale = kMaxSlowScale_s;
-  for (; scale > kMinSlowScale_s; scale /= std::sqrt(2.0)) {
-    double sum = 0.0;
-    std::size_t n = 0;
-    for (const auto& r : records) {
-      for (double v : WithoutSlowPart(r.t, pitch ? r.e_pitch : r.e_z, scale)) sum += std::min(v * v, clip2);
-      n += r.t.size();
-    }
-    if (n == 0 || sum / static_cast<double>(n) <= sigma * sigma * (1.0 + budget)) return scale;
-  }
-  return kMinSlowScale_s;
-}
-
-}  // namespace
-
-void AddDrift(const std::vector<ResidualRecord>& records, const std::vector<ResidualRecord>& training,
-              double rest_window, const VerdictOptions& options, NoiseModel& noise) {
+void AddDrift(const std::vector<ResidualRecord>& records, double rest_window, double budget, NoiseModel& noise) {
   for (const bool pitch : {false, true}) {
-    ChannelNoise& channel = pitch ? noise.pitch : noise.z;
     std::vector<RestLevelChange> changes;
     for (const auto& r : records) changes.push_back(LevelChangeAtRest(r.t, r.x, pitch ? r.e_pitch : r.e_z, rest_window));
-    EstimateDrift(changes, options.drift_budget, channel);
-    if (!(channel.slow_scale_s > 0.0)) continue;
-    // The walk's scale may miss drift that the rests do not show (a slow wave whose period the
-    // trial nearly spans): the training residual's own slow power sets it then.
-    const double from_residual = SlowScaleOfResidual(training, pitch, channel, options.drift_budget, options.clip_sigma);
-    channel.slow_scale_s = std::min(channel.slow_scale_s, from_residual);
-    channel.drift_left = std::max(options.drift_budget * channel.sigma * channel.sigma,
-                                  kDriftLeftPerScale * channel.drift_rate * channel.slow_scale_s);
+    EstimateDrift(changes, budget, pitch ? noise.pitch : noise.z);
   }
 }
 

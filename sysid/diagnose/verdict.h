@@ -14,8 +14,10 @@
 // (ρ = structured RMS in units of σ̂; structure S and white noise σ add in power):
 // The noise model (σ̂, the noise's autocorrelation r_n, any drift) comes from the data
 // (noise_model.h; outliers were replaced in the measured trials before any fit). Where the
-// noise model holds a drift, e is first replaced by e less its slow part (scale s_d,
-// noise_model.h WithoutSlowPart) and σ̂² by σ̂² + the drift variance left above it;
+// noise model holds a drift, e and the input of (d) are first replaced by themselves less
+// their slow part (scale s_d, noise_model.h WithoutSlowPart), σ̂² by σ̂² + the drift variance
+// left above it, and the noise's r̄_n in (c) by (σ̂² r̄_n + left)/(σ̂² + left) (the drift left is
+// correlated over far more than 5 lags);
 // |e| beyond clip_sigma σ̂ (5) is clipped to it in (a) and (b) (outliers the replacement left).
 // σ̂ in (a) and (b) is the noise level's one-sided 95 % upper bound (ChannelNoise::sigma_upper).
 //  (a) magnitude: ρ = sqrt(max(0, mean e² - σ̂²)) / σ̂ > rho_max (0.75) fails;
@@ -116,15 +118,9 @@ struct NoiseCheck {
 /// Runs tests (a)-(e) on `records` against the noise model (noise_model.h).
 NoiseCheck CheckResidual(const std::vector<ResidualRecord>& records, const NoiseModel& noise,
                          const VerdictOptions& options = {});
-/// The drift of `noise` (noise_model.h): found by EstimateDrift from `records`' residual level
-/// change between initial and final rest (the base model on the training + selection trials);
-/// where found, s_d is the smaller of the walk's (EstimateDrift) and the largest scale on the
-/// grid 4 s · 2^{−j/2} at which `training`'s residual less its slow part has a mean square
-/// (clipped as in (a)) within σ̂²(1 + drift_budget), σ̂ the level's upper bound; the variance
-/// left is max(drift_budget σ², 0.2337 q̂ s_d). Only training trials set s_d, so the selection
-/// trials' check (the stop of forward selection) stays a check.
-void AddDrift(const std::vector<ResidualRecord>& records, const std::vector<ResidualRecord>& training,
-              double rest_window, const VerdictOptions& options, NoiseModel& noise);
+/// Sets the drift of `noise` (noise_model.h EstimateDrift) from `records`' residual level change
+/// between initial and final rest: the base model on the training + selection trials.
+void AddDrift(const std::vector<ResidualRecord>& records, double rest_window, double budget, NoiseModel& noise);
 /// The same with white noise of levels σ̂_z [m], σ̂_θ [rad].
 NoiseCheck CheckResidual(const std::vector<ResidualRecord>& records, double sigma_z,
                          double sigma_pitch, const VerdictOptions& options = {});

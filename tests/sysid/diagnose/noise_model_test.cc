@@ -445,7 +445,7 @@ TEST(NoiseModelTest, DriftingNoiseIsNoiseLikeOnceTheDriftIsModelledAndALocalErro
   }
   NoiseModel model{WhiteNoise(1.0), WhiteNoise(1.0)};
   EXPECT_FALSE(CheckResidual(records, model).NoiseLike());
-  AddDrift(records, records, 0.25, VerdictOptions{}, model);
+  AddDrift(records, 0.25, VerdictOptions{}.drift_budget, model);
   ASSERT_GT(model.z.slow_scale_s, 0.0);
   const NoiseCheck check = CheckResidual(records, model);
   EXPECT_TRUE(check.NoiseLike()) << check.Evidence();
