@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <boost/math/distributions/chi_squared.hpp>
+#include <boost/math/distributions/normal.hpp>
 #include <cmath>
 #include <cstdio>
 
@@ -130,13 +131,21 @@ ChannelCheck CheckChannel(const std::vector<ResidualRecord>& records, bool pitch
   const double excess = c.whiteness - c.whiteness_noise;
   const double share = c.whiteness_noise < 1.0 ? excess / (1.0 - c.whiteness_noise) : 0.0;
   c.whiteness_fails = share > rmax2 / (1.0 + rmax2) && excess > c.whiteness_bound;
-  // (d) input correlation: the worst record.
+  // (d) input correlation: the worst record and lag, its bound widened from the pointwise 99 %
+  // to a family-wise α over the m = 51 × records lags looked at (Bonferroni, as (b)).
+  constexpr int kInputLags = 25;
+  std::size_t tested = 0;
+  for (const auto& r : records)
+    if (e_of(r).size() >= 60 && u_of(r).size() == e_of(r).size()) ++tested;
+  const double lags_looked_at = static_cast<double>((2 * kInputLags + 1) * std::max<std::size_t>(1, tested));
+  const double widening =
+      boost::math::quantile(boost::math::complement(boost::math::normal(), 0.5 * o.alpha / lags_looked_at)) / kZ99;
   for (const auto& r : records) {
     if (e_of(r).size() < 60 || u_of(r).size() != e_of(r).size()) continue;
-    const CorrelationTest ccf = CrossCorrelationTest(e_of(r), u_of(r), 25);
+    const CorrelationTest ccf = CrossCorrelationTest(e_of(r), u_of(r), kInputLags);
     if (ccf.worst > c.input_r) {
       c.input_r = ccf.worst;
-      c.input_bound = ccf.bound;
+      c.input_bound = widening * ccf.bound;
     }
   }
   c.input_fails = c.input_r > o.input_r_max && c.input_r > c.input_bound;

@@ -34,7 +34,10 @@
 //      when that share > rho_max²/(1+rho_max²) and r̄ − r̄_n exceeds the 99 % bound
 //      2.58/√(5N), widened by Bartlett's factor sqrt(1 + 2 Σ_k r_n(k)²) for coloured noise;
 //  (d) input correlation: the largest |r| between e and the channel's GM output at lags ±25
-//      (residual_analysis.h) fails when > input_r_max (0.4) and outside its 99 % bound;
+//      (residual_analysis.h) fails when > input_r_max (0.4) and outside its bound: the
+//      coloured-input bound (Bartlett) at the family-wise α over the 51 × records lags looked
+//      at (Bonferroni; the pointwise 99 % bound is crossed by chance in strongly low-passed,
+//      drifting noise: calibration sets 00914, 00919);
 //  (e) speed and load: ρ per trial against speed and load is evidence only (too few trials to
 //      decide).
 // Calibration: every limit here (and drift_budget, noise_model.h's outlier limit and drift
