@@ -41,11 +41,12 @@ def main():
     p.add_argument("--split", default="", help="only sets of this split (calibration, false_alarm, ...)")
     p.add_argument("--md", default="", help="write here (default: stdout)")
     args = p.parse_args()
-    rows, worst = [], {}
+    rows, worst, commits = [], {}, set()
     for path in sorted(glob.glob(os.path.join(args.work, "results", "*.json"))):
         r = json.load(open(path))
         if args.split and r["split"] != args.split:
             continue
+        commits.add(r.get("commit", "unknown"))
         dx = os.path.join(args.work, "dx", r["name"], "diagnosis.json")
         if not os.path.exists(dx):
             rows.append(f"| {r['name']} | {r['verdict']} |" + " – |" * 10)
@@ -67,7 +68,14 @@ def main():
     last = ["**largest**", "", ""]
     for ch in ("z", "pitch"):
         last += [cell(worst.get((ch, k))) for k in ("a", "b", "c", "d")] + [""]
-    text = head + "\n".join(rows) + "\n| " + " | ".join(last) + " |\n"
+    intro = ("# Each residual test's statistic against its limit\n\n"
+             "Written by `scripts/verdict-statistics.py` from a `scripts/evaluate-diagnosis.py` run "
+             f"at commit {', '.join(f'`{c}`' for c in sorted(commits))}; do not edit. Base model's check "
+             "(selection + report trials), ratio statistic / limit (above 1 fails): (a) structured RMS, "
+             "(b) worst 0.5 s window, (c) the structure's share of the whiteness (– where within its "
+             "99 % bound), (d) input correlation (– where within its bound); s_d the slow part removed "
+             "for drift (– none).\n\n")
+    text = intro + head + "\n".join(rows) + "\n| " + " | ".join(last) + " |\n"
     if args.md:
         tmp = args.md + ".tmp"
         with open(tmp, "w") as f:
