@@ -23,7 +23,10 @@ nlohmann::ordered_json NoiseJson(const diagnose::ChannelNoise& n) {
   nlohmann::ordered_json acf = nlohmann::ordered_json::array();
   for (double r : n.acf) acf.push_back(JsonNumber(r));
   return {{"sigma", JsonNumber(n.sigma)}, {"sigma_hf", JsonNumber(n.sigma_hf)},
-          {"from_rest", n.from_rest}, {"rest_samples", n.rest_samples}, {"acf", acf}};
+          {"from_rest", n.from_rest}, {"rest_samples", n.rest_samples}, {"acf", acf},
+          {"drift_rate", JsonNumber(n.drift_rate)}, {"drift_statistic", JsonNumber(n.drift_statistic)},
+          {"drift_bound", JsonNumber(n.drift_bound)}, {"drift_systematic", n.drift_systematic}, {"slow_scale_s", JsonNumber(n.slow_scale_s)},
+          {"drift_left", JsonNumber(n.drift_left)}};
 }
 
 nlohmann::ordered_json ChannelCheckJson(const diagnose::ChannelCheck& c) {
@@ -47,6 +50,7 @@ nlohmann::ordered_json VerdictInputsJson(const Diagnosis& d) {
   const diagnose::VerdictOptions& o = d.options.verdict;
   return {{"limits", {{"rho_max", o.rho_max}, {"rho_local", o.rho_local}, {"window_s", o.window_s},
                       {"alpha", o.alpha}, {"input_r_max", o.input_r_max}, {"clip_sigma", o.clip_sigma},
+                      {"drift_budget", o.drift_budget},
                       {"bic_threshold", d.options.bic_threshold},
                       {"min_selection_gain", d.options.min_heldout_gain}}},
           {"noise", {{"z", NoiseJson(d.noise.z)}, {"pitch", NoiseJson(d.noise.pitch)}}},

@@ -486,6 +486,7 @@ std::vector<effects::TrialRecord> SplitThreeWays(const std::vector<effects::Tria
   std::stable_sort(records.begin(), records.end(), [](const effects::TrialRecord& a, const effects::TrialRecord& b) {
     return a.name < b.name;
   });
+  for (auto& r : records) r = WithoutOutliers(std::move(r), dx.options.rest_window);  // noise_model.h
   report = ChooseHeldOut(records, &dx.split);
   dx.selection = ChooseSelection(records, report);
   for (std::size_t i = 0; i < records.size(); ++i) {
@@ -498,11 +499,20 @@ std::vector<effects::TrialRecord> SplitThreeWays(const std::vector<effects::Tria
 
 /// Step 3: the noise model from the training + selection trials alone (noise_model.h).
 void EstimateNoise(const std::vector<effects::TrialRecord>& records, const std::vector<bool>& report,
-                   Diagnosis& dx) {
+                   const Splits& first, Diagnosis& dx) {
   std::vector<effects::TrialRecord> chosen;
+  std::vector<FitTrial> chosen_fit;
+  std::vector<std::size_t> index;
   for (std::size_t i = 0; i < records.size(); ++i)
-    if (!report[i]) chosen.push_back(records[i]);
+    if (!report[i]) {
+      chosen.push_back(records[i]);
+      chosen_fit.push_back(first.all[i]);
+      index.push_back(i);
+    }
   dx.noise = EstimateNoiseModel(chosen, dx.options.rest_window);
+  // Drift: the base model's level change between the rests (noise_model.h AddDrift).
+  AddDrift(ResidualRecords(chosen_fit, records, index, dx.base.params), dx.options.rest_window,
+           dx.options.verdict.drift_budget, dx.noise);
   dx.sigma_z = dx.noise.z.sigma;
   dx.sigma_pitch = dx.noise.pitch.sigma;
 }
@@ -521,7 +531,7 @@ Diagnosis DiagnoseOnPool(const std::vector<effects::TrialRecord>& given, const D
   const Splits& first = geometries.front();
   const ChannelWeights w = MakeChannelWeights(first.training);
   dx.base = FitModel(first.training, std::nullopt, dx.chair.lm.value_or(LumpedParams{}), w, options.fit);  // 2
-  EstimateNoise(records, report, dx);  // 3
+  EstimateNoise(records, report, first, dx);  // 3
   const NoiseCheck base_selection =    // 4: decided on the selection trials
       Check(first.selection, records, first.selection_index, dx.base.params, dx.noise, options.verdict);
   dx.trials = BaseAnalysis(records, report, first.all, dx.base.params);  // 5

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <boost/math/distributions/chi_squared.hpp>
+#include <boost/math/distributions/students_t.hpp>
 #include <cmath>
 #include <limits>
 
@@ -210,6 +211,183 @@ NoiseModel EstimateNoiseModel(const std::vector<effects::TrialRecord>& records, 
   SetUpperBound(z_rest, model.z);
   SetUpperBound(p_rest, model.pitch);
   return model;
+}
+
+}  // namespace pwsim::diagnose
+
+namespace pwsim::diagnose {
+namespace {
+
+/// ŷ_k from the neighbours: the cubic through k−2, k−1, k+1, k+2 inside; at the two first and
+/// last samples the line through the two nearest on the inner side (noise variance 5 σ², not
+/// (1 + 34/36) σ²: kEndWidening widens the limit there alike).
+double Predicted(const std::vector<double>& y, std::size_t k) {
+  const std::size_t n = y.size();
+  if (k >= 2 && k + 2 < n) return (-y[k - 2] + 4.0 * y[k - 1] + 4.0 * y[k + 1] - y[k + 2]) / 6.0;
+  if (k < 2) return k == 0 ? 2.0 * y[1] - y[2] : 0.5 * (y[0] + y[2]);
+  return k == n - 1 ? 2.0 * y[n - 2] - y[n - 3] : 0.5 * (y[n - 1] + y[n - 3]);
+}
+
+/// sqrt(5 / (1 + 34/36)) for k = 0, n − 1 (extrapolated); sqrt(1.5 / (1 + 34/36)) for k = 1,
+/// n − 2 (the mean of the two neighbours).
+double EndWidening(std::size_t k, std::size_t n) {
+  if (k == 0 || k == n - 1) return std::sqrt(5.0 / (1.0 + 34.0 / 36.0));
+  if (k == 1 || k == n - 2) return std::sqrt(1.5 / (1.0 + 34.0 / 36.0));
+  return 1.0;
+}
+
+}  // namespace
+
+std::size_t ReplaceOutliers(std::vector<double>& y, double noise_sigma, double limit) {
+  const std::size_t n = y.size();
+  if (n < 7) return 0;
+  std::size_t replaced = 0;
+  for (int pass = 0; pass < 2; ++pass) {
+    std::vector<double> d(n), magnitude(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      d[k] = y[k] - Predicted(y, k);
+      magnitude[k] = std::abs(d[k]);
+    }
+    const double scale = std::max(kMadToSigma * Median(magnitude), noise_sigma);
+    if (!(scale > 0.0)) break;
+    std::vector<std::size_t> outliers;
+    for (std::size_t k = 0; k < n; ++k) {
+      const double widening = EndWidening(k, n);
+      if (magnitude[k] <= limit * scale * widening) continue;
+      bool largest = true;
+      for (std::size_t j = (k >= 2 ? k - 2 : 0); j < std::min(n, k + 3); ++j)
+        if (j != k && magnitude[j] / EndWidening(j, n) > magnitude[k] / widening) largest = false;
+      if (largest) outliers.push_back(k);
+    }
+    if (outliers.empty()) break;
+    for (std::size_t k : outliers) y[k] = Predicted(y, k);
+    replaced += outliers.size();
+  }
+  return replaced;
+}
+
+double RestSpread(const std::vector<double>& y, std::size_t n) {
+  n = std::min(n, y.size());
+  const std::vector<double> head(y.begin(), y.begin() + static_cast<long>(n));
+  const double level = Median(head);
+  std::vector<double> deviation(n);
+  for (std::size_t k = 0; k < n; ++k) deviation[k] = std::abs(head[k] - level);
+  return kMadToSigma * Median(std::move(deviation));
+}
+
+effects::TrialRecord WithoutOutliers(effects::TrialRecord record, double rest_window) {
+  const std::size_t rest = RestSamples(record.t, record.x, rest_window);
+  for (std::vector<double>* y : {&record.x, &record.z, &record.pitch}) ReplaceOutliers(*y, RestSpread(*y, rest));
+  return record;
+}
+
+std::size_t EndRestSamples(const std::vector<double>& t, const std::vector<double>& x, double rest_window) {
+  if (t.empty() || x.size() != t.size()) return 0;
+  std::vector<double> t_back(t.size()), x_back(x.rbegin(), x.rend());
+  for (std::size_t k = 0; k < t.size(); ++k) t_back[k] = t.back() - t[t.size() - 1 - k];
+  return RestSamples(t_back, x_back, rest_window);
+}
+
+RestLevelChange LevelChangeAtRest(const std::vector<double>& t, const std::vector<double>& x,
+                                  const std::vector<double>& e, double rest_window) {
+  RestLevelChange out;
+  if (e.size() != t.size()) return out;
+  const std::size_t ns = std::min(RestSamples(t, x, rest_window), e.size());
+  // The final rest's later half: the chair settles after it stops (a model error then, not drift).
+  const std::size_t ne = std::min(EndRestSamples(t, x, rest_window), e.size()) / 2;
+  if (ns < kMinRestSamples || ne < kMinRestSamples || ns + ne > e.size()) return out;
+  double start = 0.0, end = 0.0, t_start = 0.0, t_end = 0.0;
+  for (std::size_t k = 0; k < ns; ++k) {
+    start += e[k];
+    t_start += t[k];
+  }
+  for (std::size_t k = e.size() - ne; k < e.size(); ++k) {
+    end += e[k];
+    t_end += t[k];
+  }
+  out.change = end / static_cast<double>(ne) - start / static_cast<double>(ns);
+  out.dt_s = t_end / static_cast<double>(ne) - t_start / static_cast<double>(ns);
+  out.n_start = ns;
+  out.n_end = ne;
+  return out;
+}
+
+void EstimateDrift(const std::vector<RestLevelChange>& changes, double budget, ChannelNoise& noise) {
+  noise.drift_rate = noise.slow_scale_s = noise.drift_left = noise.drift_statistic = noise.drift_bound = 0.0;
+  noise.drift_systematic = false;
+  const double var = noise.sigma * noise.sigma;
+  if (!(var > 0.0)) return;
+  double statistic = 0.0, excess = 0.0, span = 0.0;
+  std::size_t count = 0;
+  for (const RestLevelChange& c : changes) {
+    if (c.n_start == 0 || c.n_end == 0 || !(c.dt_s > 0.0)) continue;
+    const double v = var * (1.0 / noise.EffectiveSamples(c.n_start) + 1.0 / noise.EffectiveSamples(c.n_end));
+    statistic += c.change * c.change / v;
+    excess += std::max(0.0, c.change * c.change - v);
+    span += c.dt_s;
+    ++count;
+  }
+  if (count == 0) return;
+  const boost::math::chi_squared_distribution<double> chi(static_cast<double>(count));
+  noise.drift_statistic = statistic;
+  noise.drift_bound = boost::math::quantile(boost::math::complement(chi, 0.01));
+  if (statistic <= noise.drift_bound || !(excess > 0.0)) return;
+  // Drift has no sign: a mean change that a two-sided t test at 1 % tells from 0 is the model's.
+  if (count >= 3) {
+    double mean = 0.0, spread = 0.0;
+    for (const RestLevelChange& c : changes)
+      if (c.n_start > 0 && c.n_end > 0 && c.dt_s > 0.0) mean += c.change / static_cast<double>(count);
+    for (const RestLevelChange& c : changes)
+      if (c.n_start > 0 && c.n_end > 0 && c.dt_s > 0.0) spread += (c.change - mean) * (c.change - mean);
+    const double se = std::sqrt(spread / static_cast<double>(count - 1) / static_cast<double>(count));
+    const boost::math::students_t t(static_cast<double>(count - 1));
+    noise.drift_systematic = std::abs(mean) > boost::math::quantile(boost::math::complement(t, 0.005)) * se;
+    if (noise.drift_systematic) return;
+  }
+  noise.drift_rate = excess / span;
+  noise.slow_scale_s = std::clamp(budget * var / (kDriftLeftPerScale * noise.drift_rate), kMinSlowScale_s,
+                                  kMaxSlowScale_s);
+  noise.drift_left = kDriftLeftPerScale * noise.drift_rate * noise.slow_scale_s;
+}
+
+std::vector<double> WithoutSlowPart(const std::vector<double>& t, const std::vector<double>& y, double scale_s) {
+  if (!(scale_s > 0.0) || y.size() != t.size() || y.size() < 3) return y;
+  const std::size_t n = y.size();
+  // Uniform sampling (the usual case): the weights by index offset, computed once.
+  const double step = (t.back() - t.front()) / static_cast<double>(n - 1);
+  bool uniform = step > 0.0;
+  for (std::size_t k = 0; k < n && uniform; ++k)
+    uniform = std::abs(t[k] - t.front() - static_cast<double>(k) * step) < 1e-6 * step;
+  std::vector<double> table;
+  if (uniform) {
+    for (std::size_t j = 0; static_cast<double>(j) * step <= 4.0 * scale_s && j < n; ++j) {
+      const double u = static_cast<double>(j) * step / scale_s;
+      table.push_back(std::exp(-0.5 * u * u));
+    }
+  }
+  std::vector<double> out(n);
+  std::size_t lo = 0, hi = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    while (t[k] - t[lo] > 4.0 * scale_s) ++lo;
+    while (hi < n && t[hi] - t[k] <= 4.0 * scale_s) ++hi;
+    // Weighted least squares of a + b (t − t_k) on [lo, hi), weights e^{−½ ((t − t_k)/s)²}.
+    double s0 = 0.0, s1 = 0.0, s2 = 0.0, m0 = 0.0, m1 = 0.0;
+    for (std::size_t j = lo; j < hi; ++j) {
+      const double u = t[j] - t[k];
+      const std::size_t offset = j > k ? j - k : k - j;
+      const double w = uniform && offset < table.size() ? table[offset]
+                                                         : std::exp(-0.5 * (u / scale_s) * (u / scale_s));
+      s0 += w;
+      s1 += w * u;
+      s2 += w * u * u;
+      m0 += w * y[j];
+      m1 += w * u * y[j];
+    }
+    const double det = s0 * s2 - s1 * s1;
+    const double level = det > 1e-12 * s0 * s2 ? (s2 * m0 - s1 * m1) / det : m0 / s0;
+    out[k] = y[k] - level;
+  }
+  return out;
 }
 
 }  // namespace pwsim::diagnose

@@ -19,6 +19,38 @@
 // A filter in the export acts on every channel alike, so the diagnosis fits one colour to x, Z
 // and θ together (FitNoiseColour), each with its own level: three times the data for τ.
 //
+// Outliers (marker swaps, reflections: single samples far off): each sample is compared with
+// what its neighbours predict, ŷ_k = (−y_{k−2} + 4 y_{k−1} + 4 y_{k+1} − y_{k+2}) / 6 (exact for
+// cubics, so the chair's smooth motion leaves d_k = y_k − ŷ_k ≈ 0; for white noise
+// Var d = (1 + 34/36) σ²; at the two first and last samples the line through the two nearest,
+// its limit widened by that prediction's larger noise). A sample is an outlier when |d_k|
+// exceeds `kOutlierLimit` scales and is the largest |d| within ±2 samples (a spike of size M
+// gives d = M there and −2M/3, M/6 beside it); it is replaced by ŷ_k. The scale is the larger
+// of 1.4826 median|d| and the noise's own σ (the MAD spread of the trial's initial rest):
+// low-pass-filtered noise makes d tiny, and the chair's kinks at obstacles (wheel contacts)
+// would then stand out of d's scale; they stay far below the noise's σ. Done on the measured
+// x, Z and θ of every trial before anything else (the fit, the centring on the rest window
+// and the noise model would otherwise all carry them).
+//
+// Drift (a marker or calibration wandering slowly): a stationary model cannot hold it: the
+// level of a trial's final rest differs from its initial rest by D with E D² = q Δt for a
+// random walk of rate q [unit²/s] (Δt between the windows' centres), against v = σ² (1/ν_s +
+// 1/ν_e) for stationary noise (ν the windows' effective samples). From the base model's
+// residual on the training + selection trials (at rest the model is the terrain's geometry
+// alone; the final rest's later half only, as the chair settles after it stops): drift when
+// Σ D²/v exceeds χ²_N(0.99) (N trials with both rests) and the mean of D is not told from 0
+// by a two-sided t test at 1 % (drift has no sign; a change all trials share is the model's,
+// e.g. a settling it gets wrong), then q̂ = Σ max(0, D² − v) / Σ Δt. The verdict then judges the residual less its slow part,
+// a local-linear Gaussian smooth of scale s_d [s] (transfer ≈ 1 − e^{−(2π f s_d)²/2}); a walk
+// of rate q leaves above it the variance
+//     q s_d ∫₀^∞ (1 − e^{−u²/2})² / u² du / π = q s_d (√2 − 1) / √π  ≈ 0.2337 q s_d,
+// and s_d is chosen so that this is `drift_budget` σ² (clamped to [0.15, 4] s; what is left
+// is added to the noise variance the tests allow). s_d comes from the rests alone, never from
+// the residual's own slow power, which carries the model's errors (a slow inertial-pitch error
+// would be taken for drift and removed). Slow model errors below 1/(2π s_d) are not told from
+// drift: the price of drifting data, paid only when the rests show drift. A slow wave whose
+// period a trial nearly spans hides from the rests (D ≈ 0) and is then taken for structure.
+//
 // What the verdict needs from the model (verdict.h):
 //  effective samples of n consecutive residual samples, n_eff = n² / Σ_{i,j} r(|i − j|)²
 //    (the degrees of freedom of their mean square's χ² allowance);
@@ -52,6 +84,12 @@ struct ChannelNoise {
   std::vector<double> acf{1.0};  ///< r(0..) while |r| ≥ 1e-3, r(0) = 1
   std::size_t rest_samples{0};   ///< samples of the rest windows used
   bool from_rest{false};         ///< false: white noise at sigma_hf assumed
+  double drift_rate{0.0};        ///< q̂ [unit²/s]; 0: no drift found
+  double slow_scale_s{0.0};      ///< s_d [s] of the slow part the verdict removes; 0: none
+  double drift_left{0.0};        ///< [unit²] drift variance left above it (0.2337 q̂ s_d)
+  double drift_statistic{0.0};   ///< Σ D²/v over the trials with both rests
+  double drift_bound{0.0};       ///< χ²_N(0.99)
+  bool drift_systematic{false};  ///< the changes share a sign (t test): the model's, not drift
 
   /// n² / Σ_{i,j<n} r(|i − j|)² (n for white noise).
   double EffectiveSamples(std::size_t n) const;
@@ -96,5 +134,45 @@ std::vector<ChannelNoise> FitNoiseColour(const std::vector<std::vector<double>>&
 /// Both channels from the initial rest of each record (RestSamples); the colour shared by x, Z
 /// and θ (the export's filter acts on every channel), the level each channel's own.
 NoiseModel EstimateNoiseModel(const std::vector<effects::TrialRecord>& records, double rest_window);
+
+inline constexpr double kOutlierLimit = 5.0;  ///< scales of d_k beyond which a sample is an outlier
+
+/// Replaces the outliers of `y` (above) by their neighbours' prediction, two passes, with the
+/// scale max(1.4826 median|d|, noise_sigma); returns how many were replaced. Series shorter
+/// than 7 samples are left as they are.
+std::size_t ReplaceOutliers(std::vector<double>& y, double noise_sigma = 0.0, double limit = kOutlierLimit);
+/// 1.4826 median|y_k − median y| over the first n samples (0 for n = 0).
+double RestSpread(const std::vector<double>& y, std::size_t n);
+/// The record with ReplaceOutliers applied to x, Z and θ, each with its RestSpread over the
+/// initial rest (RestSamples) as the noise σ.
+effects::TrialRecord WithoutOutliers(effects::TrialRecord record, double rest_window);
+
+/// Samples of the final rest of a trial (RestSamples on the time-reversed trial).
+std::size_t EndRestSamples(const std::vector<double>& t, const std::vector<double>& x, double rest_window);
+
+/// One trial's level change between its initial and final rest windows.
+struct RestLevelChange {
+  double change{0.0};  ///< D: mean over the final rest − mean over the initial rest
+  double dt_s{0.0};    ///< Δt between the windows' centres [s]
+  std::size_t n_start{0}, n_end{0};
+};
+
+/// D of `e` (a residual or a channel) on the trial (t, x); n_start = n_end = 0 when either rest
+/// has fewer than kMinRestSamples samples or the two overlap.
+RestLevelChange LevelChangeAtRest(const std::vector<double>& t, const std::vector<double>& x,
+                                  const std::vector<double>& e, double rest_window);
+
+/// 0.2337 = (√2 − 1)/√π: drift variance left above a slow part of scale s_d, per q s_d.
+inline constexpr double kDriftLeftPerScale = 0.2336950;
+inline constexpr double kMinSlowScale_s = 0.15;
+inline constexpr double kMaxSlowScale_s = 4.0;
+
+/// Sets noise's drift fields from the trials' level changes (above); `budget` the drift
+/// variance, in σ², the verdict allows above the slow part.
+void EstimateDrift(const std::vector<RestLevelChange>& changes, double budget, ChannelNoise& noise);
+
+/// y less its local-linear Gaussian smooth of scale `scale_s` (kernel cut at ±4 scales): the
+/// part of y above ≈ 1/(2π scale_s). y itself when scale_s ≤ 0.
+std::vector<double> WithoutSlowPart(const std::vector<double>& t, const std::vector<double>& y, double scale_s);
 
 }  // namespace pwsim::diagnose

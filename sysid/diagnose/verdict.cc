@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <boost/math/distributions/chi_squared.hpp>
+#include <boost/math/distributions/normal.hpp>
 #include <cmath>
 #include <cstdio>
 
@@ -43,12 +44,25 @@ double SlopeOf(const std::vector<double>& x, const std::vector<double>& y) {
 ChannelCheck CheckChannel(const std::vector<ResidualRecord>& records, bool pitch,
                           const ChannelNoise& noise, const VerdictOptions& o) {
   ChannelCheck c;
-  const double sigma = noise.sigma_upper > 0.0 ? noise.sigma_upper : noise.sigma;
+  const double sigma_noise = noise.sigma_upper > 0.0 ? noise.sigma_upper : noise.sigma;
+  // With drift, the residual less its slow part against the noise plus the drift left above it.
+  const double sigma = std::sqrt(sigma_noise * sigma_noise + noise.drift_left);
   c.sigma = sigma;
+  c.slow_scale_s = noise.slow_scale_s;
   const double clip = o.clip_sigma * sigma;
   auto square = [&](double v) { return sigma > 0.0 ? std::min(v * v, clip * clip) : v * v; };
-  auto e_of = [&](const ResidualRecord& r) -> const std::vector<double>& { return pitch ? r.e_pitch : r.e_z; };
-  auto u_of = [&](const ResidualRecord& r) -> const std::vector<double>& { return pitch ? r.gm_pitch : r.gm_z; };
+  // Residual and input in the band judged: both less their slow part (none without drift).
+  std::vector<std::vector<double>> fast, fast_input;
+  for (const auto& r : records) {
+    fast.push_back(WithoutSlowPart(r.t, pitch ? r.e_pitch : r.e_z, noise.slow_scale_s));
+    fast_input.push_back(WithoutSlowPart(r.t, pitch ? r.gm_pitch : r.gm_z, noise.slow_scale_s));
+  }
+  auto e_of = [&](const ResidualRecord& r) -> const std::vector<double>& {
+    return fast[static_cast<std::size_t>(&r - records.data())];
+  };
+  auto u_of = [&](const ResidualRecord& r) -> const std::vector<double>& {
+    return fast_input[static_cast<std::size_t>(&r - records.data())];
+  };
   // (a) magnitude over every record.
   double sum = 0.0;
   std::size_t n = 0;
@@ -105,7 +119,11 @@ ChannelCheck CheckChannel(const std::vector<ResidualRecord>& records, bool pitch
     weight += w;
   }
   c.whiteness = weight > 0.0 ? rbar / weight : 0.0;
-  c.whiteness_noise = noise.MeanAutocorrelation(5);
+  // The drift left above the slow part is noise too, correlated over far more than 5 lags.
+  const double stationary = sigma_noise * sigma_noise;
+  c.whiteness_noise = stationary + noise.drift_left > 0.0
+                          ? (stationary * noise.MeanAutocorrelation(5) + noise.drift_left) / (stationary + noise.drift_left)
+                          : noise.MeanAutocorrelation(5);
   double bartlett = 1.0;
   for (std::size_t k = 1; k < noise.acf.size(); ++k) bartlett += 2.0 * noise.acf[k] * noise.acf[k];
   c.whiteness_bound = weight > 0.0 ? kZ99 * std::sqrt(bartlett) / std::sqrt(5.0 * weight) : 0.0;
@@ -113,13 +131,21 @@ ChannelCheck CheckChannel(const std::vector<ResidualRecord>& records, bool pitch
   const double excess = c.whiteness - c.whiteness_noise;
   const double share = c.whiteness_noise < 1.0 ? excess / (1.0 - c.whiteness_noise) : 0.0;
   c.whiteness_fails = share > rmax2 / (1.0 + rmax2) && excess > c.whiteness_bound;
-  // (d) input correlation: the worst record.
+  // (d) input correlation: the worst record and lag, its bound widened from the pointwise 99 %
+  // to a family-wise α over the m = 51 × records lags looked at (Bonferroni, as (b)).
+  constexpr int kInputLags = 25;
+  std::size_t tested = 0;
+  for (const auto& r : records)
+    if (e_of(r).size() >= 60 && u_of(r).size() == e_of(r).size()) ++tested;
+  const double lags_looked_at = static_cast<double>((2 * kInputLags + 1) * std::max<std::size_t>(1, tested));
+  const double widening =
+      boost::math::quantile(boost::math::complement(boost::math::normal(), 0.5 * o.alpha / lags_looked_at)) / kZ99;
   for (const auto& r : records) {
     if (e_of(r).size() < 60 || u_of(r).size() != e_of(r).size()) continue;
-    const CorrelationTest ccf = CrossCorrelationTest(e_of(r), u_of(r), 25);
+    const CorrelationTest ccf = CrossCorrelationTest(e_of(r), u_of(r), kInputLags);
     if (ccf.worst > c.input_r) {
       c.input_r = ccf.worst;
-      c.input_bound = ccf.bound;
+      c.input_bound = widening * ccf.bound;
     }
   }
   c.input_fails = c.input_r > o.input_r_max && c.input_r > c.input_bound;
@@ -136,16 +162,20 @@ ChannelCheck CheckChannel(const std::vector<ResidualRecord>& records, bool pitch
 }
 
 std::string ChannelLine(const char* name, const ChannelCheck& c, const VerdictOptions& o) {
-  char buf[1024];
+  char drift[128] = "";
+  if (c.slow_scale_s > 0.0)
+    std::snprintf(drift, sizeof(drift), "; drift in the data: judged above %.2f Hz (slow part of scale %.2f s removed)",
+                  1.0 / (2.0 * 3.14159265358979 * c.slow_scale_s), c.slow_scale_s);
+  char buf[1200];
   std::snprintf(buf, sizeof(buf),
                 "%s: structured RMS %.2f σ (limit %.2f)%s, worst %.2g s window %.2f σ (limit %.2f) at "
                 "x = %.2f m in %s%s, whiteness r̄ %.2f (noise %.2f)%s, input |r| %.2f (limit %.2f)%s, "
-                "ρ vs speed %+.2f per m/s, vs load %+.2f per 100 kg",
+                "ρ vs speed %+.2f per m/s, vs load %+.2f per 100 kg%s",
                 name, c.rho, o.rho_max, c.magnitude_fails ? " FAILS" : "", o.window_s, c.rho_local,
                 o.rho_local, c.local_x, c.local_trial.empty() ? "-" : c.local_trial.c_str(),
                 c.local_fails ? " FAILS" : "", c.whiteness, c.whiteness_noise,
                 c.whiteness_fails ? " FAILS" : "", c.input_r, o.input_r_max,
-                c.input_fails ? " FAILS" : "", c.speed_slope, c.load_slope);
+                c.input_fails ? " FAILS" : "", c.speed_slope, c.load_slope, drift);
   return buf;
 }
 
@@ -178,6 +208,14 @@ double NoiseFloorFitPct(const std::vector<std::vector<double>>& records, double 
   }
   if (dev <= 0.0) return 0.0;
   return 100.0 * (1.0 - std::sqrt(n * sigma * sigma) / std::sqrt(dev));
+}
+
+void AddDrift(const std::vector<ResidualRecord>& records, double rest_window, double budget, NoiseModel& noise) {
+  for (const bool pitch : {false, true}) {
+    std::vector<RestLevelChange> changes;
+    for (const auto& r : records) changes.push_back(LevelChangeAtRest(r.t, r.x, pitch ? r.e_pitch : r.e_z, rest_window));
+    EstimateDrift(changes, budget, pitch ? noise.pitch : noise.z);
+  }
 }
 
 NoiseCheck CheckResidual(const std::vector<ResidualRecord>& records, const NoiseModel& noise,

@@ -12,9 +12,14 @@
 //
 // A residual e is "noise-like" when, in both channels, none of these tests fails
 // (ρ = structured RMS in units of σ̂; structure S and white noise σ add in power):
-// The noise model (σ̂ and the noise's autocorrelation r_n) comes from the data (noise_model.h);
-// |e| beyond clip_sigma σ̂ (5) is clipped to it in (a) and (b) (outliers of the mocap). σ̂ in
-// (a) and (b) is the noise level's one-sided 95 % upper bound (ChannelNoise::sigma_upper).
+// The noise model (σ̂, the noise's autocorrelation r_n, any drift) comes from the data
+// (noise_model.h; outliers were replaced in the measured trials before any fit). Where the
+// noise model holds a drift, e and the input of (d) are first replaced by themselves less
+// their slow part (scale s_d, noise_model.h WithoutSlowPart), σ̂² by σ̂² + the drift variance
+// left above it, and the noise's r̄_n in (c) by (σ̂² r̄_n + left)/(σ̂² + left) (the drift left is
+// correlated over far more than 5 lags);
+// |e| beyond clip_sigma σ̂ (5) is clipped to it in (a) and (b) (outliers the replacement left).
+// σ̂ in (a) and (b) is the noise level's one-sided 95 % upper bound (ChannelNoise::sigma_upper).
 //  (a) magnitude: ρ = sqrt(max(0, mean e² - σ̂²)) / σ̂ > rho_max (0.75) fails;
 //  (b) position (on the terrain, in the trial): in windows of `window_s`, the structured RMS
 //      beyond the χ² allowance, ρ_w = sqrt(max(0, mean_w e² - σ̂² q_w)) / σ̂ with
@@ -29,16 +34,21 @@
 //      when that share > rho_max²/(1+rho_max²) and r̄ − r̄_n exceeds the 99 % bound
 //      2.58/√(5N), widened by Bartlett's factor sqrt(1 + 2 Σ_k r_n(k)²) for coloured noise;
 //  (d) input correlation: the largest |r| between e and the channel's GM output at lags ±25
-//      (residual_analysis.h) fails when > input_r_max (0.4) and outside its 99 % bound;
+//      (residual_analysis.h) fails when > input_r_max (0.4) and outside its bound: the
+//      coloured-input bound (Bartlett) at the family-wise α over the 51 × records lags looked
+//      at (Bonferroni; the pointwise 99 % bound is crossed by chance in strongly low-passed,
+//      drifting noise: calibration sets 00914, 00919);
 //  (e) speed and load: ρ per trial against speed and load is evidence only (too few trials to
 //      decide).
-// Calibration (disclosed): the limits were first 0.5, 1.0 and 0.3. Even a correct model leaves
-// structure: the centring on the rest window (σ/√n_rest, ≈ 0.2 σ), parameter and GM
-// identification errors, the paper's small-angle contact geometry. On the first no-effect set
-// of the independent truth (seed 2) the base model left 0.47 σ (pitch), 1.05 σ in its worst
-// window and |r| 0.29 with the input, so the limits were raised to 0.75, 1.5 and 0.4 before the
-// confusion matrix (other seeds) was run. A structured RMS of 0.75 σ is a fit 0.25 (1 - floor/100)
-// ·100 points, i.e. ≈ 0.3 points, below the noise floor.
+// Calibration: every limit here (and drift_budget, noise_model.h's outlier limit and drift
+// test) is fixed on the calibration set alone, 20 no-effect sets of the independent truth on
+// development seeds 900-919 with white, low-pass-filtered, drifting, outlying and mixed noise
+// in turn (docs/diagnosis-calibration.md, each test's statistic per set against its limit);
+// the false-alarm rate is then measured once on the separate seeds 90000-90019
+// (docs/diagnosis-false-alarm.md). Even a correct model leaves some structure (centring on
+// the rest window, parameter and GM errors, the paper's small-angle contact geometry), which
+// the limits must allow. A structured RMS of 0.75 σ is a fit 0.25 (1 − floor/100)·100 points,
+// i.e. ≈ 0.3 points, below the noise floor.
 // Verdict: base noise-like → adequate; otherwise, causes found and the extended model
 // noise-like → explained; causes found but not noise-like → partly_explained; no cause →
 // unexplained. `cause` is none for adequate and unexplained, never meaning both.
@@ -79,10 +89,12 @@ struct VerdictOptions {
   double alpha{0.01};       ///< (b) family-wise false-alarm rate
   double input_r_max{0.4};  ///< (d)
   double clip_sigma{5.0};   ///< (a), (b): |e| above clip_sigma σ̂ counts as clip_sigma σ̂ (outliers)
+  double drift_budget{0.1};  ///< drift variance (in σ²) left above the slow part (noise_model.h)
 };
 
 struct ChannelCheck {
-  double sigma{0.0};           ///< σ̂ used (the noise model's upper bound)
+  double sigma{0.0};           ///< σ̂ used (the noise model's upper bound, with any drift left)
+  double slow_scale_s{0.0};    ///< [s] slow part removed before the tests (drift); 0: none
   double rho{0.0};             ///< (a)
   double rho_local{0.0};       ///< (b) worst window
   std::string local_trial;     ///< (b) where
@@ -109,6 +121,9 @@ struct NoiseCheck {
 /// Runs tests (a)-(e) on `records` against the noise model (noise_model.h).
 NoiseCheck CheckResidual(const std::vector<ResidualRecord>& records, const NoiseModel& noise,
                          const VerdictOptions& options = {});
+/// Sets the drift of `noise` (noise_model.h EstimateDrift) from `records`' residual level change
+/// between initial and final rest: the base model on the training + selection trials.
+void AddDrift(const std::vector<ResidualRecord>& records, double rest_window, double budget, NoiseModel& noise);
 /// The same with white noise of levels σ̂_z [m], σ̂_θ [rad].
 NoiseCheck CheckResidual(const std::vector<ResidualRecord>& records, double sigma_z,
                          double sigma_pitch, const VerdictOptions& options = {});

@@ -6,7 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <random>
 
 #include "synth/measurement_noise.h"
@@ -208,6 +210,248 @@ TEST(NoiseModelTest, RestLastsUntilTheChairDeparts) {
   // A chair moving from the first sample: the rest window is all the diagnosis assumes.
   for (std::size_t k = 0; k < x.size(); ++k) x[k] = 0.5 * t[k];
   EXPECT_EQ(RestSamples(t, x, 0.25), 25u);
+}
+
+}  // namespace
+}  // namespace pwsim::diagnose
+
+namespace pwsim::diagnose {
+namespace {
+
+/// Variance of the samples k ∈ [begin, end) of every series in `y` about 0.
+double MeanSquareOf(const std::vector<std::vector<double>>& y, std::size_t begin, std::size_t end) {
+  double s = 0.0;
+  std::size_t n = 0;
+  for (const auto& v : y)
+    for (std::size_t k = begin; k < std::min(end, v.size()); ++k, ++n) s += v[k] * v[k];
+  return s / static_cast<double>(n);
+}
+
+TEST(NoiseModelTest, TheVariogramOfARandomWalkGrowsLinearlyAndOfAr1PlusWalkAsItsSum) {
+  // Walk of std q_s per √s at 100 Hz: γ(k) = ½ q_s² k Δt. AR(1) + walk: σ² (1 − φ^k) + ½ q_s² k Δt.
+  synth::NoiseProcess walk;
+  walk.drift_per_sqrt_s = 1.0;
+  walk.sigma = 1.0;  // the walk's unit; no stationary part: every filter off
+  std::mt19937_64 rng(21);
+  std::vector<std::vector<double>> windows;
+  for (int w = 0; w < 400; ++w) {
+    std::vector<double> y = synth::DrawNoise(walk, 60, 100.0, rng);
+    windows.push_back(std::move(y));
+  }
+  // DrawNoise adds σ-white noise to the walk when no filter is set: γ(k) = σ² + ½ k Δt for k ≥ 1.
+  const std::vector<double> gamma = RestVariogram(windows, 30);
+  ASSERT_EQ(gamma.size(), 31u);
+  for (std::size_t k : {1u, 10u, 30u}) EXPECT_NEAR(gamma[k] / (1.0 + 0.005 * static_cast<double>(k)), 1.0, 0.05) << k;
+  synth::NoiseProcess ar = walk;
+  ar.ar1 = 0.8;
+  windows.clear();
+  for (int w = 0; w < 3000; ++w) windows.push_back(synth::DrawNoise(ar, 60, 100.0, rng));
+  const std::vector<double> g2 = RestVariogram(windows, 30);
+  // (long lags: few independent pairs per window; 3000 windows give ≈ 2.5 % standard error)
+  for (std::size_t k : {1u, 5u, 30u})
+    EXPECT_NEAR(g2[k] / (1.0 - std::pow(0.8, static_cast<double>(k)) + 0.005 * static_cast<double>(k)), 1.0, 0.06) << k;
+}
+
+TEST(NoiseModelTest, OutliersInContaminatedGaussianDataAreReplacedAndTheScaleIsItsOwn) {
+  // N(0, 1) with 1 % of the samples moved by ±(12..30) σ (beyond the limit of 6 robust scales
+  // of d, 6 × 1.39 σ): the cleaned series has std 1 again.
+  std::mt19937_64 rng(22);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<double> y(20000);
+  std::size_t inserted = 0;
+  for (double& v : y) {
+    v = gauss(rng);
+    if (unit(rng) < 0.01) {
+      v += (unit(rng) < 0.5 ? -1.0 : 1.0) * (12.0 + 18.0 * unit(rng));
+      ++inserted;
+    }
+  }
+  auto rms = [](const std::vector<double>& v) {
+    double s = 0.0;
+    for (double x : v) s += x * x;
+    return std::sqrt(s / static_cast<double>(v.size()));
+  };
+  EXPECT_GT(rms(y), 1.9);
+  const std::size_t replaced = ReplaceOutliers(y, 1.0, 6.0);  // 6 × 1.39 σ: all of 12 σ and more
+  EXPECT_NEAR(static_cast<double>(replaced), static_cast<double>(inserted), 0.01 * static_cast<double>(inserted));
+  // Replaced samples carry the prediction's noise, Var = (34/36) σ²: the std stays ≈ 1.
+  EXPECT_NEAR(rms(y), 1.0, 0.02);
+}
+
+TEST(NoiseModelTest, ASmoothMotionHasNoOutliers) {
+  // A cubic and slow sines with little noise: nothing is replaced, and the kinks of a ramp
+  // (slope changes of 10 mm per sample) neither.
+  std::mt19937_64 rng(23);
+  std::normal_distribution<double> gauss(0.0, 1e-4);
+  std::vector<double> y, ramp;
+  for (int k = 0; k < 2000; ++k) {
+    const double t = 0.01 * k;
+    y.push_back(0.02 * t * t * t - 0.1 * t + 0.01 * std::sin(3.0 * t) + gauss(rng));
+    ramp.push_back(0.01 * std::clamp(k - 900.0, 0.0, 5.0) + gauss(rng));
+  }
+  std::vector<double> copy = y;
+  EXPECT_EQ(ReplaceOutliers(y), 0u);
+  EXPECT_EQ(y, copy);
+  // A ramp is a kink at both ends: the cubic prediction misses it by a third of the slope
+  // change (3.3 mm here), far above the noise (scale from d alone), so it IS replaced: the
+  // change is bounded by the kink's own size.
+  std::vector<double> before = ramp;
+  ReplaceOutliers(ramp);
+  for (std::size_t k = 0; k < ramp.size(); ++k) EXPECT_NEAR(ramp[k], before[k], 0.01) << k;
+}
+
+TEST(NoiseModelTest, KinksInLowPassedNoiseAreNoOutliersAgainstTheNoiseLevel) {
+  // 8 Hz Butterworth-filtered noise of σ = 1 makes d small: a kink of 1.5 σ per sample (d = 0.5 σ
+  // at both ends of the ramp) stands out of d's own scale, not out of the noise's σ (RestSpread,
+  // the floor).
+  synth::NoiseProcess p;
+  p.sigma = 1.0;
+  p.low_pass_hz = 8.0;
+  std::mt19937_64 rng(28);
+  std::vector<double> y = synth::DrawNoise(p, 2000, 100.0, rng);
+  for (std::size_t k = 1000; k < y.size(); ++k) y[k] += 1.5 * static_cast<double>(std::min<std::size_t>(k - 1000, 40));
+  std::vector<double> unfloored = y;
+  EXPECT_GT(ReplaceOutliers(unfloored), 0u);
+  const double sigma = RestSpread(y, 100);
+  EXPECT_NEAR(sigma, 1.0, 0.35);
+  std::vector<double> floored = y;
+  EXPECT_EQ(ReplaceOutliers(floored, sigma), 0u);
+  // A spike of 8 σ in it is found against the floor.
+  floored[1500] += 8.0;
+  EXPECT_EQ(ReplaceOutliers(floored, sigma), 1u);
+  EXPECT_NEAR(floored[1500], y[1500], 0.3);
+}
+
+TEST(NoiseModelTest, TheFinalRestMirrorsTheInitialRest) {
+  std::vector<double> t, x;
+  for (int k = 0; k < 400; ++k) {
+    t.push_back(0.01 * k);
+    x.push_back(std::clamp(0.01 * k - 1.0, 0.0, 2.0));  // rest 1 s, move 2 s, rest 1 s
+  }
+  EXPECT_EQ(RestSamples(t, x, 0.25), 99u);  // x = 0 for k ≤ 100, less the 2 before departure
+  EXPECT_EQ(EndRestSamples(t, x, 0.25), 98u);  // x = 2 for k ≥ 300
+}
+
+/// Trials of `n` samples at 100 Hz, at rest for `rest` samples at each end, of the process.
+std::vector<RestLevelChange> LevelChanges(const synth::NoiseProcess& p, int trials, std::size_t n,
+                                          std::size_t rest, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::vector<RestLevelChange> out;
+  std::vector<double> t, x;
+  for (std::size_t k = 0; k < n; ++k) {
+    t.push_back(0.01 * static_cast<double>(k));
+    x.push_back(0.5 * std::clamp(0.01 * static_cast<double>(static_cast<int>(k) - static_cast<int>(rest)), 0.0,
+                                 0.01 * static_cast<double>(n - 2 * rest)));
+  }
+  for (int i = 0; i < trials; ++i) out.push_back(LevelChangeAtRest(t, x, synth::DrawNoise(p, n, 100.0, rng), 0.25));
+  return out;
+}
+
+TEST(NoiseModelTest, TheDriftRateOfARandomWalkIsFoundFromTheRestLevels) {
+  // White σ = 1 plus a walk of 0.5 σ/√s over 1000-sample trials (rests of 100 at each end):
+  // E D² = q Δt + σ² (1/ν_s + 1/ν_e), q = 0.25 σ²/s.
+  synth::NoiseProcess p;
+  p.sigma = 1.0;
+  p.drift_per_sqrt_s = 0.5;
+  const std::vector<RestLevelChange> changes = LevelChanges(p, 400, 1000, 100, 24);
+  ASSERT_GT(changes.front().n_start, 90u);
+  ASSERT_EQ(changes.front().n_end, 49u);  // the later half of the final rest's 99 samples
+  ChannelNoise noise = WhiteNoise(1.0);
+  EstimateDrift(changes, 0.1, noise);
+  EXPECT_GT(noise.drift_statistic, noise.drift_bound);
+  EXPECT_NEAR(noise.drift_rate / 0.25, 1.0, 0.12);
+  // s_d = budget σ² / (0.2337 q): 0.1 / (0.2337 × 0.25) = 1.71 s, leaving budget σ².
+  EXPECT_NEAR(noise.slow_scale_s, 0.1 / (kDriftLeftPerScale * noise.drift_rate), 1e-12);
+  EXPECT_NEAR(noise.drift_left, 0.1, 1e-12);
+  // Stationary noise: no drift (the χ² test at 1 %).
+  p.drift_per_sqrt_s = 0.0;
+  ChannelNoise still = WhiteNoise(1.0);
+  EstimateDrift(LevelChanges(p, 40, 1000, 100, 25), 0.1, still);
+  EXPECT_LT(still.drift_statistic, still.drift_bound);
+  EXPECT_EQ(still.drift_rate, 0.0);
+  EXPECT_EQ(still.slow_scale_s, 0.0);
+  // The same change of 0.5 σ in every trial (a settling the model gets wrong) is no drift,
+  // however significant: drift has no sign.
+  std::vector<RestLevelChange> shared = LevelChanges(p, 40, 1000, 100, 25);
+  for (RestLevelChange& c : shared) c.change += 0.5;
+  ChannelNoise model_error = WhiteNoise(1.0);
+  EstimateDrift(shared, 0.1, model_error);
+  EXPECT_GT(model_error.drift_statistic, model_error.drift_bound);
+  EXPECT_TRUE(model_error.drift_systematic);
+  EXPECT_EQ(model_error.slow_scale_s, 0.0);
+}
+
+TEST(NoiseModelTest, TheDriftLeftAboveTheSlowPartHasItsClosedForm) {
+  // ∫₀^∞ (1 − e^{−u²/2})² / u² du = √π (√2 − 1), by the trapezoidal rule.
+  double integral = 0.0;
+  const double du = 1e-4;
+  for (double u = du / 2; u < 200.0; u += du) {
+    const double g = 1.0 - std::exp(-0.5 * u * u);
+    integral += g * g / (u * u) * du;
+  }
+  integral += 1.0 / 200.0;  // the tail ∫_200^∞ du/u²
+  EXPECT_NEAR(integral, std::sqrt(std::numbers::pi) * (std::sqrt(2.0) - 1.0), 1e-4);
+  EXPECT_NEAR(kDriftLeftPerScale, (std::sqrt(2.0) - 1.0) / std::sqrt(std::numbers::pi), 1e-6);
+  // A walk of q = 1 /s less its slow part of scale 0.5 s leaves 0.2337 × 0.5 in the interior.
+  synth::NoiseProcess walk;
+  walk.sigma = 1e-9;  // the walk alone
+  walk.drift_per_sqrt_s = 1e9;
+  std::mt19937_64 rng(26);
+  std::vector<double> t;
+  for (int k = 0; k < 3000; ++k) t.push_back(0.01 * k);
+  std::vector<std::vector<double>> fast;
+  for (int i = 0; i < 200; ++i) fast.push_back(WithoutSlowPart(t, synth::DrawNoise(walk, 3000, 100.0, rng), 0.5));
+  EXPECT_NEAR(MeanSquareOf(fast, 500, 2500) / (kDriftLeftPerScale * 0.5), 1.0, 0.08);
+}
+
+TEST(NoiseModelTest, TheSlowPartIsALocalLinearGaussianSmooth) {
+  // A line is all slow part (at the ends too); a sine of frequency f keeps 1 − e^{−(2π f s)²/2}
+  // of its amplitude in the interior.
+  std::vector<double> t, line, slow, fast;
+  const double s = 0.5, f_slow = 0.2, f_fast = 3.0;
+  for (int k = 0; k < 2000; ++k) {
+    t.push_back(0.01 * k);
+    line.push_back(0.3 - 0.7 * t.back());
+    slow.push_back(std::sin(2.0 * std::numbers::pi * f_slow * t.back()));
+    fast.push_back(std::sin(2.0 * std::numbers::pi * f_fast * t.back()));
+  }
+  for (double v : WithoutSlowPart(t, line, s)) EXPECT_NEAR(v, 0.0, 1e-9);
+  auto amplitude = [&](const std::vector<double>& y) {
+    double a = 0.0;
+    for (std::size_t k = 500; k < 1500; ++k) a = std::max(a, std::abs(y[k]));
+    return a;
+  };
+  auto keep = [&](double f) { return 1.0 - std::exp(-0.5 * std::pow(2.0 * std::numbers::pi * f * s, 2.0)); };
+  EXPECT_NEAR(amplitude(WithoutSlowPart(t, slow, s)), keep(f_slow), 0.02);
+  EXPECT_NEAR(amplitude(WithoutSlowPart(t, fast, s)), keep(f_fast), 0.01);
+  EXPECT_EQ(WithoutSlowPart(t, slow, 0.0), slow);
+}
+
+TEST(NoiseModelTest, DriftingNoiseIsNoiseLikeOnceTheDriftIsModelledAndALocalErrorIsStillSeen) {
+  // White σ = 1 plus a walk of 0.6 σ/√s: the level wanders by ≈ 2 σ over a 10 s trial.
+  synth::NoiseProcess p;
+  p.sigma = 1.0;
+  p.drift_per_sqrt_s = 0.6;
+  std::mt19937_64 rng(27);
+  std::vector<ResidualRecord> records;
+  for (int i = 0; i < 12; ++i) {
+    std::vector<double> e = synth::DrawNoise(p, 1000, 100.0, rng);
+    for (double& v : e) v -= e.front();
+    ResidualRecord r = Record(e);
+    for (std::size_t k = 0; k < r.x.size(); ++k)  // rest 1 s at each end
+      r.x[k] = 0.5 * std::clamp(r.t[k] - 1.0, 0.0, 8.0);
+    records.push_back(std::move(r));
+  }
+  NoiseModel model{WhiteNoise(1.0), WhiteNoise(1.0)};
+  EXPECT_FALSE(CheckResidual(records, model).NoiseLike());
+  AddDrift(records, 0.25, VerdictOptions{}.drift_budget, model);
+  ASSERT_GT(model.z.slow_scale_s, 0.0);
+  const NoiseCheck check = CheckResidual(records, model);
+  EXPECT_TRUE(check.NoiseLike()) << check.Evidence();
+  // An error of 4 σ for 0.3 s (at an obstacle, say) is still local structure.
+  for (std::size_t k = 500; k < 530; ++k) records[3].e_z[k] += 4.0;
+  EXPECT_TRUE(CheckResidual(records, model).z.local_fails);
 }
 
 }  // namespace
