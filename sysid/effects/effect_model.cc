@@ -233,8 +233,8 @@ Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
     m.series = m.series || m.inv_unsprung[i] > 0.0;
     m.friction[i] = caster ? fx.caster_friction : fx.drive_friction;
     m.any_friction = m.any_friction || m.friction[i] > 0.0;
-    const double load_kn =
-        1e-3 * (fx.member.cushion_load == CushionLoad::kWholeChair ? MovingMass(chair, trial.load_kg) * kGravity : loads[i]);
+    const bool whole_chair = fx.member.cushion_load == CushionLoad::kWholeChair;
+    const double load_kn = 1e-3 * (whole_chair ? MovingMass(chair, trial.load_kg) * kGravity : loads[i]);
     const double loss = fx.cushion_loss_per_kn == 0.0
                             ? 0.0
                             : fx.cushion_loss_per_kn * std::pow(std::max(0.0, load_kn), fx.cushion_exponent);
@@ -452,14 +452,15 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
     if (m.any_tyre) {
       // The suspension's force and torque on the chassis at j (spring, damper and coupling,
       // deviations from equilibrium); each unsprung wheel takes its share in reaction.
-      const double dz = body.z - g0.z, dz_rate = body.z_rate - gm_z_rate_prev;
-      double dp = body.pitch - g0.pitch, dp_rate = body.pitch_rate - gm_pitch_rate_prev;
-      if (m.exact) {  // the pitch spring and damper on sin θ - sin θ_GM and its rate
-        dp = std::sin(body.pitch) - std::sin(g0.pitch);
-        dp_rate = std::cos(body.pitch) * body.pitch_rate - std::cos(g0.pitch) * gm_pitch_rate_prev;
-      }
+      const double dz = body.z - g0.z, dp = body.pitch - g0.pitch;
+      const double dz_rate = body.z_rate - gm_z_rate_prev, dp_rate = body.pitch_rate - gm_pitch_rate_prev;
+      // The pitch spring and damper (exact kinematics: on sin θ - sin θ_GM and its rate).
+      const double pitch_spring =
+          m.exact ? m.k_t * (std::sin(body.pitch) - std::sin(g0.pitch)) +
+                        m.c_t * (std::cos(body.pitch) * body.pitch_rate - std::cos(g0.pitch) * gm_pitch_rate_prev)
+                  : m.k_t * dp + m.c_t * dp_rate;
       const double force = m.k_z * dz + m.c_z * dz_rate + m.k_zt * dp + m.c_zt * dp_rate;
-      const double torque = m.k_t * dp + m.c_t * dp_rate + m.k_zt * dz + m.c_zt * dz_rate;
+      const double torque = pitch_spring + m.k_zt * dz + m.c_zt * dz_rate;
       if (m.series) {
         for (int i = 0; i < w; ++i) zc_rate[i] = m.tyre[i] != 0 ? tyre_rate[i] : (h1[i] - h0[i]) * inv_dt;
         off_plane(zc0.data(), off);
