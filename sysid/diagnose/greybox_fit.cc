@@ -244,39 +244,34 @@ double LargestPitchSwing(const std::vector<FitTrial>& trials) {
 }
 
 /// Every start of every member of `family` (the last effect of `map`, its values at column
-/// `col` of `u`), under each of `kinematics`, scored by its training error; the best of each
-/// member chosen by the member's rule (FamilyMember: `solved`, `rung`,
-/// `ranked_with_previous`), in member order, small angles first.
+/// `col` of `u`), scored by its training error; the best of each member chosen by the member's
+/// rule (FamilyMember: `solved`, `rung`, `ranked_with_previous`), in member order.
 std::vector<Start> ChooseStarts(const std::vector<FitTrial>& training, Mapper map,
                                 const effects::EffectFamily& family, std::vector<double> u, int col,
-                                const std::vector<effects::Kinematics>& kinematics,
                                 const ChannelWeights& weights) {
   const std::vector<double> lm_start(u.begin(), u.begin() + 4);
   const bool alone = map.effects.size() == 1;
   std::vector<std::vector<Start>> rankings;  // one per member, or per members ranked together
   std::vector<const effects::FamilyMember*> rule;
-  for (effects::Kinematics geometry : kinematics) {
-    for (const effects::FamilyMember& member : family.members) {
-      if (!member.ranked_with_previous || rankings.empty()) {
-        rankings.emplace_back();
-        rule.push_back(&member);
-      }
-      effects::CopyMember(family.id, member.setting, map.base_fx.member);
-      map.base_fx.member.kinematics = geometry;
-      std::vector<int> held;
-      for (std::size_t j : member.held) held.push_back(col + static_cast<int>(j));
-      for (const std::vector<double>& values : member.starts) {
-        for (std::size_t j = 0; j < values.size(); ++j)
-          u[static_cast<std::size_t>(col) + j] = values[j] / family.params[j].scale;
-        std::copy(lm_start.begin(), lm_start.end(), u.begin());
-        const std::vector<double> raised =
-            member.series_start && alone ? SeriesStiffnessStart(training.front().prepared, map, u) : lm_start;
-        for (int lm = 0; lm < (raised != lm_start ? 2 : 1); ++lm) {
-          std::copy(lm == 0 ? lm_start.begin() : raised.begin(), lm == 0 ? lm_start.end() : raised.end(), u.begin());
-          const double sse = WeightedSse(training, map.Params(u.data()), weights);
-          const double score = std::isfinite(sse) ? sse : std::numeric_limits<double>::infinity();
-          rankings.back().push_back({u, &member, map.base_fx, held, score});
-        }
+  for (const effects::FamilyMember& member : family.members) {
+    if (!member.ranked_with_previous || rankings.empty()) {
+      rankings.emplace_back();
+      rule.push_back(&member);
+    }
+    effects::CopyMember(family.id, member.setting, map.base_fx.member);
+    std::vector<int> held;
+    for (std::size_t j : member.held) held.push_back(col + static_cast<int>(j));
+    for (const std::vector<double>& values : member.starts) {
+      for (std::size_t j = 0; j < values.size(); ++j)
+        u[static_cast<std::size_t>(col) + j] = values[j] / family.params[j].scale;
+      std::copy(lm_start.begin(), lm_start.end(), u.begin());
+      const std::vector<double> raised =
+          member.series_start && alone ? SeriesStiffnessStart(training.front().prepared, map, u) : lm_start;
+      for (int lm = 0; lm < (raised != lm_start ? 2 : 1); ++lm) {
+        std::copy(lm == 0 ? lm_start.begin() : raised.begin(), lm == 0 ? lm_start.end() : raised.end(), u.begin());
+        const double sse = WeightedSse(training, map.Params(u.data()), weights);
+        const double score = std::isfinite(sse) ? sse : std::numeric_limits<double>::infinity();
+        rankings.back().push_back({u, &member, map.base_fx, held, score});
       }
     }
   }
@@ -341,6 +336,47 @@ int Solve(const std::vector<FitTrial>& training, const Mapper& map, const Channe
   return static_cast<int>(summary.iterations.size());
 }
 
+/// The best of a multi-start: its optimiser vector, its start, the iterations, the training
+/// error.
+struct Best {
+  std::vector<double> u;
+  std::optional<Start> start;  ///< empty: nothing solved yet
+  int iterations{0};
+  double sse{std::numeric_limits<double>::infinity()};
+};
+
+/// Solves each of `starts` (more than three: each a few iterations, the best then solved on) and
+/// returns the lowest training error's (the first of equal errors); each solve is appended to
+/// `solved`.
+Best SolveStarts(const std::vector<FitTrial>& training, Mapper map, const ChannelWeights& weights,
+                 const FitOptions& options, const std::vector<Start>& starts,
+                 std::vector<FitResult::SolvedStart>& solved) {
+  const bool screened = starts.size() > 3;
+  const int first_pass = screened ? std::min(options.max_iterations, kScreenIterations) : options.max_iterations;
+  Best best;
+  for (const Start& s : starts) {
+    map.base_fx = s.base_fx;
+    std::vector<double> x = s.u;
+    const int it = Solve(training, map, weights, options, s.held, x, first_pass);
+    const double sse = WeightedSse(training, map.Params(x.data()), weights);
+    solved.push_back({s.member ? s.member->name : "", s.base_fx.member.kinematics, sse});
+    if (!best.start || sse < best.sse) {  // the first of equal errors
+      best = Best{x, s, it, sse};
+    }
+  }
+  map.base_fx = best.start->base_fx;
+  if (screened && options.max_iterations > first_pass) {
+    std::vector<double> x = best.u;
+    best.iterations += Solve(training, map, weights, options, best.start->held, x, options.max_iterations - first_pass);
+    const double sse = WeightedSse(training, map.Params(x.data()), weights);
+    if (sse <= best.sse) {
+      best.u = x;
+      best.sse = sse;
+    }
+  }
+  return best;
+}
+
 }  // namespace
 
 FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
@@ -363,43 +399,28 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
       u.push_back(std::clamp(values[j], specs[j].lower, specs[j].upper) / specs[j].scale);
   }
   // Multi-start of the last effect over its family's members x starts (only its own member
-  // changes: the earlier effects keep theirs), or the given start alone.
+  // changes: the earlier effects keep theirs), or the given start alone. Past the small-angle
+  // limit the whole multi-start is run under exact kinematics as well, and the lower final
+  // training error kept (the small-angle one of equal errors).
   std::vector<effects::Kinematics> kinematics{start.fx.member.kinematics};
   if (last && options.multi_start && kinematics.front() == effects::Kinematics::kSmallAngle &&
       LargestPitchSwing(training) > options.small_angle_limit)
     kinematics.push_back(effects::Kinematics::kExact);
-  const std::vector<Start> starts =
-      last && options.multi_start
-          ? ChooseStarts(training, map, effects::Family(*last), u, last_col, kinematics, weights)
-          : std::vector<Start>{Start{u, nullptr, start.fx, {}, 0.0}};
-  // More than three starts: each solved a few iterations, the best then solved on.
-  const bool screened = starts.size() > 3;
-  const int first_pass = screened ? std::min(options.max_iterations, kScreenIterations) : options.max_iterations;
   FitResult result;
-  double best_sse = std::numeric_limits<double>::infinity();
-  const Start* best = nullptr;
-  for (const Start& s : starts) {
-    map.base_fx = s.base_fx;
-    std::vector<double> x = s.u;
-    const int it = Solve(training, map, weights, options, s.held, x, first_pass);
-    const double sse = WeightedSse(training, map.Params(x.data()), weights);
-    result.starts.push_back({s.member ? s.member->name : "", s.base_fx.member.kinematics, sse});
-    if (!best || sse < best_sse) {  // the first of equal errors
-      best_sse = sse;
-      best = &s;
-      u = x;
-      result.iterations = it;
-    }
+  Best best;
+  for (effects::Kinematics geometry : kinematics) {
+    map.base_fx.member.kinematics = geometry;
+    const std::vector<Start> starts =
+        last && options.multi_start ? ChooseStarts(training, map, effects::Family(*last), u, last_col, weights)
+                                    : std::vector<Start>{Start{u, nullptr, start.fx, {}, 0.0}};
+    Best fit = SolveStarts(training, map, weights, options, starts, result.starts);
+    if (!best.start || fit.sse < best.sse) best = std::move(fit);
   }
-  map.base_fx = best->base_fx;
-  if (screened && options.max_iterations > first_pass) {
-    std::vector<double> x = u;
-    result.iterations += Solve(training, map, weights, options, best->held, x, options.max_iterations - first_pass);
-    if (WeightedSse(training, map.Params(x.data()), weights) <= best_sse) u = x;
-  }
-
+  map.base_fx = best.start->base_fx;
+  u = best.u;
+  result.iterations = best.iterations;
   result.effects = effect_list;
-  result.member = best->member ? best->member->name : "";
+  result.member = best.start->member ? best.start->member->name : "";
   result.params = map.Params(u.data());
   for (effects::EffectId id : effect_list) {
     const std::vector<double> v = effects::GetEffectValues(id, result.params.fx);
