@@ -56,7 +56,7 @@ struct FitOptions {
   /// (a refinement of a previous fit).
   bool multi_start{true};
   /// [rad] Where the measured pitch swings further than this from its rest value in a training
-  /// trial, every member of the multi-start is also tried under exact rigid-body kinematics
+  /// trial, the multi-start is run under exact rigid-body kinematics as well
   /// (effect_model.h, Kinematics::kExact); the small-angle pitch stiffness is 3.9 % off at 0.2.
   double small_angle_limit{0.2};
 };
@@ -92,7 +92,8 @@ FitResult FitModel(const std::vector<FitTrial>& training, std::optional<effects:
 /// family's members x starts (effect_catalog.h, EffectFamily): every start scored by its
 /// training error, the best of each member solved (more than three: each a few iterations,
 /// then the best solved on), the lowest training error kept. Where the training trials pitch
-/// beyond options.small_angle_limit, each member is tried under exact kinematics as well. options.multi_start false: one
+/// beyond options.small_angle_limit, the multi-start is run under exact kinematics as well
+/// and the lower final training error kept. options.multi_start false: one
 /// start, `start` itself.
 FitResult FitModelJoint(const std::vector<FitTrial>& training,
                         const std::vector<effects::EffectId>& effects,
