@@ -92,10 +92,11 @@ TEST(FitModelJointTest, AJointStartCarriesOnlyTheNewExtensionsMember) {
   EXPECT_EQ(again.params.fx.member.stops, effects::StopSides::kBoth);
 }
 
-// Exact kinematics is a member of the whole model: tried for every member where the measured
-// pitch swings past options.small_angle_limit. These trials swing less than the default 0.2 rad,
-// so only small angles are tried; with the limit at 0 both are, and trials made (noise-free)
-// under exact kinematics keep it, every small-angle solve worse.
+// Exact kinematics is a member of the whole model: where the measured pitch swings past
+// options.small_angle_limit the multi-start is run under it as well. These trials swing less
+// than the default 0.2 rad, so only small angles are tried; with the limit at 0 both are (the
+// small-angle solves as before, to the bit), and trials made (noise-free) under exact
+// kinematics keep it, every small-angle solve worse.
 TEST(FitModelJointTest, ExactKinematicsIsTriedPastTheSmallAngleLimitAndKeptWhenTheDataSaySo) {
   effects::EffectParams truth = StopsBothWays();
   truth.member.kinematics = effects::Kinematics::kExact;
@@ -111,6 +112,11 @@ TEST(FitModelJointTest, ExactKinematicsIsTriedPastTheSmallAngleLimitAndKeptWhenT
   options.small_angle_limit = 0.0;
   const FitResult both = FitModel(trials, EffectId::kNonlinearStiffness, lm, w, options);
   ASSERT_EQ(both.starts.size(), 4u);  // each member under each kinematics
+  // The small-angle multi-start is run by itself, as without the limit, to the bit.
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(both.starts[k].kinematics, effects::Kinematics::kSmallAngle);
+    EXPECT_EQ(both.starts[k].sse, small.starts[k].sse);
+  }
   EXPECT_EQ(both.params.fx.member.kinematics, effects::Kinematics::kExact);
   EXPECT_EQ(both.member, "both");
   for (const FitResult::SolvedStart& s : both.starts)
