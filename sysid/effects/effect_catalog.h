@@ -45,7 +45,7 @@ struct ParamSpec {
   double scale{1.0};  ///< typical magnitude (the optimiser works on value/scale)
   double lower{0.0};
   double upper{1.0};
-  std::vector<double> starts;  ///< starting values tried before the local fit
+  std::vector<double> starts;  ///< starting values; the members start at their combinations
 };
 
 /// One discrete law of a family: its setting of the family's EffectMembers field, the
