@@ -165,11 +165,13 @@ EffectFamily MakeFamily(EffectId id) {
       break;
     }
     case EffectId::kNonlinearStiffness: {
-      // Stops in compression only, or in rebound as well (with stops: b > 0), the best start of
-      // each solved (a start's error hardly tells them apart).
+      // Stops in compression only, in rebound as well, or in rebound only (with stops: b > 0),
+      // the best start of each solved (a start's error hardly tells them apart).
       FamilyMember both = Member("both", StartGrid(p, {{}, {}, {1.0}, {}}));
       both.setting.stops = StopSides::kBoth;
-      family.members = {Member("compression", StartGrid(p)), both};
+      FamilyMember rebound = Member("rebound", StartGrid(p, {{}, {}, {1.0}, {}}));
+      rebound.setting.stops = StopSides::kRebound;
+      family.members = {Member("compression", StartGrid(p)), both, rebound};
       break;
     }
     default:
@@ -194,7 +196,9 @@ const std::vector<ParamSpec>& EffectParameters(EffectId id) { return Family(id).
 std::vector<std::pair<std::string, double>> MemberFlags(EffectId id, const EffectMembers& member) {
   if (id == EffectId::kCushionCompliance)
     return {{"cushion_whole_chair", member.cushion_load == CushionLoad::kWholeChair ? 1.0 : 0.0}};
-  if (id == EffectId::kNonlinearStiffness) return {{"bump_rebound", member.stops == StopSides::kBoth ? 1.0 : 0.0}};
+  if (id == EffectId::kNonlinearStiffness)
+    return {{"bump_rebound", member.stops != StopSides::kCompression ? 1.0 : 0.0},
+            {"bump_compression", member.stops != StopSides::kRebound ? 1.0 : 0.0}};
   return {};
 }
 

@@ -81,7 +81,7 @@ const EffectFamily& Family(EffectId id);
 /// The parameters of one effect's extension (Family(id).params).
 const std::vector<ParamSpec>& EffectParameters(EffectId id);
 /// Effect `id`'s family member in `member` as named flags for reports: cushion_whole_chair
-/// (cushion), bump_rebound (stops), 1 or 0; none for the other families.
+/// (cushion), bump_rebound and bump_compression (stops), 1 or 0; none for the other families.
 std::vector<std::pair<std::string, double>> MemberFlags(EffectId id, const EffectMembers& member);
 /// Copies effect `id`'s family member (its field of EffectMembers) from `from` into `to`.
 void CopyMember(EffectId id, const EffectMembers& from, EffectMembers& to);

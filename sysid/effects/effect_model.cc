@@ -192,7 +192,7 @@ struct Setup {
   double mass{1.0}, lever{0.0};
   double k_z{0}, c_z{0}, k_t{0}, c_t{0}, k_zt{0}, c_zt{0};
   double hard_z{0}, hard_t{0}, bump_gain{0}, bump_gap{0}, presliding{5e-4};
-  bool bump_rebound{false};
+  bool bump_rebound{false}, bump_compression{true};
   double marker_x{0}, marker_z{0};
   bool any_radius{false}, any_tyre{false}, any_friction{false}, unit_heights{true};
   bool held_forces{false};  ///< coupling, hardening, bump stops, friction or exact kinematics
@@ -273,7 +273,8 @@ Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
   m.hard_t = fx.pitch_hardening;
   m.bump_gain = fx.bump_gain;
   m.bump_gap = fx.bump_gap;
-  m.bump_rebound = fx.member.stops == StopSides::kBoth;
+  m.bump_rebound = fx.member.stops != StopSides::kCompression;
+  m.bump_compression = fx.member.stops != StopSides::kRebound;
   m.presliding = std::max(1e-6, fx.friction_presliding);
   // Γ_θ = M lever a_x with the mass-weighted lever of chair and occupant.
   m.lever = (chair.mass * fx.cm_lever + trial.load_kg * fx.load_cm_lever) / m.mass;
@@ -313,7 +314,7 @@ Load HeldForces(const Setup& m, const Body& b, const GeometricOutput& gm, double
       const double over = compression - m.bump_gap;
       const double under = m.bump_rebound ? -compression - m.bump_gap : 0.0;
       double force = 0.0;
-      if (over > 0.0) force = m.bump_gain * m.k_z * m.alpha[i] * over * over / kHeaveRef;
+      if (m.bump_compression && over > 0.0) force = m.bump_gain * m.k_z * m.alpha[i] * over * over / kHeaveRef;
       if (under > 0.0) force = -m.bump_gain * m.k_z * m.alpha[i] * under * under / kHeaveRef;
       f.heave += force;
       f.pitch += force * m.wheel_x[i];

@@ -37,7 +37,7 @@ namespace pwsim::effects {
 /// (effect_catalog.h, EffectFamily): each is chosen by the fit among its family's members,
 /// never fitted continuously, and kept apart from the fitted values below.
 enum class CushionLoad { kPerWheel, kWholeChair };  ///< W = α_i M g, or W = M g
-enum class StopSides { kCompression, kBoth };       ///< bump stops in compression, or rebound too
+enum class StopSides { kCompression, kBoth, kRebound };  ///< where the bump stops act
 /// The chassis' kinematics, a member of the whole model rather than of one family:
 ///  - kSmallAngle (the paper's, identification's; the default): wheel i, at x_i in the chassis
 ///    frame, touches the ground at x + x_i, its anchor at Z + x_i θ; the LM's pitch spring and
@@ -107,9 +107,9 @@ struct EffectParams {
   double pitch_hardening{0.0};  ///< κ_θ [-]
   // ... and per-wheel bump stops (progressive): wheel i adds
   //   F_i = b K_Z α_i max(0, c_i - g)² / δ_ref,  c_i = Z_Oi - (Z + x_i sin θ) its compression,
-  // at x_i; with rebound stops as well (member.stops == kBoth, a discrete member of the family,
-  // both fitted and the better kept) it also adds -b K_Z α_i max(0, -c_i - g)² / δ_ref in extension, pulling the
-  // chassis back down.
+  // at x_i (member.stops == kCompression); with rebound stops as well (kBoth) it also adds
+  // -b K_Z α_i max(0, -c_i - g)² / δ_ref in extension, pulling the chassis back down; kRebound:
+  // that rebound force alone (the family's three members, each fitted, the best kept).
   double bump_gain{0.0};      ///< b [-]
   double bump_gap{0.0};       ///< g [m] compression (and extension) before a stop engages
   // suspension_friction: dry friction in each wheel's suspension, Dahl's law on the wheel's

@@ -57,10 +57,30 @@ TEST(FitModelJointTest, MultiStartKeepsTheMemberTheTrialsWereMadeWith) {
   const FitResult fit = FitModel(trials, EffectId::kNonlinearStiffness, lm, MakeChannelWeights(trials));
   EXPECT_EQ(fit.member, "both");
   EXPECT_EQ(fit.params.fx.member.stops, effects::StopSides::kBoth);
-  ASSERT_EQ(fit.starts.size(), 2u);  // the best start of each member
+  ASSERT_EQ(fit.starts.size(), 3u);  // the best start of each member
   EXPECT_EQ(fit.starts[0].member, "compression");
   EXPECT_EQ(fit.starts[1].member, "both");
+  EXPECT_EQ(fit.starts[2].member, "rebound");
+  EXPECT_GT(fit.starts[2].sse, 1.5 * fit.sse);
   EXPECT_GT(fit.starts[0].sse, 1.5 * fit.sse) << fit.starts[0].sse << " " << fit.starts[1].sse;
+  EXPECT_NEAR(fit.params.fx.bump_gap / 0.002, 1.0, 0.2);
+}
+
+// Stops acting in rebound only: the family's third member is kept, with the truth's gap.
+TEST(FitModelJointTest, MultiStartKeepsReboundOnlyStops) {
+  effects::EffectParams truth = StopsBothWays();
+  truth.member.stops = effects::StopSides::kRebound;
+  const std::vector<FitTrial> trials = TrialsWith(truth);
+  const LumpedParams lm = *trials.front().prepared.chair.lm;
+  const FitResult fit = FitModel(trials, EffectId::kNonlinearStiffness, lm, MakeChannelWeights(trials));
+  EXPECT_EQ(fit.member, "rebound");
+  EXPECT_EQ(fit.params.fx.member.stops, effects::StopSides::kRebound);
+  ASSERT_EQ(fit.starts.size(), 3u);
+  for (const FitResult::SolvedStart& s : fit.starts) {
+    if (s.member != "rebound") {
+      EXPECT_GT(s.sse, 1.5 * fit.sse) << s.member;
+    }
+  }
   EXPECT_NEAR(fit.params.fx.bump_gap / 0.002, 1.0, 0.2);
 }
 
@@ -79,8 +99,9 @@ TEST(FitModelJointTest, AJointStartCarriesOnlyTheNewExtensionsMember) {
   const FitResult fit = FitModelJoint(trials, {EffectId::kCushionCompliance, EffectId::kNonlinearStiffness},
                                       start, MakeChannelWeights(trials), options);
   EXPECT_EQ(fit.params.fx.member.cushion_load, effects::CushionLoad::kWholeChair);
-  ASSERT_EQ(fit.starts.size(), 2u);
-  for (const FitResult::SolvedStart& s : fit.starts) EXPECT_TRUE(s.member == "compression" || s.member == "both");
+  ASSERT_EQ(fit.starts.size(), 3u);
+  for (const FitResult::SolvedStart& s : fit.starts)
+    EXPECT_TRUE(s.member == "compression" || s.member == "both" || s.member == "rebound") << s.member;
   EXPECT_EQ(fit.member, "both");
   // Without a multi-start, the one start given, every member as given.
   options.multi_start = false;
@@ -106,14 +127,14 @@ TEST(FitModelJointTest, ExactKinematicsIsTriedPastTheSmallAngleLimitAndKeptWhenT
   FitOptions options;
   options.max_iterations = 8;
   const FitResult small = FitModel(trials, EffectId::kNonlinearStiffness, lm, w, options);
-  ASSERT_EQ(small.starts.size(), 2u);
+  ASSERT_EQ(small.starts.size(), 3u);
   for (const FitResult::SolvedStart& s : small.starts)
     EXPECT_EQ(s.kinematics, effects::Kinematics::kSmallAngle);
   options.small_angle_limit = 0.0;
   const FitResult both = FitModel(trials, EffectId::kNonlinearStiffness, lm, w, options);
-  ASSERT_EQ(both.starts.size(), 4u);  // each member under each kinematics
+  ASSERT_EQ(both.starts.size(), 6u);  // each member under each kinematics
   // The small-angle multi-start is run by itself, as without the limit, to the bit.
-  for (std::size_t k = 0; k < 2; ++k) {
+  for (std::size_t k = 0; k < 3; ++k) {
     EXPECT_EQ(both.starts[k].kinematics, effects::Kinematics::kSmallAngle);
     EXPECT_EQ(both.starts[k].sse, small.starts[k].sse);
   }
@@ -153,8 +174,11 @@ TEST(EffectFamilyTest, MembersStartWithinBoundsAndHoldWhatTheySay) {
   EXPECT_EQ(tyre.members[1].starts.size(), 6u * 8u);  // the 9 compliance pairs but (0, 0)
   for (const auto& s : tyre.members[1].starts) EXPECT_TRUE(s[3] > 0.0 || s[4] > 0.0);
   const effects::EffectFamily& stops = effects::Family(EffectId::kNonlinearStiffness);
-  for (const auto& s : stops.members[1].starts) EXPECT_GT(s[2], 0.0);
+  ASSERT_EQ(stops.members.size(), 3u);
+  for (std::size_t m = 1; m < 3; ++m)
+    for (const auto& s : stops.members[m].starts) EXPECT_GT(s[2], 0.0);
   EXPECT_EQ(stops.members[1].setting.stops, effects::StopSides::kBoth);
+  EXPECT_EQ(stops.members[2].setting.stops, effects::StopSides::kRebound);
 }
 
 }  // namespace

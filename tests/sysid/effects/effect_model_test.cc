@@ -290,9 +290,18 @@ TEST(EffectModelTest, ReboundStopsHoldTheChassisDownAndActOnlyPastTheirGap) {
   }
   ASSERT_GT(rise_a, 0.004);  // the crossing extends the suspension past the gap
   EXPECT_LT(rise_b, 0.9 * rise_a);
+  // Stops in rebound only cut the rise as well, and with a gap wider than any extension they
+  // never engage: the base model, to the bit.
+  ExtendedParams rebound = both;
+  rebound.fx.member.stops = StopSides::kRebound;
+  const ModelOutput r = SimulateExtended(trial, rebound);
+  double rise_r = 0.0;
+  for (std::size_t k = 0; k < r.z.size(); ++k) rise_r = std::max(rise_r, r.z[k] - r.z_gm[k]);
+  EXPECT_LT(rise_r, 0.9 * rise_a);
   // A gap wider than any stroke: the rebound stops never engage, to the bit.
-  compression.fx.bump_gap = both.fx.bump_gap = 0.5;
+  compression.fx.bump_gap = both.fx.bump_gap = rebound.fx.bump_gap = 0.5;
   EXPECT_EQ(SimulateExtended(trial, compression).z, SimulateExtended(trial, both).z);
+  EXPECT_EQ(SimulateExtended(trial, rebound).z, SimulateExtended(trial, ExtendedParams{*trial.chair.lm, {}}).z);
 }
 
 TEST(EffectModelTest, InertialPitchTorqueFollowsAcceleration) {
