@@ -55,7 +55,7 @@ void BM_SimulateStops(benchmark::State& state) {
   p.fx.pitch_hardening = 0.3;
   p.fx.bump_gain = 1.0;
   p.fx.bump_gap = 0.004;
-  p.fx.bump_rebound = true;
+  p.fx.member.stops = pwsim::effects::StopSides::kBoth;
   Run(state, p);
 }
 

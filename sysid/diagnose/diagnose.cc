@@ -33,11 +33,9 @@ std::vector<std::pair<std::string, double>> NamedParameters(const FitResult& fit
   for (EffectId id : fit.effects) {
     const auto& specs = effects::EffectParameters(id);
     for (std::size_t j = 0; j < specs.size(); ++j) out.emplace_back(specs[j].name, fit.effect_values[col++]);
-    if (id == EffectId::kCushionCompliance)
-      out.emplace_back("cushion_whole_chair", fit.params.fx.cushion_whole_chair ? 1.0 : 0.0);
-    if (id == EffectId::kNonlinearStiffness)
-      out.emplace_back("bump_rebound", fit.params.fx.bump_rebound ? 1.0 : 0.0);
+    for (const auto& flag : effects::MemberFlags(id, fit.params.fx.member)) out.push_back(flag);
   }
+  if (fit.params.fx.member.kinematics == effects::Kinematics::kExact) out.emplace_back("exact_kinematics", 1.0);
   out.emplace_back("k_z", fit.params.lm.k_z);
   out.emplace_back("c_z", fit.params.lm.c_z);
   out.emplace_back("k_theta", fit.params.lm.k_theta);

@@ -20,7 +20,7 @@ constexpr int kScreenIterations = 5;  ///< first-pass iterations when many start
 struct Mapper {
   std::vector<effects::EffectId> effects;
   LumpedParams start;
-  effects::EffectParams base_fx;  ///< settings not optimised (e.g. the cushion's load basis)
+  effects::EffectParams base_fx;  ///< settings not optimised (each family's member)
 
   int Size() const {
     int n = 4;
@@ -353,6 +353,168 @@ FitResult FitModel(const std::vector<FitTrial>& training, std::optional<effects:
   return FitModelJoint(training, list, p, weights, options);
 }
 
+namespace {
+
+/// One start of a multi-start: the optimiser vector, the member it belongs to, the settings
+/// not optimised (its member's), the parameters held, its training error before solving.
+struct Start {
+  std::vector<double> u;
+  const effects::FamilyMember* member{nullptr};  ///< null: the given start, no multi-start
+  effects::EffectParams base_fx;
+  std::vector<int> held;  ///< columns of u held at their start
+  double score{0.0};
+};
+
+/// The largest swing of the measured pitch from its rest value over `trials` [rad].
+double LargestPitchSwing(const std::vector<FitTrial>& trials) {
+  double largest = 0.0;
+  for (const FitTrial& t : trials) {
+    double rest = 0.0;
+    for (std::size_t k = 0; k < t.rest_samples; ++k) rest += t.pitch[k];
+    rest /= static_cast<double>(t.rest_samples);
+    for (double p : t.pitch) largest = std::max(largest, std::abs(p - rest));
+  }
+  return largest;
+}
+
+/// Every start of every member of `family` (the last effect of `map`, its values at column
+/// `col` of `u`), scored by its training error; the best of each member chosen by the member's
+/// rule (FamilyMember: `solved`, `rung`, `ranked_with_previous`), in member order.
+std::vector<Start> ChooseStarts(const std::vector<FitTrial>& training, Mapper map,
+                                const effects::EffectFamily& family, std::vector<double> u, int col,
+                                const ChannelWeights& weights) {
+  const std::vector<double> lm_start(u.begin(), u.begin() + 4);
+  const bool alone = map.effects.size() == 1;
+  std::vector<std::vector<Start>> rankings;  // one per member, or per members ranked together
+  std::vector<const effects::FamilyMember*> rule;
+  for (const effects::FamilyMember& member : family.members) {
+    if (!member.ranked_with_previous || rankings.empty()) {
+      rankings.emplace_back();
+      rule.push_back(&member);
+    }
+    effects::CopyMember(family.id, member.setting, map.base_fx.member);
+    std::vector<int> held;
+    for (std::size_t j : member.held) held.push_back(col + static_cast<int>(j));
+    for (const std::vector<double>& values : member.starts) {
+      for (std::size_t j = 0; j < values.size(); ++j)
+        u[static_cast<std::size_t>(col) + j] = values[j] / family.params[j].scale;
+      std::copy(lm_start.begin(), lm_start.end(), u.begin());
+      const std::vector<double> raised =
+          member.series_start && alone ? SeriesStiffnessStart(training.front().prepared, map, u) : lm_start;
+      for (int lm = 0; lm < (raised != lm_start ? 2 : 1); ++lm) {
+        std::copy(lm == 0 ? lm_start.begin() : raised.begin(), lm == 0 ? lm_start.end() : raised.end(), u.begin());
+        const double sse = WeightedSse(training, map.Params(u.data()), weights);
+        const double score = std::isfinite(sse) ? sse : std::numeric_limits<double>::infinity();
+        rankings.back().push_back({u, &member, map.base_fx, held, score});
+      }
+    }
+  }
+  std::vector<Start> chosen;
+  for (std::size_t r = 0; r < rankings.size(); ++r) {
+    // The lowest errors first; of equal errors (a non-finite one too) the first tried.
+    std::stable_sort(rankings[r].begin(), rankings[r].end(),
+                     [](const Start& a, const Start& b) { return a.score < b.score; });
+    std::vector<double> rungs;  // start values of the rung parameter already taken
+    int taken = 0;
+    for (Start& s : rankings[r]) {
+      if (rule[r]->rung >= 0) {
+        const double value = s.u[static_cast<std::size_t>(col + rule[r]->rung)];
+        if (std::find(rungs.begin(), rungs.end(), value) != rungs.end()) continue;
+        rungs.push_back(value);
+      } else if (taken == rule[r]->solved) {
+        break;
+      }
+      ++taken;
+      chosen.push_back(std::move(s));
+    }
+  }
+  return chosen;
+}
+
+/// One solve: its iterations and the training error where it ends.
+struct Solved {
+  int iterations;
+  double sse;
+};
+
+/// Solves `x` (Ceres, within the LM's and the effects' bounds, the `held` columns fixed) for at
+/// most `max_iterations`; the trials' simulations run concurrently in a TrialBatch.
+Solved Solve(const std::vector<FitTrial>& training, const Mapper& map, const ChannelWeights& weights,
+             const FitOptions& options, const std::vector<int>& held, std::vector<double>& x,
+             int max_iterations) {
+  const int size = map.Size();
+  TrialBatch batch(training, map, weights);
+  ceres::Problem problem;
+  for (std::size_t i = 0; i < training.size(); ++i)
+    problem.AddResidualBlock(new TrialCost(&batch, i, size, static_cast<int>(2 * training[i].z.size())),
+                             nullptr, x.data());
+  if (!held.empty()) problem.SetManifold(x.data(), new ceres::SubsetManifold(size, held));
+  for (int j = 0; j < 4; ++j) {
+    problem.SetParameterLowerBound(x.data(), j, -kLogBound);
+    problem.SetParameterUpperBound(x.data(), j, kLogBound);
+  }
+  int col = 4;
+  for (effects::EffectId id : map.effects) {
+    for (const effects::ParamSpec& spec : effects::EffectParameters(id)) {
+      problem.SetParameterLowerBound(x.data(), col, spec.lower / spec.scale);
+      problem.SetParameterUpperBound(x.data(), col, spec.upper / spec.scale);
+      ++col;
+    }
+  }
+  ceres::Solver::Options solver;
+  solver.linear_solver_type = ceres::DENSE_QR;
+  solver.max_num_iterations = max_iterations;
+  solver.num_threads = 1;  // the batch runs the simulations concurrently
+  solver.function_tolerance = options.function_tolerance;
+  solver.parameter_tolerance = 1e-7;
+  solver.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver, &problem, &summary);
+  return Solved{static_cast<int>(summary.iterations.size()), batch.Sse(x.data())};
+}
+
+/// The best of a multi-start: its optimiser vector, its start, the iterations, the training
+/// error.
+struct Best {
+  std::vector<double> u;
+  std::optional<Start> start;  ///< empty: nothing solved yet
+  int iterations{0};
+  double sse{std::numeric_limits<double>::infinity()};
+};
+
+/// Solves each of `starts` (more than three: each a few iterations, the best then solved on) and
+/// returns the lowest training error's (the first of equal errors); each solve is appended to
+/// `solved`.
+Best SolveStarts(const std::vector<FitTrial>& training, Mapper map, const ChannelWeights& weights,
+                 const FitOptions& options, const std::vector<Start>& starts,
+                 std::vector<FitResult::SolvedStart>& solved) {
+  const bool screened = starts.size() > 3;
+  const int first_pass = screened ? std::min(options.max_iterations, kScreenIterations) : options.max_iterations;
+  Best best;
+  for (const Start& s : starts) {
+    map.base_fx = s.base_fx;
+    std::vector<double> x = s.u;
+    const Solved it = Solve(training, map, weights, options, s.held, x, first_pass);
+    solved.push_back({s.member ? s.member->name : "", s.base_fx.member.kinematics, it.sse});
+    if (!best.start || it.sse < best.sse) {  // the first of equal errors
+      best = Best{x, s, it.iterations, it.sse};
+    }
+  }
+  map.base_fx = best.start->base_fx;
+  if (screened && options.max_iterations > first_pass) {
+    std::vector<double> x = best.u;
+    const Solved more = Solve(training, map, weights, options, best.start->held, x, options.max_iterations - first_pass);
+    best.iterations += more.iterations;
+    if (more.sse <= best.sse) {
+      best.u = x;
+      best.sse = more.sse;
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
 FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
                         const std::vector<effects::EffectId>& effect_list,
                         const effects::ExtendedParams& start, const ChannelWeights& weights,
@@ -361,194 +523,49 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
   const std::optional<effects::EffectId> last =
       effect_list.empty() ? std::nullopt : std::optional<effects::EffectId>(effect_list.back());
   const std::vector<FitTrial> training = WithFitStep(training_in, last);
-
   Mapper map{effect_list, start.lm, start.fx};
-  const int size = map.Size();
-  std::vector<double> u(static_cast<std::size_t>(size), 0.0);
+  // The given start: LM at start.lm, every effect at its values in start.fx (within bounds).
+  std::vector<double> u(4, 0.0);
   int last_col = 4;
-  {
-    int col = 4;
-    for (std::size_t e = 0; e < effect_list.size(); ++e) {
-      const auto& specs = effects::EffectParameters(effect_list[e]);
-      const std::vector<double> values = effects::GetEffectValues(effect_list[e], start.fx);
-      if (e + 1 == effect_list.size()) last_col = col;
-      for (std::size_t j = 0; j < specs.size(); ++j, ++col)
-        u[static_cast<std::size_t>(col)] = std::clamp(values[j], specs[j].lower, specs[j].upper) / specs[j].scale;
-    }
-  }
-
-  // Multi-start of the last effect over the catalogue's starting points (Cartesian product)
-  // and over its family's discrete members; the starts with the lowest error are solved and
-  // the best fit kept. One start in general; for the tyres the best two stiff starts (c_t held
-  // at 0: their periods lie in different basins more often than not) and the best compliant
-  // start of each caster-compliance rung (a start's error favours the stiff rungs, whose fits
-  // stay near the base model, over a soft tyre's basin); for the stops the best start of each
-  // member. (Solving the best three tyre starts regardless of kind was tried: on the
-  // independent truth it found no better basin and added a spurious cause, at twice the time.)
-  std::vector<std::vector<double>> starts;  // solved, each; the lowest training error is kept
-  std::vector<effects::EffectParams> bases;  // their discrete settings (cushion basis, rebound stops)
-  std::vector<bool> stiff;                  // stiff-tyre starts: compliances held at zero
-  if (last && options.multi_start) {
-    const auto& specs = effects::EffectParameters(*last);
-    const bool cushion = *last == effects::EffectId::kCushionCompliance;
-    const bool stops = *last == effects::EffectId::kNonlinearStiffness;
-    const std::vector<double> lm_start(u.begin(), u.begin() + 4);
-    const bool tyre = *last == effects::EffectId::kTyreCompliance;
-    struct Scored {
-      double score;
-      std::vector<double> u;
-      effects::EffectParams base;
-    };
-    std::array<std::vector<Scored>, 2> scored;  // by kind: stiff, compliant
-    // The family's discrete members are multi-started: the cushion's load basis (per wheel or
-    // whole chair; the better start solved), the stops in compression only or in rebound as
-    // well (the best start of each solved: a start's error hardly tells them apart).
-    for (int basis = 0; basis < (cushion || stops ? 2 : 1); ++basis) {
-      if (cushion) map.base_fx.cushion_whole_chair = basis == 1;
-      if (stops) map.base_fx.bump_rebound = basis == 1;
-      std::vector<std::size_t> index(specs.size(), 0);
-      while (true) {
-        for (std::size_t j = 0; j < specs.size(); ++j)
-          u[static_cast<std::size_t>(last_col) + j] = specs[j].starts[index[j]] / specs[j].scale;
-        // Compliant tyres in series soften the chair: each tyre start is tried both with the
-        // base LM and with the suspension raised so that the series pair keeps the stiffness
-        // the data showed (SeriesStiffnessStart).
-        std::copy(lm_start.begin(), lm_start.end(), u.begin());
-        const bool series = tyre && effect_list.size() == 1;
-        const std::vector<double> raised =
-            series ? SeriesStiffnessStart(training.front().prepared, map, u) : lm_start;
-        for (int lm = 0; lm < (raised != lm_start ? 2 : 1); ++lm) {
-          std::copy(lm == 0 ? lm_start.begin() : raised.begin(), lm == 0 ? lm_start.end() : raised.end(),
-                    u.begin());
-          const double sse = WeightedSse(training, map.Params(u.data()), weights);
-          const double score = std::isfinite(sse) ? sse : std::numeric_limits<double>::infinity();
-          const effects::EffectParams fx = map.Params(u.data()).fx;
-          // Kinds solved apart: stiff and compliant tyres; stops in compression only and in
-          // rebound as well (a rebound start without stops is the compression one again).
-          if (stops && fx.bump_rebound && fx.bump_gain <= 0.0) continue;
-          const bool compliant = tyre && (fx.caster_tyre_compliance > 0.0 || fx.drive_tyre_compliance > 0.0);
-          const std::size_t kind = compliant || (stops && fx.bump_rebound) ? 1 : 0;
-          scored[kind].push_back({score, u, map.base_fx});
-        }
-        std::size_t j = 0;
-        while (j < specs.size() && ++index[j] == specs[j].starts.size()) index[j++] = 0;
-        if (j == specs.size()) break;
-      }
-    }
-    for (std::size_t kind = 0; kind < 2; ++kind) {
-      // The lowest errors first; of equal errors (a non-finite one too) the first tried.
-      std::stable_sort(scored[kind].begin(), scored[kind].end(),
-                       [](const Scored& a, const Scored& b) { return a.score < b.score; });
-      const std::size_t keep = tyre && kind == 0 ? 2 : 1;
-      std::vector<double> rungs;  // compliant tyres: caster compliances already taken
-      for (std::size_t k = 0, taken = 0; k < scored[kind].size(); ++k) {
-        if (tyre && kind == 1) {
-          // The best start of each caster-compliance rung: the start's error favours the
-          // stiffer rungs, whose fits stay near the base model, over a soft tyre's basin.
-          const double c = map.Params(scored[kind][k].u.data()).fx.caster_tyre_compliance;
-          if (std::find(rungs.begin(), rungs.end(), c) != rungs.end()) continue;
-          rungs.push_back(c);
-        } else if (taken == keep) {
-          break;
-        }
-        ++taken;
-        starts.push_back(scored[kind][k].u);
-        bases.push_back(scored[kind][k].base);
-        stiff.push_back(tyre && kind == 0);
-      }
-    }
-  }
-
-  if (starts.empty()) {
-    starts.push_back(u);
-    bases.push_back(map.base_fx);
-    stiff.push_back(false);
-  }
-  // Columns of the last effect's tyre compliances (held at zero when a stiff start is solved:
-  // the stiff tyre is its own member of the family, a filter of the ground with no reaction).
-  std::vector<int> compliance_cols;
-  if (last && *last == effects::EffectId::kTyreCompliance) {
-    const auto& specs = effects::EffectParameters(*last);
+  for (effects::EffectId id : effect_list) {
+    last_col = static_cast<int>(u.size());
+    const auto& specs = effects::EffectParameters(id);
+    const std::vector<double> values = effects::GetEffectValues(id, start.fx);
     for (std::size_t j = 0; j < specs.size(); ++j)
-      if (specs[j].name.find("compliance") != std::string::npos)
-        compliance_cols.push_back(last_col + static_cast<int>(j));
+      u.push_back(std::clamp(values[j], specs[j].lower, specs[j].upper) / specs[j].scale);
   }
-  // One solve from x: its iterations and the training error where it ends.
-  struct Solved {
-    int iterations;
-    double sse;
-  };
-  auto solve = [&](std::vector<double>& x, bool hold_compliance, int max_iterations) {
-    TrialBatch batch(training, map, weights);
-    ceres::Problem problem;
-    for (std::size_t i = 0; i < training.size(); ++i)
-      problem.AddResidualBlock(new TrialCost(&batch, i, size, static_cast<int>(2 * training[i].z.size())),
-                               nullptr, x.data());
-    if (hold_compliance && !compliance_cols.empty())
-      problem.SetManifold(x.data(), new ceres::SubsetManifold(size, compliance_cols));
-    for (int j = 0; j < 4; ++j) {
-      problem.SetParameterLowerBound(x.data(), j, -kLogBound);
-      problem.SetParameterUpperBound(x.data(), j, kLogBound);
-    }
-    int col = 4;
-    for (effects::EffectId id : effect_list) {
-      for (const effects::ParamSpec& spec : effects::EffectParameters(id)) {
-        problem.SetParameterLowerBound(x.data(), col, spec.lower / spec.scale);
-        problem.SetParameterUpperBound(x.data(), col, spec.upper / spec.scale);
-        ++col;
-      }
-    }
-    ceres::Solver::Options solver;
-    solver.linear_solver_type = ceres::DENSE_QR;
-    solver.max_num_iterations = max_iterations;
-    solver.num_threads = 1;  // the batch runs the simulations concurrently
-    solver.function_tolerance = options.function_tolerance;
-    solver.parameter_tolerance = 1e-7;
-    solver.logging_type = ceres::SILENT;
-    ceres::Solver::Summary summary;
-    ceres::Solve(solver, &problem, &summary);
-    return Solved{static_cast<int>(summary.iterations.size()), batch.Sse(x.data())};
-  };
-  double best_sse = std::numeric_limits<double>::infinity();
-  int iterations = 0;
-  effects::EffectParams basis = map.base_fx;
-  // More than three starts (the tyres' stiff starts and compliance rungs): each is solved a
-  // few iterations, the best then solved on; the solves are the cost of a fit.
-  const bool screened = starts.size() > 3;
-  const int first_pass = screened ? std::min(options.max_iterations, kScreenIterations) : options.max_iterations;
-  bool held = false;
-  for (std::size_t k = 0; k < starts.size(); ++k) {
-    map.base_fx = bases[k];
-    std::vector<double> x = starts[k];
-    const Solved solved = solve(x, stiff[k], first_pass);
-    if (k == 0 || solved.sse < best_sse) {  // the first of equal errors
-      best_sse = solved.sse;
-      u = x;
-      iterations = solved.iterations;
-      basis = bases[k];
-      held = stiff[k];
-    }
-  }
-  map.base_fx = basis;
-  if (screened && options.max_iterations > first_pass) {
-    std::vector<double> x = u;
-    const Solved solved = solve(x, held, options.max_iterations - first_pass);
-    iterations += solved.iterations;
-    if (solved.sse <= best_sse) u = x;
-  }
-
+  // Multi-start of the last effect over its family's members x starts (only its own member
+  // changes: the earlier effects keep theirs), or the given start alone. Past the small-angle
+  // limit the whole multi-start is run under exact kinematics as well, and the lower final
+  // training error kept (the small-angle one of equal errors).
+  std::vector<effects::Kinematics> kinematics{start.fx.member.kinematics};
+  if (last && options.multi_start && kinematics.front() == effects::Kinematics::kSmallAngle &&
+      LargestPitchSwing(training) > options.small_angle_limit)
+    kinematics.push_back(effects::Kinematics::kExact);
   FitResult result;
+  Best best;
+  for (effects::Kinematics geometry : kinematics) {
+    map.base_fx.member.kinematics = geometry;
+    const std::vector<Start> starts =
+        last && options.multi_start ? ChooseStarts(training, map, effects::Family(*last), u, last_col, weights)
+                                    : std::vector<Start>{Start{u, nullptr, start.fx, {}, 0.0}};
+    Best fit = SolveStarts(training, map, weights, options, starts, result.starts);
+    if (!best.start || fit.sse < best.sse) best = std::move(fit);
+  }
+  map.base_fx = best.start->base_fx;
+  u = best.u;
+  result.iterations = best.iterations;
   result.effects = effect_list;
+  result.member = best.start->member ? best.start->member->name : "";
   result.params = map.Params(u.data());
   for (effects::EffectId id : effect_list) {
     const std::vector<double> v = effects::GetEffectValues(id, result.params.fx);
     result.effect_values.insert(result.effect_values.end(), v.begin(), v.end());
   }
-  result.parameter_count = size;
-  result.iterations = iterations;
+  result.parameter_count = map.Size();
   result.sse = WeightedSse(training, result.params, weights, &result.residual_count);
   const double n = static_cast<double>(result.residual_count);
-  result.bic = n * std::log(std::max(1e-300, result.sse / n)) + size * std::log(n);
+  result.bic = n * std::log(std::max(1e-300, result.sse / n)) + result.parameter_count * std::log(n);
   return result;
 }
 

@@ -6,6 +6,7 @@
 // the paper's Fig. 5) and weighted by 1/std of the measured channel over the training set.
 
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "engine/chair.h"
@@ -53,6 +54,10 @@ struct FitOptions {
   /// FitModelJoint multi-starts its last effect; false: every effect starts from `start.fx`
   /// (a refinement of a previous fit).
   bool multi_start{true};
+  /// [rad] Where the measured pitch swings further than this from its rest value in a training
+  /// trial, the multi-start is run under exact rigid-body kinematics as well
+  /// (effect_model.h, Kinematics::kExact); the small-angle pitch stiffness is 3.9 % off at 0.2.
+  double small_angle_limit{0.2};
 };
 
 struct FitResult {
@@ -64,6 +69,15 @@ struct FitResult {
   std::size_t residual_count{0};
   double bic{0.0};                    ///< N ln(sse/N) + p ln N on the training residuals
   int iterations{0};
+  /// The member of the last effect's family whose start won the multi-start ("" without one).
+  std::string member;
+  /// Each start solved, in order: its member and its training error after the first pass.
+  struct SolvedStart {
+    std::string member;
+    effects::Kinematics kinematics{effects::Kinematics::kSmallAngle};
+    double sse{0.0};
+  };
+  std::vector<SolvedStart> starts;
 };
 
 /// Fits LM (+ the effect's parameters) on `training` from `start` (LM) with multi-start over
@@ -75,8 +89,13 @@ FitResult FitModel(const std::vector<FitTrial>& training, std::optional<effects:
                    const FitOptions& options = {});
 
 /// Fits LM and every effect of `effects` jointly. The effects but the last start from their
-/// values in `start.fx` (a previous fit); the last is multi-started over its catalogue starting
-/// points (cushion_compliance: over both load bases, per wheel and whole chair, as well).
+/// values and members in `start.fx` (a previous fit); the last is multi-started over its
+/// family's members x starts (effect_catalog.h, EffectFamily): every start scored by its
+/// training error, the best of each member solved (more than three: each a few iterations,
+/// then the best solved on), the lowest training error kept. Where the training trials pitch
+/// beyond options.small_angle_limit, the multi-start is run under exact kinematics as well
+/// and the lower final training error kept. options.multi_start false: one
+/// start, `start` itself.
 FitResult FitModelJoint(const std::vector<FitTrial>& training,
                         const std::vector<effects::EffectId>& effects,
                         const effects::ExtendedParams& start, const ChannelWeights& weights,

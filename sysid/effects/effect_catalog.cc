@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
+#include <utility>
 
 #include "engine/check.h"
 
@@ -69,36 +71,145 @@ std::string EffectNameList() {
   return list;
 }
 
-const std::vector<ParamSpec>& EffectParameters(EffectId id) {
-  static const std::array<std::vector<ParamSpec>, kEffectCount> specs{{
-      {{"caster_radius_m", 0.1, 0.0, 0.35, {0.04, 0.12}},
-       {"drive_radius_m", 0.1, 0.0, 0.40, {0.04, 0.18}}},
-      {{"caster_tyre_period_s", 0.1, 0.02, 1.0, {0.06, 0.15, 0.4}},
-       {"drive_tyre_period_s", 0.1, 0.02, 1.0, {0.05, 0.15}},
-       {"tyre_damping_ratio", 0.3, 0.05, 1.0, {0.3}},
-       {"caster_tyre_compliance_m_per_n", 5e-5, 0.0, 5e-4, {0.0, 5e-5, 2.5e-4}},
-       {"drive_tyre_compliance_m_per_n", 1e-5, 0.0, 2e-4, {0.0, 1e-5, 6e-5}}},
-      {{"cushion_loss_per_kn", 0.2, 0.0, 1.2, {0.1, 0.4}},
-       {"cushion_height_gain", 0.2, 0.5, 1.5, {1.0}},
-       {"cushion_exponent", 0.5, 0.3, 2.5, {1.0}}},
-      {{"stiffness_coupling", 0.2, -0.8, 0.8, {-0.2, 0.2}},
-       {"damping_coupling", 0.2, -0.8, 0.8, {0.0}}},
-      {{"heave_hardening", 0.5, 0.0, 10.0, {0.3}}, {"pitch_hardening", 0.5, 0.0, 10.0, {0.3}},
-       {"bump_gain", 0.5, 0.0, 20.0, {0.0, 1.0}}, {"bump_gap_m", 0.005, 0.0, 0.03, {0.004}}},
-      {{"caster_friction_n", 20.0, 0.0, 250.0, {10.0, 40.0}},
-       {"drive_friction_n", 20.0, 0.0, 250.0, {10.0, 40.0}},
-       {"friction_presliding_m", 5e-4, 5e-5, 5e-3, {2e-4, 1e-3}}},
-      {{"cm_lever_m", 0.2, -1.5, 1.5, {0.0}}, {"load_cm_lever_m", 0.2, -1.5, 1.5, {0.0}}},
-      {{"marker_lever_x_m", 0.1, -1.0, 1.0, {0.0, 0.15}},
-       {"marker_lever_z_m", 0.2, -1.5, 1.5, {0.0, 0.5}}},
-  }};
-  return specs[Index(id)];
+namespace {
+
+std::vector<ParamSpec> Parameters(EffectId id) {
+  switch (id) {
+    case EffectId::kWheelRadius:
+      return {{"caster_radius_m", 0.1, 0.0, 0.35, {0.04, 0.12}},
+              {"drive_radius_m", 0.1, 0.0, 0.40, {0.04, 0.18}}};
+    case EffectId::kTyreCompliance:
+      return {{"caster_tyre_period_s", 0.1, 0.02, 1.0, {0.06, 0.15, 0.4}},
+              {"drive_tyre_period_s", 0.1, 0.02, 1.0, {0.05, 0.15}},
+              {"tyre_damping_ratio", 0.3, 0.05, 1.0, {0.3}},
+              {"caster_tyre_compliance_m_per_n", 5e-5, 0.0, 5e-4, {0.0, 5e-5, 2.5e-4}},
+              {"drive_tyre_compliance_m_per_n", 1e-5, 0.0, 2e-4, {0.0, 1e-5, 6e-5}}};
+    case EffectId::kCushionCompliance:
+      return {{"cushion_loss_per_kn", 0.2, 0.0, 1.2, {0.1, 0.4}},
+              {"cushion_height_gain", 0.2, 0.5, 1.5, {1.0}},
+              {"cushion_exponent", 0.5, 0.3, 2.5, {1.0}}};
+    case EffectId::kHeavePitchCoupling:
+      return {{"stiffness_coupling", 0.2, -0.8, 0.8, {-0.2, 0.2}},
+              {"damping_coupling", 0.2, -0.8, 0.8, {0.0}}};
+    case EffectId::kNonlinearStiffness:
+      return {{"heave_hardening", 0.5, 0.0, 10.0, {0.3}}, {"pitch_hardening", 0.5, 0.0, 10.0, {0.3}},
+              {"bump_gain", 0.5, 0.0, 20.0, {0.0, 1.0}}, {"bump_gap_m", 0.005, 0.0, 0.03, {0.004}}};
+    case EffectId::kSuspensionFriction:
+      return {{"caster_friction_n", 20.0, 0.0, 250.0, {10.0, 40.0}},
+              {"drive_friction_n", 20.0, 0.0, 250.0, {10.0, 40.0}},
+              {"friction_presliding_m", 5e-4, 5e-5, 5e-3, {2e-4, 1e-3}}};
+    case EffectId::kInertialPitch:
+      return {{"cm_lever_m", 0.2, -1.5, 1.5, {0.0}}, {"load_cm_lever_m", 0.2, -1.5, 1.5, {0.0}}};
+    case EffectId::kMarkerOffset:
+      return {{"marker_lever_x_m", 0.1, -1.0, 1.0, {0.0, 0.15}},
+              {"marker_lever_z_m", 0.2, -1.5, 1.5, {0.0, 0.5}}};
+  }
+  return {};
+}
+
+/// Every combination of the parameters' start lists (the first parameter varying fastest),
+/// each parameter's list replaced where `lists` gives one; combinations `keep` rejects are left
+/// out.
+std::vector<std::vector<double>> StartGrid(
+    const std::vector<ParamSpec>& params, std::vector<std::vector<double>> lists = {},
+    const std::function<bool(const std::vector<double>&)>& keep = {}) {
+  lists.resize(params.size());
+  for (std::size_t j = 0; j < params.size(); ++j)
+    if (lists[j].empty()) lists[j] = params[j].starts;
+  std::vector<std::vector<double>> grid;
+  std::vector<std::size_t> index(params.size(), 0);
+  while (true) {
+    std::vector<double> start(params.size());
+    for (std::size_t j = 0; j < params.size(); ++j) start[j] = lists[j][index[j]];
+    if (!keep || keep(start)) grid.push_back(std::move(start));
+    std::size_t j = 0;
+    while (j < params.size() && ++index[j] == lists[j].size()) index[j++] = 0;
+    if (j == params.size()) return grid;
+  }
+}
+
+FamilyMember Member(std::string name, std::vector<std::vector<double>> starts) {
+  FamilyMember member;
+  member.name = std::move(name);
+  member.starts = std::move(starts);
+  return member;
+}
+
+EffectFamily MakeFamily(EffectId id) {
+  EffectFamily family{id, Parameters(id), {}};
+  const std::vector<ParamSpec>& p = family.params;
+  switch (id) {
+    case EffectId::kTyreCompliance: {
+      // Stiff tyres (c_t held at 0: a filter of the ground with no reaction; the best two
+      // starts solved, their periods lying in different basins more often than not) and
+      // compliant tyres in series with each wheel's own suspension spring (the best start of
+      // each caster-compliance rung: a start's error favours the stiff rungs, whose fits stay
+      // near the base model, over a soft tyre's basin).
+      FamilyMember stiff = Member("stiff", StartGrid(p, {{}, {}, {}, {0.0}, {0.0}}));
+      stiff.held = {3, 4};
+      stiff.solved = 2;
+      FamilyMember compliant = Member(
+          "compliant", StartGrid(p, {}, [](const std::vector<double>& s) { return s[3] > 0.0 || s[4] > 0.0; }));
+      compliant.rung = 3;
+      compliant.series_start = true;
+      family.members = {stiff, compliant};
+      break;
+    }
+    case EffectId::kCushionCompliance: {
+      // The load basis: each wheel's static load or the whole chair's weight; one ranking, the
+      // better start solved.
+      FamilyMember whole = Member("whole_chair", StartGrid(p));
+      whole.setting.cushion_load = CushionLoad::kWholeChair;
+      whole.ranked_with_previous = true;
+      family.members = {Member("per_wheel", StartGrid(p)), whole};
+      break;
+    }
+    case EffectId::kNonlinearStiffness: {
+      // Stops in compression only, in rebound as well, or in rebound only (with stops: b > 0),
+      // the best start of each solved (a start's error hardly tells them apart).
+      FamilyMember both = Member("both", StartGrid(p, {{}, {}, {1.0}, {}}));
+      both.setting.stops = StopSides::kBoth;
+      FamilyMember rebound = Member("rebound", StartGrid(p, {{}, {}, {1.0}, {}}));
+      rebound.setting.stops = StopSides::kRebound;
+      family.members = {Member("compression", StartGrid(p)), both, rebound};
+      break;
+    }
+    default:
+      family.members = {Member("law", StartGrid(p))};
+  }
+  return family;
+}
+
+}  // namespace
+
+const EffectFamily& Family(EffectId id) {
+  static const std::array<EffectFamily, kEffectCount> families = [] {
+    std::array<EffectFamily, kEffectCount> all;
+    for (EffectId e : kAll) all[static_cast<std::size_t>(Index(e))] = MakeFamily(e);
+    return all;
+  }();
+  return families[static_cast<std::size_t>(Index(id))];
+}
+
+const std::vector<ParamSpec>& EffectParameters(EffectId id) { return Family(id).params; }
+
+std::vector<std::pair<std::string, double>> MemberFlags(EffectId id, const EffectMembers& member) {
+  if (id == EffectId::kCushionCompliance)
+    return {{"cushion_whole_chair", member.cushion_load == CushionLoad::kWholeChair ? 1.0 : 0.0}};
+  if (id == EffectId::kNonlinearStiffness)
+    return {{"bump_rebound", member.stops != StopSides::kCompression ? 1.0 : 0.0},
+            {"bump_compression", member.stops != StopSides::kRebound ? 1.0 : 0.0}};
+  return {};
+}
+
+void CopyMember(EffectId id, const EffectMembers& from, EffectMembers& to) {
+  if (id == EffectId::kCushionCompliance) to.cushion_load = from.cushion_load;
+  if (id == EffectId::kNonlinearStiffness) to.stops = from.stops;
 }
 
 void CopyEffect(EffectId id, const EffectParams& from, EffectParams& to) {
   SetEffectValues(id, GetEffectValues(id, from), to);
-  if (id == EffectId::kCushionCompliance) to.cushion_whole_chair = from.cushion_whole_chair;
-  if (id == EffectId::kNonlinearStiffness) to.bump_rebound = from.bump_rebound;
+  CopyMember(id, from.member, to.member);
 }
 
 void SetEffectValues(EffectId id, std::span<const double> v, EffectParams& fx) {

@@ -1,11 +1,14 @@
 #pragma once
-// The effect ids of measured-trials.md and, for each, its parameters as a named vector for
-// grey-box fitting (name, unit, typical scale, bounds, starting points) and the "truth" values
-// of a hidden effect at a given strength (strength 1 = moderate) for synthetic trials.
+// The effect ids of measured-trials.md and, for each, its family (EffectFamily): the
+// parameters as a named vector for grey-box fitting (name, unit, typical scale, bounds,
+// starting points) and the family's members, the discrete laws among which the fit chooses
+// (sysid/diagnose/greybox_fit.h: FitModelJoint multi-starts members x starts). Also the "truth"
+// values of a hidden effect at a given strength (strength 1 = moderate) for synthetic trials.
 
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "engine/chair.h"
@@ -42,18 +45,53 @@ struct ParamSpec {
   double scale{1.0};  ///< typical magnitude (the optimiser works on value/scale)
   double lower{0.0};
   double upper{1.0};
-  std::vector<double> starts;  ///< starting values tried before the local fit
+  std::vector<double> starts;  ///< starting values; the members start at their combinations
 };
 
-/// The parameters of one effect's extension.
+/// One discrete law of a family: its setting of the family's EffectMembers field, the
+/// starting vectors tried (each a full EffectParameters vector, in this order), the parameters
+/// held at their start while it is solved, and how many of its starts are solved. The fit
+/// scores every start of every member by its training error and solves the best of each.
+struct FamilyMember {
+  std::string name;                         ///< e.g. "whole_chair"
+  EffectMembers setting;                    ///< its family's field (CopyMember) is the member's
+  std::vector<std::vector<double>> starts;  ///< starting vectors, tried in this order
+  std::vector<std::size_t> held;            ///< parameters held at their start (e.g. c_t = 0)
+  int solved{1};                            ///< the best `solved` starts are solved
+  /// ≥ 0: instead of `solved`, the best start of each distinct start value of this parameter
+  /// (a start's error can favour one rung over the basin of another).
+  int rung{-1};
+  /// Its starts compete with the previous member's for that member's solves (one ranking).
+  bool ranked_with_previous{false};
+  /// Fitted alone, each start is also tried with the suspension raised so that with the start's
+  /// tyres in series it keeps the stiffness the data showed.
+  bool series_start{false};
+};
+
+/// An effect's family: its parameters and its members (one member "law" where the family has
+/// a single law; every member shares the parameters).
+struct EffectFamily {
+  EffectId id;
+  std::vector<ParamSpec> params;
+  std::vector<FamilyMember> members;
+};
+
+/// The family of effect `id`.
+const EffectFamily& Family(EffectId id);
+/// The parameters of one effect's extension (Family(id).params).
 const std::vector<ParamSpec>& EffectParameters(EffectId id);
+/// Effect `id`'s family member in `member` as named flags for reports: cushion_whole_chair
+/// (cushion), bump_rebound and bump_compression (stops), 1 or 0; none for the other families.
+std::vector<std::pair<std::string, double>> MemberFlags(EffectId id, const EffectMembers& member);
+/// Copies effect `id`'s family member (its field of EffectMembers) from `from` into `to`.
+void CopyMember(EffectId id, const EffectMembers& from, EffectMembers& to);
 
 /// Writes the named vector `values` (EffectParameters order) into `fx`.
 void SetEffectValues(EffectId id, std::span<const double> values, EffectParams& fx);
 /// Reads the named vector of effect `id` from `fx`.
 std::vector<double> GetEffectValues(EffectId id, const EffectParams& fx);
 /// Copies effect `id` from `from` into `to`: its values and its family's discrete member (the
-/// cushion's load basis, the stops' rebound), nothing of any other effect.
+/// cushion's load basis, the stops' sides), nothing of any other effect.
 void CopyEffect(EffectId id, const EffectParams& from, EffectParams& to);
 
 /// The hidden-effect parameters for synthetic trials of `chair` at `strength` (1 = moderate;

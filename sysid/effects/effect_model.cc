@@ -192,10 +192,11 @@ struct Setup {
   double mass{1.0}, lever{0.0};
   double k_z{0}, c_z{0}, k_t{0}, c_t{0}, k_zt{0}, c_zt{0};
   double hard_z{0}, hard_t{0}, bump_gain{0}, bump_gap{0}, presliding{5e-4};
-  bool bump_rebound{false};
+  bool bump_rebound{false}, bump_compression{true};
   double marker_x{0}, marker_z{0};
   bool any_radius{false}, any_tyre{false}, any_friction{false}, unit_heights{true};
-  bool held_forces{false};  ///< coupling, hardening, bump stops or friction present
+  bool held_forces{false};  ///< coupling, hardening, bump stops, friction or exact kinematics
+  bool exact{false};        ///< exact rigid-body kinematics (header: Kinematics::kExact)
 };
 
 Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
@@ -232,8 +233,8 @@ Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
     m.series = m.series || m.inv_unsprung[i] > 0.0;
     m.friction[i] = caster ? fx.caster_friction : fx.drive_friction;
     m.any_friction = m.any_friction || m.friction[i] > 0.0;
-    const double load_kn =
-        1e-3 * (fx.cushion_whole_chair ? MovingMass(chair, trial.load_kg) * kGravity : loads[i]);
+    const bool whole_chair = fx.member.cushion_load == CushionLoad::kWholeChair;
+    const double load_kn = 1e-3 * (whole_chair ? MovingMass(chair, trial.load_kg) * kGravity : loads[i]);
     const double loss = fx.cushion_loss_per_kn == 0.0
                             ? 0.0
                             : fx.cushion_loss_per_kn * std::pow(std::max(0.0, load_kn), fx.cushion_exponent);
@@ -272,14 +273,16 @@ Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
   m.hard_t = fx.pitch_hardening;
   m.bump_gain = fx.bump_gain;
   m.bump_gap = fx.bump_gap;
-  m.bump_rebound = fx.bump_rebound;
+  m.bump_rebound = fx.member.stops != StopSides::kCompression;
+  m.bump_compression = fx.member.stops != StopSides::kRebound;
   m.presliding = std::max(1e-6, fx.friction_presliding);
   // Γ_θ = M lever a_x with the mass-weighted lever of chair and occupant.
   m.lever = (chair.mass * fx.cm_lever + trial.load_kg * fx.load_cm_lever) / m.mass;
   m.marker_x = fx.marker_lever_x;
   m.marker_z = fx.marker_lever_z;
+  m.exact = fx.member.kinematics == Kinematics::kExact;
   m.held_forces = m.k_zt != 0.0 || m.c_zt != 0.0 || m.hard_z != 0.0 || m.hard_t != 0.0 ||
-                  m.bump_gain > 0.0 || m.any_friction;
+                  m.bump_gain > 0.0 || m.any_friction || m.exact;
   return m;
 }
 
@@ -311,7 +314,7 @@ Load HeldForces(const Setup& m, const Body& b, const GeometricOutput& gm, double
       const double over = compression - m.bump_gap;
       const double under = m.bump_rebound ? -compression - m.bump_gap : 0.0;
       double force = 0.0;
-      if (over > 0.0) force = m.bump_gain * m.k_z * m.alpha[i] * over * over / kHeaveRef;
+      if (m.bump_compression && over > 0.0) force = m.bump_gain * m.k_z * m.alpha[i] * over * over / kHeaveRef;
       if (under > 0.0) force = -m.bump_gain * m.k_z * m.alpha[i] * under * under / kHeaveRef;
       f.heave += force;
       f.pitch += force * m.wheel_x[i];
@@ -322,6 +325,14 @@ Load HeldForces(const Setup& m, const Body& b, const GeometricOutput& gm, double
       f.heave -= friction_state[i];
       f.pitch -= friction_state[i] * m.wheel_x[i];
     }
+  }
+  if (m.exact) {
+    // Exact kinematics: the pitch torque -cos θ [K_θ (sin θ - sin θ_GM) + C_θ (cos θ θ̇ -
+    // cos θ_GM θ̇_GM)] in place of the small-angle one that the propagator applies.
+    const double c = std::cos(b.pitch), c_gm = std::cos(gm.pitch);
+    f.pitch += m.k_t * dp + m.c_t * dp_rate -
+               c * (m.k_t * (std::sin(b.pitch) - std::sin(gm.pitch)) +
+                    m.c_t * (c * b.pitch_rate - c_gm * gm_pitch_rate));
   }
   return f;
 }
@@ -365,7 +376,7 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
   const GeometricModel gm(trial.chair);
   const int w = m.wheels;
   const bool marker = m.marker_x != 0.0 || m.marker_z != 0.0;
-  const bool wheel_cache = cached && !marker && !m.any_radius;
+  const bool wheel_cache = cached && !marker && !m.any_radius && !m.exact;
   const bool gm_cache = wheel_cache && !m.any_tyre && m.unit_heights;
   const bool need_contacts = !gm_cache || m.held_forces;
 
@@ -378,8 +389,9 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
     }
     double x = x_grid[j];
     if (marker) x -= m.marker_x * std::cos(theta) - m.marker_z * std::sin(theta);
+    const double lever = m.exact ? std::cos(theta) : 1.0;  // wheel i at x_i cos θ (exact)
     for (int i = 0; i < w; ++i) {
-      const double xi = x + m.wheel_x[i];
+      const double xi = m.exact ? x + m.wheel_x[i] * lever : x + m.wheel_x[i];
       const double height = m.radius[i] > 0.0 ? RollingDiscEnvelope(trial.terrain, xi, m.radius[i]).height
                                               : trial.terrain.HeightAt(xi);
       h[i] = height * m.height_factor[i];
@@ -444,8 +456,13 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
       // deviations from equilibrium); each unsprung wheel takes its share in reaction.
       const double dz = body.z - g0.z, dp = body.pitch - g0.pitch;
       const double dz_rate = body.z_rate - gm_z_rate_prev, dp_rate = body.pitch_rate - gm_pitch_rate_prev;
+      // The pitch spring and damper (exact kinematics: on sin θ - sin θ_GM and its rate).
+      const double pitch_spring =
+          m.exact ? m.k_t * (std::sin(body.pitch) - std::sin(g0.pitch)) +
+                        m.c_t * (std::cos(body.pitch) * body.pitch_rate - std::cos(g0.pitch) * gm_pitch_rate_prev)
+                  : m.k_t * dp + m.c_t * dp_rate;
       const double force = m.k_z * dz + m.c_z * dz_rate + m.k_zt * dp + m.c_zt * dp_rate;
-      const double torque = m.k_t * dp + m.c_t * dp_rate + m.k_zt * dz + m.c_zt * dz_rate;
+      const double torque = pitch_spring + m.k_zt * dz + m.c_zt * dz_rate;
       if (m.series) {
         for (int i = 0; i < w; ++i) zc_rate[i] = m.tyre[i] != 0 ? tyre_rate[i] : (h1[i] - h0[i]) * inv_dt;
         off_plane(zc0.data(), off);

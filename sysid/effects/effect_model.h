@@ -33,8 +33,38 @@
 
 namespace pwsim::effects {
 
+/// The discrete members of the families whose laws differ by more than a value
+/// (effect_catalog.h, EffectFamily): each is chosen by the fit among its family's members,
+/// never fitted continuously, and kept apart from the fitted values below.
+enum class CushionLoad { kPerWheel, kWholeChair };  ///< W = α_i M g, or W = M g
+enum class StopSides { kCompression, kBoth, kRebound };  ///< where the bump stops act
+/// The chassis' kinematics, a member of the whole model rather than of one family:
+///  - kSmallAngle (the paper's, identification's; the default): wheel i, at x_i in the chassis
+///    frame, touches the ground at x + x_i, its anchor at Z + x_i θ; the LM's pitch spring and
+///    damper act on θ - θ_GM and θ̇ - θ̇_GM.
+///  - kExact: the rigid chassis pitched by θ. Wheel i touches the ground at x + x_i cos θ, its
+///    anchor sits at Z + x_i sin θ and its vertical force acts at the lever x_i cos θ. The GM's
+///    θ_GM (eq. 2: the asin of the contacts' chords) is the angle at which the anchors meet the
+///    contacts, sin θ = sin θ_GM; springs k_i on the anchors give the torque
+///    -cos θ Σ k_i x_i² (sin θ - sin θ_GM), so the LM's pitch torque becomes
+///      Γ = -cos θ [K_θ (sin θ - sin θ_GM) + C_θ (cos θ θ̇ - cos θ_GM θ̇_GM)]
+///    (the anchor's rate is Ż + x_i cos θ θ̇). Its difference from the small-angle torque,
+///    O(θ³), is held over the step like the other held forces (Heun), the contact heights are
+///    taken at x + x_i cos θ with θ predicted to the step's end, and the tyres' reactions split
+///    K_θ (sin θ - sin θ_GM) + C_θ (cos θ θ̇ - cos θ_GM θ̇_GM) over the wheels (Σ x_i R_i).
+///    Heave, the coupling and the hardening terms stay as they are. On a ramp of slope s a
+///    chassis whose β sum to 1 rests at θ = atan s (exact) instead of asin s (contacts at x_i).
+///    About a pitch θ the small-angle pitch stiffness is off by sin²θ: 3.9 % at 0.2 rad.
+enum class Kinematics { kSmallAngle, kExact };
+struct EffectMembers {
+  CushionLoad cushion_load{CushionLoad::kPerWheel};
+  StopSides stops{StopSides::kCompression};
+  Kinematics kinematics{Kinematics::kSmallAngle};
+};
+
 /// Effect parameters; each group is one effect id of the spec's table. Zero = effect absent.
 struct EffectParams {
+  EffectMembers member;  ///< the discrete member of each family (the fitted values follow)
   // wheel_radius: each wheel centre rides the rolling-disc envelope of the ground.
   double caster_radius{0.0};  ///< [m] radius of every caster wheel (0 = point contact)
   double drive_radius{0.0};   ///< [m] radius of every non-caster wheel
@@ -63,12 +93,12 @@ struct EffectParams {
   double caster_tyre_compliance{0.0};  ///< c_t [m/N] per caster (0 = reaction neglected)
   double drive_tyre_compliance{0.0};   ///< c_t [m/N] per drive wheel
   // cushion_compliance: the obstacle height falls with the load on it, W = the static wheel
-  // load α_i M g (per wheel) or the whole chair's weight M g, by a power law the data choose:
+  // load α_i M g (per wheel) or the whole chair's weight M g (member.cushion_load), by a power
+  // law the data choose:
   // h_eff = h max(0, g - c (W / 1 kN)^p), g the unloaded height relative to the terrain file.
   double cushion_loss_per_kn{0.0};  ///< c [-] fraction of obstacle height lost at W = 1 kN
   double cushion_height_gain{1.0};  ///< g [-]
   double cushion_exponent{1.0};     ///< p [-] (1: linear yield)
-  bool cushion_whole_chair{false};  ///< W = M g instead of the wheel's α_i M g
   // heave_pitch_coupling: off-diagonal K, C as a fraction of sqrt(K_Z K_θ), sqrt(C_Z C_θ).
   double stiffness_coupling{0.0};  ///< [-] in (-1, 1)
   double damping_coupling{0.0};    ///< [-] in (-1, 1)
@@ -77,12 +107,11 @@ struct EffectParams {
   double pitch_hardening{0.0};  ///< κ_θ [-]
   // ... and per-wheel bump stops (progressive): wheel i adds
   //   F_i = b K_Z α_i max(0, c_i - g)² / δ_ref,  c_i = Z_Oi - (Z + x_i sin θ) its compression,
-  // at x_i; with rebound stops as well (a discrete member of the family, both fitted and the
-  // better kept) it also adds -b K_Z α_i max(0, -c_i - g)² / δ_ref in extension, pulling the
-  // chassis back down.
+  // at x_i (member.stops == kCompression); with rebound stops as well (kBoth) it also adds
+  // -b K_Z α_i max(0, -c_i - g)² / δ_ref in extension, pulling the chassis back down; kRebound:
+  // that rebound force alone (the family's three members, each fitted, the best kept).
   double bump_gain{0.0};      ///< b [-]
   double bump_gap{0.0};       ///< g [m] compression (and extension) before a stop engages
-  bool bump_rebound{false};   ///< the stops act in rebound too
   // suspension_friction: dry friction in each wheel's suspension, Dahl's law on the wheel's
   // deflection r_i = Z + x_i θ - Z_Oi (the chassis over the wheel relative to its contact):
   //   dF_i/dt = (ṙ_i / δ_p) (F_c,i sgn ṙ_i - F_i)·sgn ṙ_i,  i.e. presliding stiffness F_c/δ_p,

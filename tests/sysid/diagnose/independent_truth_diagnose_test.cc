@@ -140,33 +140,24 @@ TEST(IndependentTruthDiagnoseTest, SoftCasterTyresInSeriesAreNamedWithTheirStiff
 
 // Every tyre much softer than the suspension (the truth's form 1 at strength 1.4: casters 5 Hz
 // on 3 kg, drive wheels 6.4 Hz on 8 kg). The chair then rocks on its tyres, lightly damped, by
-// up to ±0.27 rad after the cushion. The family must find the caster tyre (its compliance
-// within 25 % of the truth's 1/k_t). Its held-out gain is NEGATIVE: on the report trials the
-// exact rigid-body geometry of so large a rocking (wheel positions x_i cos θ, anchors x_i sin θ)
-// drifts in phase from every small-angle model, the paper's base included. So the report trials
-// do not confirm it: it is reported with its figures, unconfirmed, and cannot make the verdict
-// explained or partly_explained. The twin below, the same truth with its kinematics linearised,
-// shows the gain is then there and confirmed.
+// up to ±0.3 rad after the cushion, where the truth's exact rigid-body geometry (wheel
+// positions x_i cos θ, anchors x_i sin θ) drifts in phase from every small-angle model, the
+// paper's base included: with small-angle kinematics only, the family found the caster tyre
+// but its held-out gain was -165 %. The trials pitch past the fit's small-angle limit, so each
+// member is tried under exact kinematics too (effect_model.h, Kinematics::kExact); the data
+// keep it, and the tyre family is named with its caster tyre (compliance within 25 % of the
+// truth's 1/k_t) and a confirmed, positive held-out gain. The twin below, the same truth with
+// its kinematics linearised, gains as well.
 double CasterCompliance(const truth::TruthEffects& fx) {
   const double omega = 2.0 * std::numbers::pi * fx.caster_tyre_hz;
   return 1.0 / (fx.caster_unsprung_kg * omega * omega);
 }
 
-TEST(IndependentTruthDiagnoseTest, EveryTyreSoftIsFoundButNotConfirmed) {
+TEST(IndependentTruthDiagnoseTest, EveryTyreSoftGainsUnderExactKinematics) {
   const TruthRun run = DiagnoseTruth({"tyre_compliance"}, 1.4, 1, 102);
-  ASSERT_FALSE(run.dx.causes.empty()) << run.dx.base_check.Evidence();
-  const Cause& first = run.dx.causes.front();
-  EXPECT_EQ(effects::EffectName(first.effect), std::string("tyre_compliance"));
-  EXPECT_LT(first.heldout_gain_pct, 0.0);
-  EXPECT_FALSE(first.confirmed);
-  EXPECT_LT(first.heldout_gain_lcb_pct, 0.0);
-  bool any_confirmed = false;
-  for (const Cause& c : run.dx.causes) any_confirmed = any_confirmed || c.confirmed;
-  if (!any_confirmed) {
-    EXPECT_EQ(run.dx.verdict, Verdict::kUnexplained);
-    EXPECT_EQ(run.dx.cause, "none");
-  }
-  EXPECT_NEAR(run.dx.selected.params.fx.caster_tyre_compliance / CasterCompliance(run.set.effects), 1.0, 0.25);
+  ExpectNamedFirst(run, "tyre_compliance", 50.0);
+  EXPECT_EQ(run.dx.extended.params.fx.member.kinematics, effects::Kinematics::kExact);
+  EXPECT_NEAR(run.dx.extended.params.fx.caster_tyre_compliance / CasterCompliance(run.set.effects), 1.0, 0.25);
 }
 
 TEST(IndependentTruthDiagnoseTest, EveryTyreSoftGainsUnderSmallAngleKinematics) {
@@ -189,7 +180,7 @@ TEST(IndependentTruthDiagnoseTest, LightlyDampedCasterTyresAreNamed) {
 TEST(IndependentTruthDiagnoseTest, ReboundStopsAreNamedWithAGain) {
   const TruthRun run = DiagnoseTruth({"nonlinear_stiffness"}, 0.7, 2, 103);
   ExpectNamedFirst(run, "nonlinear_stiffness", 20.0);
-  EXPECT_TRUE(run.dx.extended.params.fx.bump_rebound);
+  EXPECT_EQ(run.dx.extended.params.fx.member.stops, effects::StopSides::kBoth);
   EXPECT_NEAR(run.dx.extended.params.fx.bump_gap / run.set.effects.bump_gap_m, 1.0, 0.25);
 }
 

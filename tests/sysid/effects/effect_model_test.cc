@@ -279,7 +279,7 @@ TEST(EffectModelTest, ReboundStopsHoldTheChassisDownAndActOnlyPastTheirGap) {
   compression.fx.bump_gain = 2.0;
   compression.fx.bump_gap = 0.002;
   ExtendedParams both = compression;
-  both.fx.bump_rebound = true;
+  both.fx.member.stops = StopSides::kBoth;
   const ModelOutput a = SimulateExtended(trial, compression);
   const ModelOutput b = SimulateExtended(trial, both);
   // The chassis' largest rise above the GM's output is cut by the stops in rebound.
@@ -290,9 +290,18 @@ TEST(EffectModelTest, ReboundStopsHoldTheChassisDownAndActOnlyPastTheirGap) {
   }
   ASSERT_GT(rise_a, 0.004);  // the crossing extends the suspension past the gap
   EXPECT_LT(rise_b, 0.9 * rise_a);
+  // Stops in rebound only cut the rise as well, and with a gap wider than any extension they
+  // never engage: the base model, to the bit.
+  ExtendedParams rebound = both;
+  rebound.fx.member.stops = StopSides::kRebound;
+  const ModelOutput r = SimulateExtended(trial, rebound);
+  double rise_r = 0.0;
+  for (std::size_t k = 0; k < r.z.size(); ++k) rise_r = std::max(rise_r, r.z[k] - r.z_gm[k]);
+  EXPECT_LT(rise_r, 0.9 * rise_a);
   // A gap wider than any stroke: the rebound stops never engage, to the bit.
-  compression.fx.bump_gap = both.fx.bump_gap = 0.5;
+  compression.fx.bump_gap = both.fx.bump_gap = rebound.fx.bump_gap = 0.5;
   EXPECT_EQ(SimulateExtended(trial, compression).z, SimulateExtended(trial, both).z);
+  EXPECT_EQ(SimulateExtended(trial, rebound).z, SimulateExtended(trial, ExtendedParams{*trial.chair.lm, {}}).z);
 }
 
 TEST(EffectModelTest, InertialPitchTorqueFollowsAcceleration) {
@@ -316,13 +325,81 @@ TEST(EffectModelTest, InertialPitchTorqueFollowsAcceleration) {
               trial.chair.mass * 0.43 * 1.0 / trial.chair.lm->k_theta, 5e-4);
 }
 
+/// The Table I chair, its pitch weights β scaled to sum to 1 (a rigid chord), standing still
+/// at x = 0 on a long ramp of slope `slope`, 6 s at 100 Hz.
+PreparedTrial RampTrial(double slope) {
+  Terrain ramp;
+  ramp.x = {-20.0, 20.0};
+  ramp.z = {-20.0 * slope, 20.0 * slope};
+  std::vector<double> t, x, a;
+  for (int k = 0; k <= 600; ++k) {
+    t.push_back(0.01 * k);
+    x.push_back(0.0);
+    a.push_back(0.0);
+  }
+  Chair chair = MakeTableOneChair();
+  double sum = 0.0;
+  for (const PairWeight& b : chair.gm->beta) sum += b.weight;
+  for (PairWeight& b : chair.gm->beta) b.weight /= sum;
+  return PrepareTrial(chair, ramp, 0.0, t, x, a);
+}
+
+// A rigid chassis at rest on a ramp of slope s (the GM's θ_GM = asin of the contacts' chord
+// over the wheelbase). Small angles (the paper's): wheel i touches at x_i, the chord rises
+// s·L over L and the chassis rests at θ = θ_GM = asin s. Exact: wheel i touches at x_i cos θ,
+// the chord rises s L cos θ, θ_GM = asin(s cos θ), and the chassis rests where
+// sin θ = sin θ_GM: tan θ = s, parallel to the ramp. With compliant tyres too (their
+// reaction vanishes at rest). Z at O_V (x = 0) is 0 either way.
+TEST(EffectModelTest, ExactKinematicsRestsParallelToARamp) {
+  const double s = 0.35;
+  const PreparedTrial trial = RampTrial(s);
+  ExtendedParams small{*trial.chair.lm, {}};
+  ExtendedParams exact = small;
+  exact.fx.member.kinematics = Kinematics::kExact;
+  ExtendedParams exact_tyres = exact;
+  exact_tyres.fx.caster_tyre_period = 0.15;
+  exact_tyres.fx.drive_tyre_period = 0.08;
+  exact_tyres.fx.caster_tyre_compliance = 1e-4;
+  exact_tyres.fx.drive_tyre_compliance = 2e-5;
+  const std::size_t last = trial.t.size() - 1;
+  const ModelOutput a = SimulateExtended(trial, small);
+  EXPECT_NEAR(a.pitch[last], std::asin(s), 1e-9);
+  EXPECT_NEAR(a.pitch_gm[last], std::asin(s), 1e-9);
+  for (const ExtendedParams& p : {exact, exact_tyres}) {
+    const ModelOutput b = SimulateExtended(trial, p);
+    EXPECT_NEAR(b.pitch[last], std::atan(s), 1e-5);
+    EXPECT_NEAR(b.pitch_gm[last], std::atan(s), 1e-5);
+    EXPECT_NEAR(b.z[last], 0.0, 1e-5);
+    EXPECT_GT(std::abs(b.pitch[last] - a.pitch[last]), 0.01);  // atan 0.35 = 0.337, asin 0.358
+  }
+}
+
+// Exact and small-angle kinematics differ by O(θ³): on the paper's cushion (pitch within
+// ±0.05 rad) the exact model's pitch stays within 2 % of its swing of the small-angle one,
+// and the default (small angles) is identification's model bit for bit (the test above).
+TEST(EffectModelTest, ExactKinematicsIsTheSmallAngleModelAtSmallAngles) {
+  const PreparedTrial trial = CushionTrial(1.2, 100.0);
+  ExtendedParams small{*trial.chair.lm, {}};
+  ExtendedParams exact = small;
+  exact.fx.member.kinematics = Kinematics::kExact;
+  const ModelOutput a = SimulateExtended(trial, small);
+  const ModelOutput b = SimulateExtended(trial, exact);
+  double swing = 0.0;
+  for (double p : a.pitch) swing = std::max(swing, std::abs(p - a.pitch.front()));
+  ASSERT_GT(swing, 0.01);
+  const double diff = MaxAbsDiff(a.pitch, b.pitch);
+  EXPECT_GT(diff, 0.0);
+  EXPECT_LT(diff, 0.02 * swing);
+  EXPECT_LT(MaxAbsDiff(a.z, b.z), 0.02 * swing);
+}
+
 // Copying one effect into a model that already holds others (a joint fit's start) carries
 // that effect's discrete member and leaves every other effect's, its member included, alone.
 TEST(EffectCatalogTest, CopyEffectCarriesItsOwnMemberOnly) {
   EffectParams found;  // causes found so far: whole-chair cushion, rebound stops
-  found.cushion_whole_chair = true;
+  found.member.cushion_load = CushionLoad::kWholeChair;
   found.cushion_loss_per_kn = 0.3;
-  found.bump_rebound = true;
+  found.member.stops = StopSides::kBoth;
   found.bump_gain = 0.2;
   EffectParams solo;  // an extension fitted alone: every other effect at its default
   solo.caster_tyre_period = 0.2;
@@ -331,15 +408,15 @@ TEST(EffectCatalogTest, CopyEffectCarriesItsOwnMemberOnly) {
   CopyEffect(EffectId::kTyreCompliance, solo, to);
   EXPECT_EQ(to.caster_tyre_period, 0.2);
   EXPECT_EQ(to.caster_tyre_compliance, 3e-4);
-  EXPECT_TRUE(to.cushion_whole_chair);
-  EXPECT_TRUE(to.bump_rebound);
+  EXPECT_EQ(to.member.cushion_load, CushionLoad::kWholeChair);
+  EXPECT_EQ(to.member.stops, StopSides::kBoth);
   EXPECT_EQ(to.cushion_loss_per_kn, 0.3);
   EffectParams basis;
-  basis.cushion_whole_chair = true;
+  basis.member.cushion_load = CushionLoad::kWholeChair;
   basis.cushion_loss_per_kn = 0.1;
   EffectParams into;
   CopyEffect(EffectId::kCushionCompliance, basis, into);
-  EXPECT_TRUE(into.cushion_whole_chair);
+  EXPECT_EQ(into.member.cushion_load, CushionLoad::kWholeChair);
   EXPECT_EQ(into.cushion_loss_per_kn, 0.1);
 }
 

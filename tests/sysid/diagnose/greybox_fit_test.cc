@@ -1,0 +1,185 @@
+// FitModelJoint's multi-start over a family's members x starts (effect_catalog.h, EffectFamily):
+// it keeps the member the data were made with, a joint fit's multi-start changes only the new
+// extension's member, and the family descriptions solve the starts they say.
+
+#include "sysid/diagnose/greybox_fit.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <string>
+
+#include "synth/synthetic_trials.h"
+
+namespace pwsim::diagnose {
+namespace {
+
+using effects::EffectId;
+
+/// Fit trials of a seeded chair (pwsim's generator's drives, speeds and loads) whose measured
+/// heave and pitch are the extended model's with `truth`, plus white mocap noise.
+std::vector<FitTrial> TrialsWith(const effects::EffectParams& truth, int trials = 4, double noise_scale = 1.0) {
+  effects::SyntheticConfig config;
+  config.seed = 7;
+  config.trials = trials;
+  config.speeds = {1.2, 1.8, 2.4};
+  const effects::SyntheticSet set = effects::MakeSyntheticTrials(config);
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  std::vector<FitTrial> out;
+  for (const effects::TrialRecord& record : set.trials) {
+    FitTrial trial = MakeFitTrial(record, record.chair);
+    const effects::ModelOutput model =
+        effects::SimulateExtended(trial.prepared, effects::ExtendedParams{*record.chair.lm, truth});
+    for (std::size_t k = 0; k < trial.z.size(); ++k) {
+      trial.z[k] = model.z[k] + noise_scale * 3e-4 * noise(rng);
+      trial.pitch[k] = model.pitch[k] + noise_scale * 6e-4 * noise(rng);
+    }
+    out.push_back(std::move(trial));
+  }
+  return out;
+}
+
+effects::EffectParams StopsBothWays() {
+  effects::EffectParams fx;
+  fx.member.stops = effects::StopSides::kBoth;
+  fx.bump_gain = 2.0;
+  fx.bump_gap = 0.002;
+  return fx;
+}
+
+// Stops acting in rebound as well as compression: the family's two members are each solved
+// from their best start; the compression-only member's fits are worse and not kept.
+TEST(FitModelJointTest, MultiStartKeepsTheMemberTheTrialsWereMadeWith) {
+  const std::vector<FitTrial> trials = TrialsWith(StopsBothWays());
+  const LumpedParams lm = *trials.front().prepared.chair.lm;
+  const FitResult fit = FitModel(trials, EffectId::kNonlinearStiffness, lm, MakeChannelWeights(trials));
+  EXPECT_EQ(fit.member, "both");
+  EXPECT_EQ(fit.params.fx.member.stops, effects::StopSides::kBoth);
+  ASSERT_EQ(fit.starts.size(), 3u);  // the best start of each member
+  EXPECT_EQ(fit.starts[0].member, "compression");
+  EXPECT_EQ(fit.starts[1].member, "both");
+  EXPECT_EQ(fit.starts[2].member, "rebound");
+  EXPECT_GT(fit.starts[2].sse, 1.5 * fit.sse);
+  EXPECT_GT(fit.starts[0].sse, 1.5 * fit.sse) << fit.starts[0].sse << " " << fit.starts[1].sse;
+  EXPECT_NEAR(fit.params.fx.bump_gap / 0.002, 1.0, 0.2);
+}
+
+// Stops acting in rebound only: the family's third member is kept, with the truth's gap.
+TEST(FitModelJointTest, MultiStartKeepsReboundOnlyStops) {
+  effects::EffectParams truth = StopsBothWays();
+  truth.member.stops = effects::StopSides::kRebound;
+  const std::vector<FitTrial> trials = TrialsWith(truth);
+  const LumpedParams lm = *trials.front().prepared.chair.lm;
+  const FitResult fit = FitModel(trials, EffectId::kNonlinearStiffness, lm, MakeChannelWeights(trials));
+  EXPECT_EQ(fit.member, "rebound");
+  EXPECT_EQ(fit.params.fx.member.stops, effects::StopSides::kRebound);
+  ASSERT_EQ(fit.starts.size(), 3u);
+  for (const FitResult::SolvedStart& s : fit.starts) {
+    if (s.member != "rebound") {
+      EXPECT_GT(s.sse, 1.5 * fit.sse) << s.member;
+    }
+  }
+  EXPECT_NEAR(fit.params.fx.bump_gap / 0.002, 1.0, 0.2);
+}
+
+// A joint fit multi-starts only its last effect: the earlier effect's member (a whole-chair
+// cushion found before) stays as given, the new family's members are the only ones tried.
+TEST(FitModelJointTest, AJointStartCarriesOnlyTheNewExtensionsMember) {
+  effects::EffectParams truth = StopsBothWays();
+  truth.member.cushion_load = effects::CushionLoad::kWholeChair;
+  truth.cushion_loss_per_kn = 0.1;
+  const std::vector<FitTrial> trials = TrialsWith(truth, 3);
+  effects::ExtendedParams start{*trials.front().prepared.chair.lm, {}};
+  start.fx.member.cushion_load = effects::CushionLoad::kWholeChair;
+  start.fx.cushion_loss_per_kn = 0.1;
+  FitOptions options;
+  options.max_iterations = 6;
+  const FitResult fit = FitModelJoint(trials, {EffectId::kCushionCompliance, EffectId::kNonlinearStiffness},
+                                      start, MakeChannelWeights(trials), options);
+  EXPECT_EQ(fit.params.fx.member.cushion_load, effects::CushionLoad::kWholeChair);
+  ASSERT_EQ(fit.starts.size(), 3u);
+  for (const FitResult::SolvedStart& s : fit.starts)
+    EXPECT_TRUE(s.member == "compression" || s.member == "both" || s.member == "rebound") << s.member;
+  EXPECT_EQ(fit.member, "both");
+  // Without a multi-start, the one start given, every member as given.
+  options.multi_start = false;
+  effects::ExtendedParams refine = fit.params;
+  const FitResult again = FitModelJoint(trials, fit.effects, refine, MakeChannelWeights(trials), options);
+  ASSERT_EQ(again.starts.size(), 1u);
+  EXPECT_EQ(again.member, "");
+  EXPECT_EQ(again.params.fx.member.cushion_load, effects::CushionLoad::kWholeChair);
+  EXPECT_EQ(again.params.fx.member.stops, effects::StopSides::kBoth);
+}
+
+// Exact kinematics is a member of the whole model: where the measured pitch swings past
+// options.small_angle_limit the multi-start is run under it as well. These trials swing less
+// than the default 0.2 rad, so only small angles are tried; with the limit at 0 both are (the
+// small-angle solves as before, to the bit), and trials made (noise-free) under exact
+// kinematics keep it, every small-angle solve worse.
+TEST(FitModelJointTest, ExactKinematicsIsTriedPastTheSmallAngleLimitAndKeptWhenTheDataSaySo) {
+  effects::EffectParams truth = StopsBothWays();
+  truth.member.kinematics = effects::Kinematics::kExact;
+  const std::vector<FitTrial> trials = TrialsWith(truth, 3, 0.0);
+  const LumpedParams lm = *trials.front().prepared.chair.lm;
+  const ChannelWeights w = MakeChannelWeights(trials);
+  FitOptions options;
+  options.max_iterations = 8;
+  const FitResult small = FitModel(trials, EffectId::kNonlinearStiffness, lm, w, options);
+  ASSERT_EQ(small.starts.size(), 3u);
+  for (const FitResult::SolvedStart& s : small.starts)
+    EXPECT_EQ(s.kinematics, effects::Kinematics::kSmallAngle);
+  options.small_angle_limit = 0.0;
+  const FitResult both = FitModel(trials, EffectId::kNonlinearStiffness, lm, w, options);
+  ASSERT_EQ(both.starts.size(), 6u);  // each member under each kinematics
+  // The small-angle multi-start is run by itself, as without the limit, to the bit.
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_EQ(both.starts[k].kinematics, effects::Kinematics::kSmallAngle);
+    EXPECT_EQ(both.starts[k].sse, small.starts[k].sse);
+  }
+  EXPECT_EQ(both.params.fx.member.kinematics, effects::Kinematics::kExact);
+  EXPECT_EQ(both.member, "both");
+  for (const FitResult::SolvedStart& s : both.starts)
+    if (s.kinematics == effects::Kinematics::kSmallAngle) {
+      EXPECT_GT(s.sse, both.sse) << s.member;
+    }
+  EXPECT_LT(both.sse, small.sse);
+}
+
+// The family descriptions: each member's starts are full parameter vectors within bounds; the
+// tyre family's stiff member holds both compliances at 0 and its compliant member never starts
+// both at 0; the stops' rebound member always starts with stops.
+TEST(EffectFamilyTest, MembersStartWithinBoundsAndHoldWhatTheySay) {
+  for (EffectId id : effects::AllEffects()) {
+    const effects::EffectFamily& family = effects::Family(id);
+    EXPECT_EQ(family.id, id);
+    ASSERT_FALSE(family.members.empty());
+    for (const effects::FamilyMember& m : family.members) {
+      ASSERT_FALSE(m.starts.empty()) << m.name;
+      for (const std::vector<double>& s : m.starts) {
+        ASSERT_EQ(s.size(), family.params.size());
+        for (std::size_t j = 0; j < s.size(); ++j) {
+          EXPECT_GE(s[j], family.params[j].lower) << m.name << " " << family.params[j].name;
+          EXPECT_LE(s[j], family.params[j].upper) << m.name << " " << family.params[j].name;
+        }
+      }
+    }
+  }
+  const effects::EffectFamily& tyre = effects::Family(EffectId::kTyreCompliance);
+  ASSERT_EQ(tyre.members.size(), 2u);
+  EXPECT_EQ(tyre.members[0].held, (std::vector<std::size_t>{3, 4}));
+  EXPECT_EQ(tyre.members[0].starts.size(), 6u);  // 3 caster x 2 drive periods x 1 damping
+  for (const auto& s : tyre.members[0].starts) EXPECT_TRUE(s[3] == 0.0 && s[4] == 0.0);
+  EXPECT_EQ(tyre.members[1].starts.size(), 6u * 8u);  // the 9 compliance pairs but (0, 0)
+  for (const auto& s : tyre.members[1].starts) EXPECT_TRUE(s[3] > 0.0 || s[4] > 0.0);
+  const effects::EffectFamily& stops = effects::Family(EffectId::kNonlinearStiffness);
+  ASSERT_EQ(stops.members.size(), 3u);
+  for (std::size_t m = 1; m < 3; ++m)
+    for (const auto& s : stops.members[m].starts) EXPECT_GT(s[2], 0.0);
+  EXPECT_EQ(stops.members[1].setting.stops, effects::StopSides::kBoth);
+  EXPECT_EQ(stops.members[2].setting.stops, effects::StopSides::kRebound);
+}
+
+}  // namespace
+}  // namespace pwsim::diagnose
