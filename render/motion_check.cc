@@ -16,17 +16,69 @@ namespace {
 constexpr double kFloorMinSlope = 0.10;
 constexpr double kCeilingMinSlope = 0.25;
 
+/// ω of R = exp([ω]×) (the rotation vector; ≈ the skew part of R for small angles).
+cv::Vec3d RotationVector(const cv::Matx33d& R) {
+  cv::Vec3d omega;
+  cv::Rodrigues(R, omega);
+  return omega;
+}
+
+/// The camera's angles from ω: R = I + [ω]× holds the new camera's axes (rows) in the old one
+/// (x right, y down, z ahead): a nose-up pitch δ puts sin δ at R(1,2) = −ω_x; a right-side-down
+/// roll φ puts sin φ at R(0,1) = −ω_z; a turn ψ to the left puts the new line of sight's −sin ψ
+/// at R(2,0) = −ω_y.
+void SetRotation(const cv::Vec3d& omega, FrameMotion& motion) {
+  motion.pitch_delta = -omega[0];
+  motion.yaw_delta = omega[1];
+  motion.roll_delta = -omega[2];
+}
+
+/// [px] median flow below which the image is taken not to have moved.
+constexpr double kStillFlow_px = 0.02;
+
+/// kRigid (motion_check.h): the rotation between the frames from the tracked points p₀ → p₁.
+/// Returns false where the essential matrix finds too few inliers.
+bool RigidRotation(const std::vector<cv::Point2f>& p0, const std::vector<cv::Point2f>& p1,
+                   const cv::Matx33d& K, cv::Vec3d& omega, int& inliers) {
+  constexpr int kMinInliers = 12;
+  // An image that did not move (the chair standing still) has no essential matrix: ω = 0.
+  std::vector<double> flow(p0.size());
+  for (std::size_t i = 0; i < p0.size(); ++i) flow[i] = cv::norm(p1[i] - p0[i]);
+  const auto mid = flow.begin() + static_cast<long>(flow.size() / 2);
+  std::nth_element(flow.begin(), mid, flow.end());
+  if (*mid <= kStillFlow_px) {
+    omega = cv::Vec3d(0, 0, 0);
+    inliers = static_cast<int>(p0.size());
+    return true;
+  }
+  cv::Mat mask;
+  const cv::Mat E = cv::findEssentialMat(p0, p1, cv::Mat(K), cv::USAC_ACCURATE, 0.999, 1.0, mask);
+  if (E.rows != 3 || E.cols != 3) return false;  // several solutions stacked: degenerate
+  inliers = cv::countNonZero(mask);
+  if (inliers < kMinInliers) return false;
+  // E = [t]× R has two rotations (the "twisted pair", π apart about the baseline); between
+  // consecutive frames the camera turns by a few degrees at most, so the smaller one is R.
+  cv::Mat R1, R2, t;
+  cv::decomposeEssentialMat(E, R1, R2, t);
+  const cv::Vec3d omega1 = RotationVector(cv::Matx33d(R1)), omega2 = RotationVector(cv::Matx33d(R2));
+  omega = cv::norm(omega1) <= cv::norm(omega2) ? omega1 : omega2;
+  return true;
+}
+
 }  // namespace
 
 struct FrameMotionEstimator::Impl {
+  SceneModel model{SceneModel::kFloorPlane};
   int scale_shifts{0};  ///< the frame is halved this many times
   cv::Matx33d K;
   cv::Mat previous;  ///< grey, scaled
   cv::Mat grey, small;
 };
 
-FrameMotionEstimator::FrameMotionEstimator(int width, int height, double fov_y_deg, int max_width)
+FrameMotionEstimator::FrameMotionEstimator(int width, int height, double fov_y_deg, int max_width,
+                                           SceneModel model)
     : impl_(std::make_unique<Impl>()) {
+  impl_->model = model;
   int w = width, h = height;
   while (w > max_width) {
     w /= 2;
@@ -71,6 +123,12 @@ FrameMotion FrameMotionEstimator::Push(const ImageView& frame, double eye_height
   }
   motion.tracked = static_cast<int>(all0.size());
   d.grey.copyTo(d.previous);
+  cv::Vec3d omega(0, 0, 0), t(0, 0, 0);
+  if (d.model == SceneModel::kRigid) {
+    motion.valid = all0.size() >= 8 && RigidRotation(all0, all1, d.K, omega, motion.inliers);
+    SetRotation(omega, motion);
+    return motion;
+  }
 
   // 2. The floor nᵀX = h (n down, h the eye height) and, when given, the ceiling (n up, its
   //    clearance above the eye) map x₁ to x₂ ∝ R x₁ + t w with inverse depth w = nᵀx₁ / h. With
@@ -91,7 +149,6 @@ FrameMotion FrameMotionEstimator::Push(const ImageView& frame, double eye_height
       floor.push_back({u1, v1, u2, v2, -v1 / ceiling_clearance});
     }
   }
-  cv::Vec3d omega(0, 0, 0), t(0, 0, 0);
   if (floor.size() >= 20) {
     std::vector<double> weight(floor.size(), 1.0);
     for (int iteration = 0; iteration < 4; ++iteration) {
@@ -141,11 +198,8 @@ FrameMotion FrameMotionEstimator::Push(const ImageView& frame, double eye_height
       motion.valid = true;
     }
   }
-  // 3. R = I + [ω]× holds the new camera's axes (rows) in the old one: a nose-up pitch δ puts
-  //    sin δ at R(1,2) = −ω_x (y down, z ahead); a right-side-down roll φ puts sin φ at
-  //    R(0,1) = −ω_z. X₂ = R X₁ + t: the eye moving up by Δz (−y) gives t_y = +Δz.
-  motion.pitch_delta = -omega[0];
-  motion.roll_delta = -omega[2];
+  // 3. X₂ = R X₁ + t: the eye moving up by Δz (−y) gives t_y = +Δz.
+  SetRotation(omega, motion);
   motion.vertical_delta = t[1];
   return motion;
 }

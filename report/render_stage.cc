@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -11,6 +12,8 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "engine/input_error.h"
 #include "render/camera_rig.h"
@@ -103,7 +106,8 @@ class VisualChannel {
   const std::vector<double>* yaw_{nullptr};
 };
 
-/// A vestibular pitch-rate cue to compare with: `sign` × column is a nose-up rate [rad/s].
+/// A vestibular rate cue to compare with: `sign` × column is the axis' rate in the camera's
+/// sense (nose-up pitch, left yaw, right-side-down roll) [rad/s].
 struct VestibularCue {
   std::string key;     ///< summary key suffix
   std::string column;  ///< trial.csv column
@@ -111,21 +115,33 @@ struct VestibularCue {
   std::string label;
 };
 
-/// The MCA's semicircular-canal outputs about y (y points left, so a nose-up pitch rate is
-/// −w_y): felt on the platform and felt in the real chair. Without them, the chair's pitch rate.
-std::vector<VestibularCue> VestibularCues(const TrialTable& table) {
+/// An axis of the pixel check (visual_check.csv columns est_<name>_rate_<unit>,
+/// pose_<name>_rate_<unit> and <cue key>_<name>_rate_<unit>).
+struct CheckAxis {
+  std::string name;   ///< "pitch", "yaw", "roll" or "vertical"
+  std::string unit;   ///< "radps" or "mps"
+  std::string title;  ///< the figure panel's
+  std::string pixels_label;
+  std::string reference;          ///< what the pose log's series is
+  std::vector<double> est, pose;  ///< per frame: from the pixels, from the pose log
   std::vector<VestibularCue> cues;
-  if (table.Has("vest_plat_scc_y_radps")) {
-    cues.push_back({"vestibular_platform", "vest_plat_scc_y_radps", -1.0,
-                    "-vest_plat_scc_y_radps (felt on the platform)"});
+};
+
+/// The MCA's semicircular-canal outputs about the axis (trial.csv's x ahead, y left, z up, so a
+/// nose-up pitch rate is −w_y, a left yaw rate w_z, a right-side-down roll rate w_x): felt on the
+/// platform and felt in the real chair. Without them, the chair's own rate.
+std::vector<VestibularCue> VestibularCues(const TrialTable& table, const std::string& axis) {
+  const char scc = axis == "pitch" ? 'y' : axis == "yaw" ? 'z' : 'x';
+  const double sign = axis == "pitch" ? -1.0 : 1.0;
+  const std::string prefix = sign < 0 ? "-" : "";
+  std::vector<VestibularCue> cues;
+  for (const auto& [key, who, what] : {std::array<std::string, 3>{"vestibular_platform", "plat", "felt on the platform"},
+                                       std::array<std::string, 3>{"vestibular_true", "true", "felt in the real chair"}}) {
+    const std::string column = "vest_" + who + "_scc_" + scc + "_radps";
+    if (table.Has(column)) cues.push_back({key, column, sign, prefix + column + " (" + what + ")"});
   }
-  if (table.Has("vest_true_scc_y_radps")) {
-    cues.push_back({"vestibular_true", "vest_true_scc_y_radps", -1.0,
-                    "-vest_true_scc_y_radps (felt in the real chair)"});
-  }
-  if (cues.empty()) {
-    cues.push_back(
-        {"chair", "pitch_rate_radps", 1.0, "pitch_rate_radps (chair; no vest_ columns)"});
+  if (cues.empty() && table.Has(axis + "_rate_radps")) {
+    cues.push_back({"chair", axis + "_rate_radps", 1.0, axis + "_rate_radps (chair; no vest_ columns)"});
   }
   return cues;
 }
@@ -160,6 +176,64 @@ nlohmann::ordered_json ComparisonJson(const render::SeriesComparison& c, const s
           {"rms_error", c.rms_error}, {"samples", c.samples}};
 }
 
+/// visual_check.csv/.png and summary["visual_check"]: per axis, the pixels' rate against the
+/// pose log's and the cues' (gain, lag within ±max_lag frames, correlation), and the pose log
+/// against the cues. `time` the frames' times; frame k's cue is taken at the tick midway
+/// between frames k−1 and k.
+void WriteVisualCheck(const TrialTable& table, const std::vector<double>& time,
+                      const std::vector<CheckAxis>& axes, double frame_dt, int ticks_per_frame,
+                      int max_lag, const std::filesystem::path& out_dir,
+                      nlohmann::ordered_json& summary) {
+  const std::size_t frame_count = time.size();
+  std::vector<double> frame_index(frame_count), t_mid(frame_count);
+  for (std::size_t k = 0; k < frame_count; ++k) {
+    frame_index[k] = static_cast<double>(k);
+    t_mid[k] = k == 0 ? time[0] : (time[k] + time[k - 1]) / 2.0;
+  }
+  const auto cue_rate = [&](const VestibularCue& cue) {
+    std::vector<double> rate(frame_count, kNaN);
+    const std::vector<double>& column = table.Column(cue.column);
+    for (std::size_t k = 1; k < frame_count; ++k) {
+      rate[k] = cue.sign * column[k * static_cast<std::size_t>(ticks_per_frame) -
+                                  static_cast<std::size_t>(ticks_per_frame) / 2];
+    }
+    return rate;
+  };
+  TrialTable check(frame_count);
+  check.Add("frame", frame_index);
+  check.Add("t_mid_s", t_mid);
+  std::vector<plot::SharedXPanel> panels;
+  nlohmann::ordered_json check_json{{"csv", "visual_check.csv"}, {"plot", "visual_check.png"}};
+  int estimated = 0;
+  for (double v : axes.front().est) estimated += std::isfinite(v) ? 1 : 0;
+  check_json["frames_estimated"] = estimated;
+  const unsigned cue_colors[] = {0x009E73, 0xCC79A7, 0xE69F00};
+  for (const CheckAxis& axis : axes) {
+    const std::string suffix = axis.name + "_rate_" + axis.unit;
+    check.Add("est_" + suffix, axis.est);
+    check.Add("pose_" + suffix, axis.pose);
+    std::vector<plot::SharedXSeries> series{{axis.pixels_label, axis.est, 0xD55E00},
+                                            {"camera pose log", axis.pose, 0x0072B2}};
+    check_json[axis.name + "_rate_vs_pose"] =
+        ComparisonJson(render::CompareSeries(axis.est, axis.pose, frame_dt, max_lag), axis.reference);
+    for (std::size_t c = 0; c < axis.cues.size(); ++c) {
+      const VestibularCue& cue = axis.cues[c];
+      std::vector<double> rate = cue_rate(cue);
+      check_json[axis.name + "_rate_vs_" + cue.key] =
+          ComparisonJson(render::CompareSeries(axis.est, rate, frame_dt, max_lag), cue.label);
+      check_json["pose_" + axis.name + "_rate_vs_" + cue.key] =
+          ComparisonJson(render::CompareSeries(axis.pose, rate, frame_dt, max_lag), cue.label);
+      series.push_back({cue.label, rate, cue_colors[c % 3]});
+      check.Add(cue.key + "_" + suffix, std::move(rate));
+    }
+    panels.push_back({axis.title, axis.name + (axis.unit == "mps" ? " velocity [m/s]" : " rate [rad/s]"),
+                      std::move(series)});
+  }
+  check.WriteCsv(out_dir / "visual_check.csv");
+  plot::WriteSharedXFigure(out_dir / "visual_check.png", t_mid, panels);
+  summary["visual_check"] = check_json;
+}
+
 }  // namespace
 
 void RenderTrial(const Scene& scene, const TrialTable& table, const RenderStageOptions& options,
@@ -181,7 +255,11 @@ void RenderTrial(const Scene& scene, const TrialTable& table, const RenderStageO
   std::vector<double> cam_x(frame_count), cam_y(frame_count), cam_z(frame_count);
   std::vector<double> cam_pitch(frame_count), cam_roll(frame_count), cam_yaw(frame_count, 0.0);
   std::vector<double> tilt_shown(frame_count);
-  std::vector<double> est_pitch_rate(frame_count, kNaN), est_vertical_rate(frame_count, kNaN);
+  // the camera's rotation from frame k−1 to k, ω = log(R_WC(k−1)ᵀ R_WC(k)) in C's axes, and
+  // the same from the pixels (rows k ≥ 1; NaN where the estimate failed)
+  std::vector<Eigen::Vector3d> pose_step(frame_count, Eigen::Vector3d::Constant(kNaN));
+  std::vector<render::FrameMotion> pixel_step(frame_count);
+  Eigen::Matrix3d previous_R_WC = Eigen::Matrix3d::Identity();
 
   render::OffscreenRenderer renderer(scene.is_circuit() ? render::BuildCircuitRenderScene(scene, config)
                                                         : render::BuildRenderScene(scene, config),
@@ -195,10 +273,13 @@ void RenderTrial(const Scene& scene, const TrialTable& table, const RenderStageO
         render::VideoConfig{out_dir / "video_lossless.mkv", width, height, config.fps,
                             render::VideoCodec::kLossless, 0});
   }
-  // mono views of straight runs only: the plane fit assumes a chair moving along the room
+  // mono views: the floor/ceiling plane fit along a straight run's room, any rigid scene on a
+  // circuit (rotation only)
   std::unique_ptr<render::FrameMotionEstimator> estimator;
-  if (!config.stereo && !channel.planar()) {
-    estimator = std::make_unique<render::FrameMotionEstimator>(width, height, config.fov_y_deg);
+  if (!config.stereo) {
+    estimator = std::make_unique<render::FrameMotionEstimator>(
+        width, height, config.fov_y_deg, 640,
+        channel.planar() ? render::SceneModel::kRigid : render::SceneModel::kFloorPlane);
   }
 
   ProgressBar progress(static_cast<std::int64_t>(frame_count));
@@ -233,14 +314,12 @@ void RenderTrial(const Scene& scene, const TrialTable& table, const RenderStageO
       std::snprintf(name, sizeof(name), "frame_%05zu.png", k);
       render::WritePng(out_dir / "frames" / name, frame);
     }
-    if (estimator) {
-      const render::FrameMotion motion =
-          estimator->Push(frame, cam_z[k], scene.room.height - cam_z[k]);
-      if (motion.valid) {
-        est_pitch_rate[k] = motion.pitch_delta / frame_dt;
-        est_vertical_rate[k] = motion.vertical_delta / frame_dt;
-      }
+    if (estimator) pixel_step[k] = estimator->Push(frame, cam_z[k], scene.room.height - cam_z[k]);
+    if (k > 0) {
+      const Eigen::AngleAxisd step(previous_R_WC.transpose() * X_WC.linear());
+      pose_step[k] = step.angle() * step.axis();
     }
+    previous_R_WC = X_WC.linear();
     const double elapsed =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     progress.Update(static_cast<std::int64_t>(k + 1), static_cast<double>(k + 1) / elapsed);
@@ -291,75 +370,51 @@ void RenderTrial(const Scene& scene, const TrialTable& table, const RenderStageO
   if (lossless) render_json["lossless_video"] = "video_lossless.mkv";
   summary["render"] = render_json;
   if (!estimator) {
-    summary["visual_check"] = {
-        {"skipped", channel.planar() ? "circuit: the floor/ceiling plane fit assumes a straight run"
-                                     : "stereo view"}};
+    summary["visual_check"] = {{"skipped", "stereo view"}};
     return;
   }
 
-  // Pixel check: motion between frames k-1 and k belongs to the mid time (k - 1/2)/fps; the
-  // references are the pose log differenced the same way and the vestibular cues at that time.
-  const std::vector<VestibularCue> cues = VestibularCues(table);
-  std::vector<double> t_mid(frame_count, kNaN), pose_pitch_rate(frame_count, kNaN);
-  std::vector<double> pose_vertical_rate(frame_count, kNaN);
-  std::vector<std::vector<double>> cue_rate(cues.size(), std::vector<double>(frame_count, kNaN));
-  for (std::size_t k = 1; k < frame_count; ++k) {
-    t_mid[k] = (time[k] + time[k - 1]) / 2.0;
-    pose_pitch_rate[k] = (cam_pitch[k] - cam_pitch[k - 1]) / frame_dt;
-    pose_vertical_rate[k] = (cam_z[k] - cam_z[k - 1]) / frame_dt;
-    const std::size_t mid_row = k * static_cast<std::size_t>(ticks_per_frame) -
-                                static_cast<std::size_t>(ticks_per_frame) / 2;
-    for (std::size_t c = 0; c < cues.size(); ++c) {
-      cue_rate[c][k] = cues[c].sign * table.Column(cues[c].column)[mid_row];
+  // Pixel check: motion between frames k−1 and k belongs to the mid time (k − ½)/fps; the
+  // references are the camera's own rotation between the frames (pose log) and the vestibular
+  // cues at that time. Straight runs: pitch and vertical motion (plane fit); circuits: yaw, pitch
+  // and roll (rigid scene).
+  const auto rate = [&](auto of) {
+    std::vector<double> pose(frame_count, kNaN), est(frame_count, kNaN);
+    for (std::size_t k = 1; k < frame_count; ++k) {
+      const auto [from_pose, from_pixels] = of(k);
+      pose[k] = from_pose / frame_dt;
+      if (pixel_step[k].valid) est[k] = from_pixels / frame_dt;
     }
+    return std::pair{pose, est};
+  };
+  std::vector<CheckAxis> axes;
+  const std::string pixels = channel.planar() ? "pixels (optical flow, essential matrix)"
+                                              : "pixels (optical flow, plane fit)";
+  const auto add_rotation = [&](const std::string& name, const std::string& title, auto of) {
+    auto [pose, est] = rate(of);
+    axes.push_back({name, "radps", title, pixels,
+                    "the camera's rotation between frames, log(R_WC(k-1)^T R_WC(k)), from the pose log",
+                    std::move(est), std::move(pose), VestibularCues(table, name)});
+  };
+  if (channel.planar()) {
+    add_rotation("yaw", "Yaw rate (to the left): pixels vs camera pose log vs vestibular cues",
+                 [&](std::size_t k) { return std::pair{pose_step[k].z(), pixel_step[k].yaw_delta}; });
   }
-  t_mid[0] = time[0];
-  TrialTable check(frame_count);
-  check.Add("frame", frame_index);
-  check.Add("t_mid_s", t_mid);
-  check.Add("est_pitch_rate_radps", est_pitch_rate);
-  check.Add("pose_pitch_rate_radps", pose_pitch_rate);
-  for (std::size_t c = 0; c < cues.size(); ++c) {
-    check.Add(cues[c].key + "_pitch_rate_radps", cue_rate[c]);
+  add_rotation("pitch", "Pitch rate (nose-up): pixels vs camera pose log vs vestibular cues",
+               [&](std::size_t k) { return std::pair{-pose_step[k].y(), pixel_step[k].pitch_delta}; });
+  if (channel.planar()) {
+    add_rotation("roll", "Roll rate (right side down): pixels vs camera pose log vs vestibular cues",
+                 [&](std::size_t k) { return std::pair{pose_step[k].x(), pixel_step[k].roll_delta}; });
+  } else {
+    auto [pose, est] = rate([&](std::size_t k) {
+      return std::pair{cam_z[k] - cam_z[k - 1], pixel_step[k].vertical_delta};
+    });
+    axes.push_back({"vertical", "mps", "Vertical velocity of the eye: pixels vs pose log",
+                    "pixels (floor and ceiling plane fit)", "cam_z_m (frames.csv), differenced", std::move(est),
+                    std::move(pose), {}});
   }
-  check.Add("est_vertical_rate_mps", est_vertical_rate);
-  check.Add("pose_vertical_rate_mps", pose_vertical_rate);
-  check.WriteCsv(out_dir / "visual_check.csv");
-
-  const int max_lag = std::max(2, config.fps / 2);  // ±0.5 s
-  const auto vs_pose = render::CompareSeries(est_pitch_rate, pose_pitch_rate, frame_dt, max_lag);
-  const auto vertical =
-      render::CompareSeries(est_vertical_rate, pose_vertical_rate, frame_dt, max_lag);
-  int valid = 0;
-  for (double v : est_pitch_rate) valid += std::isfinite(v) ? 1 : 0;
-  std::vector<plot::SharedXSeries> pitch_series{
-      {"pixels (optical flow, plane fit)", est_pitch_rate, 0xD55E00},
-      {"camera pose log", pose_pitch_rate, 0x0072B2}};
-  const unsigned cue_colors[] = {0x009E73, 0xCC79A7, 0xE69F00};
-  for (std::size_t c = 0; c < cues.size(); ++c) {
-    pitch_series.push_back({cues[c].label, cue_rate[c], cue_colors[c % 3]});
-  }
-  plot::WriteSharedXFigure(
-      out_dir / "visual_check.png", t_mid,
-      {{"Pitch rate (nose-up): pixels vs camera pose log vs vestibular cues",
-        "pitch rate [rad/s]", pitch_series},
-       {"Vertical velocity of the eye: pixels vs pose log",
-        "vertical velocity [m/s]",
-        {{"pixels (floor and ceiling plane fit)", est_vertical_rate, 0xD55E00},
-         {"camera pose log", pose_vertical_rate, 0x0072B2}}}});
-  nlohmann::ordered_json check_json{
-      {"csv", "visual_check.csv"},
-      {"plot", "visual_check.png"},
-      {"frames_estimated", valid},
-      {"pitch_rate_vs_pose", ComparisonJson(vs_pose, "cam_pitch_rad (frames.csv), differenced")},
-      {"vertical_rate_vs_pose", ComparisonJson(vertical, "cam_z_m (frames.csv), differenced")}};
-  for (std::size_t c = 0; c < cues.size(); ++c) {
-    check_json["pitch_rate_vs_" + cues[c].key] = ComparisonJson(
-        render::CompareSeries(est_pitch_rate, cue_rate[c], frame_dt, max_lag), cues[c].label);
-    check_json["pose_pitch_rate_vs_" + cues[c].key] = ComparisonJson(
-        render::CompareSeries(pose_pitch_rate, cue_rate[c], frame_dt, max_lag), cues[c].label);
-  }
-  summary["visual_check"] = check_json;
+  WriteVisualCheck(table, time, axes, frame_dt, ticks_per_frame, std::max(2, config.fps / 2), out_dir,
+                   summary);
 }
 
 }  // namespace pwsim::report

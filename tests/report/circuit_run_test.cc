@@ -144,6 +144,29 @@ TEST_F(CircuitRunTest, VideoHasOneFramePerTickStep) {
   }
 }
 
+// Tests the pixel check of a circuit: the camera's yaw rate seen in the rendered frames (optical
+// flow, essential matrix: walls, table and mat at unknown depths) follows the pose log's on every
+// one of the 200 frame pairs, in sign, size (15 %: at 320x180 the flow is coarse; the 480x270
+// unit test holds 5 %) and time (half a frame), and agrees in sign and size with what the chair's
+// own semicircular canals feel (vest_true_scc_z: a high-pass of the rate, so no lag asked).
+TEST_F(CircuitRunTest, PixelsShowTheTurnThePoseLogAndTheChairHave) {
+  const nlohmann::json check = Summary(*out_)["visual_check"];
+  ASSERT_TRUE(check.contains("yaw_rate_vs_pose")) << check.dump();
+  EXPECT_EQ(check["frames_estimated"].get<int>(), 200);
+  const nlohmann::json& vs_pose = check["yaw_rate_vs_pose"];
+  EXPECT_NEAR(vs_pose["gain"].get<double>(), 1.0, 0.15);
+  EXPECT_LT(std::abs(vs_pose["lag_s"].get<double>()), 0.5 / 25);
+  EXPECT_GT(vs_pose["correlation"].get<double>(), 0.9);
+  const nlohmann::json& vs_chair = check["yaw_rate_vs_vestibular_true"];
+  EXPECT_NEAR(vs_chair["gain"].get<double>(), 1.0, 0.25);
+  EXPECT_GT(vs_chair["correlation"].get<double>(), 0.85);
+  const auto csv = ReadCsv(*out_ / "visual_check.csv");
+  for (const char* column : {"est_yaw_rate_radps", "pose_yaw_rate_radps", "est_roll_rate_radps",
+                             "pose_pitch_rate_radps", "vestibular_platform_yaw_rate_radps"}) {
+    EXPECT_EQ(csv.count(column), 1U) << column;
+  }
+}
+
 // Tests that all four axes of the PW platform are used, and that every command stays inside the
 // platform's limits (pose, and rate and acceleration as differences of the command stream).
 TEST_F(CircuitRunTest, EveryPlatformAxisIsUsedWithinItsLimits) {
