@@ -109,8 +109,8 @@ void AddYawedBox(std::vector<Quad>* quads, const Eigen::Vector2d& centre, double
   AddPrism(quads, {centre - u - v, centre + u - v, centre + u + v, centre - u + v}, z0, z1, color);
 }
 
-void AddHeightField(std::vector<Quad>* quads, const HeightGrid& grid, Rgb color,
-                    TextureKind texture, double flat, double lift) {
+void AddHeightField(std::vector<Quad>* quads, const HeightGrid& grid, Rgb color, TextureKind texture,
+                    double flat, Rgb floor_color) {
   if (grid.nx < 2 || grid.ny < 2 ||
       grid.z.size() != static_cast<std::size_t>(grid.nx) * static_cast<std::size_t>(grid.ny)) {
     return;
@@ -118,22 +118,37 @@ void AddHeightField(std::vector<Quad>* quads, const HeightGrid& grid, Rgb color,
   auto at = [&](int i, int j) {
     return Vector3d(grid.x0 + i * grid.cell, grid.y0 + j * grid.cell,
                     grid.z[static_cast<std::size_t>(j) * static_cast<std::size_t>(grid.nx) +
-                           static_cast<std::size_t>(i)] + lift);
+                           static_cast<std::size_t>(i)]);
   };
-  auto raised = [&](const Vector3d& p) { return p.z() - lift > flat; };
+  auto off_floor = [&](const Vector3d& p) { return p.z() != flat; };
   for (int j = 0; j + 1 < grid.ny; ++j) {
-    for (int i = 0; i + 1 < grid.nx; ++i) {
-      const Vector3d a = at(i, j), b = at(i + 1, j), c = at(i + 1, j + 1), d = at(i, j + 1);
-      if (!(raised(a) || raised(b) || raised(c) || raised(d))) continue;
-      quads->push_back(MakeQuad(a, b, c, d, color, texture, 0.5));
+    int run_start = -1;  // first cell of the current run on the floor
+    for (int i = 0; i + 1 <= grid.nx; ++i) {
+      const bool last = i + 1 == grid.nx;
+      const bool relief = !last && (off_floor(at(i, j)) || off_floor(at(i + 1, j)) ||
+                                    off_floor(at(i + 1, j + 1)) || off_floor(at(i, j + 1)));
+      if ((relief || last) && run_start >= 0) {  // the run of floor cells ends before cell i
+        quads->push_back(MakeQuad(at(run_start, j), at(i, j), at(i, j + 1), at(run_start, j + 1),
+                                  floor_color, TextureKind::kFloor, 1.0));
+        run_start = -1;
+      }
+      if (last) break;
+      if (relief) {
+        quads->push_back(MakeQuad(at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1), color, texture, 0.5));
+      } else if (run_start < 0) {
+        run_start = i;
+      }
     }
   }
-  // skirts along the border, where the relief stands above the floor
+  // skirts along the border, between the floor around and the relief where it is off the floor
+  // (up to a raised edge, down into a dip), facing outwards either way
   const Rgb side{color.r * 0.8F, color.g * 0.8F, color.b * 0.8F};
   auto skirt = [&](const Vector3d& p, const Vector3d& q) {
-    if (!(raised(p) || raised(q))) return;
-    quads->push_back(MakeQuad({p.x(), p.y(), flat}, {q.x(), q.y(), flat}, q, p, side,
-                              TextureKind::kNone, 1.0));
+    if (!(off_floor(p) || off_floor(q))) return;
+    const Vector3d p0(p.x(), p.y(), flat), q0(q.x(), q.y(), flat);
+    const bool up = std::max(p.z(), q.z()) > flat;
+    quads->push_back(up ? MakeQuad(p0, q0, q, p, side, TextureKind::kNone, 1.0)
+                        : MakeQuad(q0, p0, p, q, side, TextureKind::kNone, 1.0));
   };
   for (int i = 0; i + 1 < grid.nx; ++i) {
     skirt(at(i, 0), at(i + 1, 0));
@@ -143,6 +158,22 @@ void AddHeightField(std::vector<Quad>* quads, const HeightGrid& grid, Rgb color,
     skirt(at(grid.nx - 1, j), at(grid.nx - 1, j + 1));
     skirt(at(0, j + 1), at(0, j));
   }
+}
+
+void AddFloorAround(std::vector<Quad>* quads, const Eigen::AlignedBox2d& floor,
+                    const Eigen::AlignedBox2d& hole, double z, Rgb color) {
+  const double x0 = floor.min().x(), y0 = floor.min().y(), x1 = floor.max().x(), y1 = floor.max().y();
+  const double hx0 = hole.min().x(), hy0 = hole.min().y(), hx1 = hole.max().x(), hy1 = hole.max().y();
+  auto add = [&](double ax, double ay, double bx, double by) {
+    if (bx > ax && by > ay) {
+      quads->push_back(MakeQuad({ax, ay, z}, {bx, ay, z}, {bx, by, z}, {ax, by, z}, color,
+                                TextureKind::kFloor, 1.0));
+    }
+  };
+  add(x0, y0, x1, hy0);    // in front of the hole (−y side)
+  add(x0, hy1, x1, y1);    // behind it
+  add(x0, hy0, hx0, hy1);  // left of it (−x)
+  add(hx1, hy0, x1, hy1);  // right of it
 }
 
 Eigen::Vector3d QuadNormal(const Quad& quad) {
@@ -221,8 +252,6 @@ RenderScene BuildCircuitRenderScene(const Scene& scene, const RenderConfig& conf
   const Eigen::Vector2d lo = box.min() - Eigen::Vector2d(kMargin, kMargin);
   const Eigen::Vector2d hi = box.max() + Eigen::Vector2d(kMargin, kMargin);
   const Rgb floor{0.85F, 0.80F, 0.72F};
-  out.world.push_back(MakeQuad({lo.x(), lo.y(), 0}, {hi.x(), lo.y(), 0}, {hi.x(), hi.y(), 0},
-                               {lo.x(), hi.y(), 0}, floor, TextureKind::kFloor, 1.0));
 
   // Floor relief: every layer of the floor map, sampled where it can be non-zero.
   Eigen::AlignedBox2d relief;
@@ -240,8 +269,11 @@ RenderScene BuildCircuitRenderScene(const Scene& scene, const RenderConfig& conf
     relief.extend(Eigen::Vector2d(map.grid->x0 + (map.grid->nx - 1) * map.grid->cell,
                                   map.grid->y0 + (map.grid->ny - 1) * map.grid->cell));
   }
+  // The floor: the relief grid (its cells on the floor drawn as floor) and the floor around it.
+  const Eigen::AlignedBox2d whole(lo, hi);
+  Eigen::AlignedBox2d hole;  // empty: no relief
   if (!relief.isEmpty()) {
-    relief = relief.intersection(Eigen::AlignedBox2d(lo, hi));
+    relief = relief.intersection(whole);
     const Eigen::Vector2d size = relief.sizes();
     double cell = relief_cell;
     while ((size.x() / cell + 2) * (size.y() / cell + 2) > 250000.0) cell *= 1.5;  // bounded
@@ -259,9 +291,13 @@ RenderScene BuildCircuitRenderScene(const Scene& scene, const RenderConfig& conf
       }
     }
     if (grid.nx >= 2 && grid.ny >= 2) {
-      AddHeightField(&out.world, grid, Rgb{0.95F, 0.55F, 0.15F}, TextureKind::kCushion);
+      AddHeightField(&out.world, grid, Rgb{0.95F, 0.55F, 0.15F}, TextureKind::kCushion, 0.0, floor);
+      hole = Eigen::AlignedBox2d(Eigen::Vector2d(grid.x0, grid.y0),
+                                 Eigen::Vector2d(grid.x0 + (grid.nx - 1) * cell, grid.y0 + (grid.ny - 1) * cell));
     }
   }
+  if (hole.isEmpty()) hole = Eigen::AlignedBox2d(lo, lo);  // a point: the floor is whole
+  AddFloorAround(&out.world, whole, hole, 0.0, floor);
 
   // Walls, obstacles, gates.
   const double wall_height = scene.room.height;

@@ -73,12 +73,19 @@ void AddWall(std::vector<Quad>* quads, const Eigen::Vector2d& a, const Eigen::Ve
 void AddYawedBox(std::vector<Quad>* quads, const Eigen::Vector2d& centre, double hx, double hy,
                  double yaw, double z0, double z1, Rgb color);
 
-/// The relief of a height grid: one quad per cell with any corner above `flat` (cells at the
-/// floor's height are left to the floor), lifted by `lift` to stay clear of the floor's depth,
-/// and a skirt down to `flat` along the grid's border where it is raised.
+/// The relief of a height grid set into a floor at height `flat`: one quad per cell with any
+/// corner off the floor (above it, or below it in a dip), the cells on the floor as floor
+/// (`floor_color`, kFloor; one quad per run of them along x), and a skirt between the floor
+/// around and the grid's border where it is off the floor. The floor outside the grid is
+/// AddFloorAround's.
 void AddHeightField(std::vector<Quad>* quads, const HeightGrid& grid, Rgb color,
                     TextureKind texture = TextureKind::kCushion, double flat = 0.0,
-                    double lift = 0.001);
+                    Rgb floor_color = Rgb{0.85F, 0.80F, 0.72F});
+
+/// The floor at height z over the box `floor` less the rectangle `hole` inside it (up to four
+/// quads, kFloor).
+void AddFloorAround(std::vector<Quad>* quads, const Eigen::AlignedBox2d& floor,
+                    const Eigen::AlignedBox2d& hole, double z, Rgb color);
 
 /// Outward unit normal of a quad (from its winding).
 Eigen::Vector3d QuadNormal(const Quad& quad);

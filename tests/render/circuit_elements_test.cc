@@ -38,32 +38,68 @@ TEST(CircuitElementsTest, PrismFacesPointOutwards) {
   EXPECT_NEAR(far, 0.4, 1e-12);
 }
 
-// Tests the relief: a bump on a flat grid gives top quads only where it is raised, at its
-// heights (lifted by 1 mm), facing up, plus skirts where the bump meets the grid's border.
-TEST(CircuitElementsTest, HeightFieldCoversRaisedCellsOnly) {
+/// Area of a planar quad (two triangles).
+double QuadArea(const Quad& q) {
+  return 0.5 * ((q.corners[1] - q.corners[0]).cross(q.corners[2] - q.corners[0]).norm() +
+                (q.corners[2] - q.corners[0]).cross(q.corners[3] - q.corners[0]).norm());
+}
+
+// Tests the relief of a 5 x 4 vertex grid (0.5 m cells) with a raised inner vertex, a raised
+// border corner and a dip at the border: one relief quad per cell with a corner off the floor
+// (4 + 1 + 2), the other 5 cells as floor in runs along x (1 + 2 + 1 quads, 1.25 m² in all), and
+// skirts on the 4 border edges off the floor, up at the corner, down into the dip.
+TEST(CircuitElementsTest, HeightFieldDrawsReliefDipsAndFloorRuns) {
   HeightGrid grid;
   grid.cell = 0.5;
   grid.nx = 5;
   grid.ny = 4;
   grid.z.assign(20, 0.0);
-  grid.z[1 * 5 + 2] = 0.04;  // one raised vertex at (1.0, 0.5)
-  grid.z[0 * 5 + 4] = 0.02;  // and a raised border corner at (2.0, 0.0)
+  grid.z[1 * 5 + 2] = 0.04;   // a raised vertex at (1.0, 0.5)
+  grid.z[0 * 5 + 4] = 0.02;   // a raised border corner at (2.0, 0.0)
+  grid.z[3 * 5 + 1] = -0.03;  // a dip at the border, (0.5, 1.5)
   std::vector<Quad> quads;
-  AddHeightField(&quads, grid, Rgb{}, TextureKind::kCushion, 0.0, 0.001);
-  int tops = 0, skirts = 0;
-  double top_z = 0.0;
+  AddHeightField(&quads, grid, Rgb{}, TextureKind::kCushion, 0.0);
+  int tops = 0, floors = 0, skirts_up = 0, skirts_down = 0;
+  double top_z = 0.0, low_z = 0.0, floor_area = 0.0;
   for (const Quad& q : quads) {
     if (q.texture == TextureKind::kCushion) {
       ++tops;
       EXPECT_GT(QuadNormal(q).z(), 0.9);
-      for (const auto& c : q.corners) top_z = std::max(top_z, c.z());
+      for (const auto& c : q.corners) top_z = std::max(top_z, c.z()), low_z = std::min(low_z, c.z());
+    } else if (q.texture == TextureKind::kFloor) {
+      ++floors;
+      EXPECT_GT(QuadNormal(q).z(), 0.99);
+      for (const auto& c : q.corners) EXPECT_EQ(c.z(), 0.0);
+      floor_area += QuadArea(q);
     } else {
-      ++skirts;
+      double lowest = 0.0;
+      for (const auto& c : q.corners) lowest = std::min(lowest, c.z());
+      ++(lowest < 0.0 ? skirts_down : skirts_up);
     }
   }
-  EXPECT_EQ(tops, 4 + 1);  // the 4 cells around the inner vertex, 1 at the corner
-  EXPECT_EQ(skirts, 2);    // the corner's two border edges
-  EXPECT_DOUBLE_EQ(top_z, 0.041);
+  EXPECT_EQ(tops, 4 + 1 + 2);
+  EXPECT_EQ(floors, 1 + 2 + 1);
+  EXPECT_NEAR(floor_area, 5 * 0.25, 1e-12);
+  EXPECT_EQ(skirts_up, 2);    // the corner's two border edges
+  EXPECT_EQ(skirts_down, 2);  // the dip's two border edges
+  EXPECT_DOUBLE_EQ(top_z, 0.04);
+  EXPECT_DOUBLE_EQ(low_z, -0.03);
+}
+
+// Tests the floor around a relief: four quads covering the floor less the hole, exactly.
+TEST(CircuitElementsTest, FloorAroundLeavesTheReliefsRectangle) {
+  std::vector<Quad> quads;
+  AddFloorAround(&quads, Eigen::AlignedBox2d(Eigen::Vector2d(0, 0), Eigen::Vector2d(10, 10)),
+                 Eigen::AlignedBox2d(Eigen::Vector2d(2, 3), Eigen::Vector2d(4, 5)), 0.0, Rgb{});
+  ASSERT_EQ(quads.size(), 4U);
+  double area = 0.0;
+  for (const Quad& q : quads) {
+    area += QuadArea(q);
+    for (const auto& c : q.corners) {  // no corner strictly inside the hole
+      EXPECT_FALSE(c.x() > 2 && c.x() < 4 && c.y() > 3 && c.y() < 5);
+    }
+  }
+  EXPECT_NEAR(area, 100.0 - 4.0, 1e-12);
 }
 
 // Tests a turned chair's eye: ChairPose3d puts the head at R p_VH from O_V with the yaw applied,
@@ -122,6 +158,43 @@ TEST(CircuitElementsTest, TurnedChairSeesTheWallAheadOfIt) {
       ASSERT_FALSE(p[1] > 120 && p[0] < 60) << x << "," << y;
     }
   }
+}
+
+// Tests that a dip in the floor is seen: a 2 m x 2 m pit 0.3 m deep ahead of the chair (a red
+// relief, floor around it from AddFloorAround) shows red pixels below the horizon; no floor is
+// drawn over it.
+TEST(CircuitElementsTest, ChairSeesADipAheadOfIt) {
+  RenderScene scene;
+  const Rgb grey{0.6F, 0.6F, 0.6F}, red{0.9F, 0.1F, 0.1F};
+  HeightGrid grid;
+  grid.x0 = 1.5;
+  grid.y0 = -1.0;
+  grid.cell = 0.5;
+  grid.nx = 5;
+  grid.ny = 5;
+  grid.z.assign(25, 0.0);
+  for (int j = 1; j < 4; ++j) {
+    for (int i = 1; i < 4; ++i) grid.z[static_cast<std::size_t>(j * 5 + i)] = -0.3;
+  }
+  AddHeightField(&scene.world, grid, red, TextureKind::kNone, 0.0, grey);
+  AddFloorAround(&scene.world, Eigen::AlignedBox2d(Eigen::Vector2d(-10, -10), Eigen::Vector2d(10, 10)),
+                 Eigen::AlignedBox2d(Eigen::Vector2d(1.5, -1.0), Eigen::Vector2d(3.5, 1.0)), 0.0, grey);
+  RenderConfig config;
+  config.width = 160;
+  config.height = 90;
+  OffscreenRenderer renderer(scene, config);
+  VisualSample s;
+  const std::array<double, 3> head{0.05, 0.0, 1.25};
+  const ImageView image = renderer.Render(ChairPose3d(s), EyePoseOn(ChairPose3d(s), s, head, true), 0.0);
+  int red_pixels = 0, red_above_horizon = 0;
+  for (int y = 0; y < 90; ++y) {
+    for (int x = 0; x < 160; ++x) {
+      const std::uint8_t* p = image.bgra + 4 * (y * image.width + x);
+      if (p[2] > 120 && p[1] < 60 && p[0] < 60) ++(y < 45 ? red_above_horizon : red_pixels);
+    }
+  }
+  EXPECT_GT(red_pixels, 200);
+  EXPECT_EQ(red_above_horizon, 0);
 }
 
 }  // namespace
