@@ -172,6 +172,15 @@ double RmsDifference(const std::vector<double>& a, const std::vector<double>& b)
   return std::sqrt(sum / std::max(n, 1));
 }
 
+/// Expects `estimate` to follow `truth` within `gain_tolerance`, a frame, and `correlation`.
+void ExpectFollows(const std::vector<double>& estimate, const std::vector<double>& truth,
+                   double gain_tolerance, double correlation) {
+  const SeriesComparison c = CompareSeries(estimate, truth, 1.0 / kFps, 5);
+  EXPECT_NEAR(c.gain, 1.0, gain_tolerance);
+  EXPECT_LT(std::abs(c.lag), kLagTolerance);
+  EXPECT_GT(c.correlation, correlation);
+}
+
 // Tests that the rigid-scene model recovers a turn and a roll (2 deg, 1 Hz) of a chair driving
 // at 1 m/s through a rendered circuit room (walls, table, mat: depths unknown, parallax from
 // 2 cm a frame): the yaw rate within 5 %, the roll rate within 10 %, both within a frame, and the
@@ -179,14 +188,8 @@ double RmsDifference(const std::vector<double>& a, const std::vector<double>& b)
 // tenth of the yaw rate's RMS.
 TEST(FrameMotionEstimatorTest, RigidModelRecoversTurnAndRollWhileDriving) {
   const RigidRun run = RenderRigidRun(1.0, 2.0, 100);
-  const SeriesComparison yaw = CompareSeries(run.yaw, run.yaw_truth, 1.0 / kFps, 5);
-  EXPECT_NEAR(yaw.gain, 1.0, kRateTolerance);
-  EXPECT_LT(std::abs(yaw.lag), kLagTolerance);
-  EXPECT_GT(yaw.correlation, 0.99);
-  const SeriesComparison roll = CompareSeries(run.roll, run.roll_truth, 1.0 / kFps, 5);
-  EXPECT_NEAR(roll.gain, 1.0, 2 * kRateTolerance);
-  EXPECT_LT(std::abs(roll.lag), kLagTolerance);
-  EXPECT_GT(roll.correlation, 0.95);
+  ExpectFollows(run.yaw, run.yaw_truth, kRateTolerance, 0.99);
+  ExpectFollows(run.roll, run.roll_truth, 2 * kRateTolerance, 0.95);
   const std::vector<double> zero(run.yaw_truth.size(), 0.0);
   EXPECT_LT(RmsDifference(run.pitch, run.pitch_truth), 0.1 * RmsDifference(run.yaw_truth, zero));
 }
@@ -195,10 +198,7 @@ TEST(FrameMotionEstimatorTest, RigidModelRecoversTurnAndRollWhileDriving) {
 // only swings 5 cm ahead of the turn's axis, parallax of a tenth of a pixel).
 TEST(FrameMotionEstimatorTest, RigidModelRecoversATurnOnTheSpot) {
   const RigidRun run = RenderRigidRun(0.0, 0.0, 50);
-  const SeriesComparison yaw = CompareSeries(run.yaw, run.yaw_truth, 1.0 / kFps, 5);
-  EXPECT_NEAR(yaw.gain, 1.0, kRateTolerance);
-  EXPECT_LT(std::abs(yaw.lag), kLagTolerance);
-  EXPECT_GT(yaw.correlation, 0.99);
+  ExpectFollows(run.yaw, run.yaw_truth, kRateTolerance, 0.99);
 }
 
 }  // namespace
