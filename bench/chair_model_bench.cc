@@ -1,6 +1,11 @@
 // Chair-model steps per second (goals: sagittal >= 30 million/s, full-DoF >= 10 million/s, one core).
 // BM_LumpedStep: the exact LM propagator alone. BM_ChairStep: terrain lookup for every wheel,
 // GM (1)-(2) and LM (3)-(5): one full engine tick of the chair over the speed cushion.
+// On a shared machine compare two builds by interleaving them, e.g.
+//   for r in 1 2 3; do for b in A/bench/chair_model_bench B/bench/chair_model_bench; do
+//     nice -n 10 $b --benchmark_filter=FullChair --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+//   done; done
+// and count instructions, which do not depend on the load, with valgrind --tool=callgrind.
 
 #include <benchmark/benchmark.h>
 

@@ -96,19 +96,25 @@ double FloorMap::HeightAtNearUpdatingHint(double x_W, double y_W, FloorHint& hin
   const bool layers = !features.empty() || grid.has_value();
   double z = z_profile;
   const bool clear = x_W > hint.clear_lo && x_W < hint.clear_hi;
+  double base = z_profile;  // the sum before the active feature (if any)
+  bool plus_zero = false;   // + 0 after it
   if (layers) {
     // In the clear interval every layer but the active feature (if any) adds +0: z + 0 + 0 ...
     // is z + 0 (+0 turns a -0 into +0 once, then changes nothing), so the sum in HeightAt's
     // order is z_profile [+ 0] + f_active [+ 0], the +0 where layers come before or after it.
     if (!clear) {
-      z = AddLayersNear(z_profile, x_W, y_W, hint);
+      z = AddLayersNear(z_profile, x_W, y_W, hint);  // moves the clear interval
     } else if (hint.active < 0) {
       z = z_profile + 0.0;
-    } else {
+    }
+    if (x_W > hint.clear_lo && x_W < hint.clear_hi && hint.active >= 0) {
       const std::size_t k = static_cast<std::size_t>(hint.active);
-      if (k > 0) z += 0.0;
-      z += features[k].HeightAt(x_W, y_W);
-      if (k + 1 < features.size() || grid) z += 0.0;
+      if (k > 0) base += 0.0;
+      plus_zero = k + 1 < features.size() || grid.has_value();
+      if (clear) {
+        z = base + features[k].HeightAt(x_W, y_W);
+        if (plus_zero) z += 0.0;
+      }
     }
   }
   // The level interval around x: the open piece of the profile x is in when that piece is level
@@ -132,14 +138,18 @@ double FloorMap::HeightAtNearUpdatingHint(double x_W, double y_W, FloorHint& hin
     lo = xs[k];
     hi = xs[k + 1];
   }
-  if (layers) {  // level only where no layer is active (AddLayersNear may have moved the hint)
-    const bool level = x_W > hint.clear_lo && x_W < hint.clear_hi && hint.active < 0;
+  int level_feature = -1;
+  if (layers) {  // within the clear interval (AddLayersNear may have moved it)
+    const bool level = x_W > hint.clear_lo && x_W < hint.clear_hi;
     lo = level ? std::max(lo, hint.clear_lo) : x_W;
     hi = level ? std::min(hi, hint.clear_hi) : x_W;
+    level_feature = level ? hint.active : -1;
   }
   hint.level_lo = lo;
   hint.level_hi = hi;
-  hint.level_z = z;
+  hint.level_z = level_feature < 0 ? z : base;
+  hint.level_feature = level_feature;
+  hint.level_plus_zero = plus_zero;
   return z;
 }
 

@@ -95,7 +95,9 @@ struct HeightGrid {
 ///             the grid add exactly +0 (each is 0 outside its x span), so z = z_profile + 0, or
 ///             z_profile [+ 0] + f_active [+ 0], without visiting them;
 ///   level     level_lo < x < level_hi is also inside one level piece of the profile (a level
-///             segment, or beyond its ends): there z is level_z, whatever x and y.
+///             segment, or beyond its ends): there z is level_z, whatever x and y, with no
+///             active feature; with one (a ramp or cross-slope on level ground), z is
+///             level_z + f_active(x, y) [+ 0], level_z then the profile's part [+ 0].
 /// Any hint gives the same bits as HeightAt; a fresh one is empty.
 struct FloorHint {
   std::size_t segment{0};
@@ -103,6 +105,8 @@ struct FloorHint {
   int active{-1};                       ///< the feature whose x span the clear interval is in
   double level_lo{0.0}, level_hi{0.0};  ///< [m]
   double level_z{0.0};                  ///< [m]
+  int level_feature{-1};                ///< the active feature on the level piece (-1: none)
+  bool level_plus_zero{false};          ///< + 0 after the active feature (layers follow it)
 };
 
 struct FloorMap {
@@ -126,7 +130,12 @@ struct FloorMap {
 };
 
 inline double FloorMap::HeightAtNear(double x_W, double y_W, FloorHint& hint) const {
-  if (x_W > hint.level_lo && x_W < hint.level_hi) return hint.level_z;
+  if (x_W > hint.level_lo && x_W < hint.level_hi) {
+    if (hint.level_feature < 0) return hint.level_z;
+    // HeightAtNearUpdatingHint's sum in the clear interval, its profile part known
+    const double z = hint.level_z + features[static_cast<std::size_t>(hint.level_feature)].HeightAt(x_W, y_W);
+    return hint.level_plus_zero ? z + 0.0 : z;
+  }
   return HeightAtNearUpdatingHint(x_W, y_W, hint);
 }
 

@@ -3,7 +3,9 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <span>
 
@@ -301,22 +303,25 @@ FullChairSimulator::FullChairSimulator(const Chair& chair, const PlanarLayout& l
     pivot_x_[c] = contact_role_[c] == WheelRole::kCaster ? rest_x_[c] + layout.caster.trail : rest_x_[c];
     lever_x_[c] = pivot_x_[c] - drive_x_;
   }
+  for (int c = 0; c < contacts; ++c) {
+    body_x_[c] = rest_x_[c];
+    body_y_[c] = rest_y_[c];
+  }
+}
+
+void FullChairSimulator::PlaceCasterContact(int c) {
+  const double trail = layout_.caster.trail;
+  body_x_[c] = rest_x_[c] + trail * (1.0 - caster_cos_[c]);
+  body_y_[c] = rest_y_[c] - trail * caster_sin_[c];
 }
 
 void FullChairSimulator::ContactsAt(const PlanarState& pose) {
   const double c = yaw_cos_;
   const double s = yaw_sin_;
-  const double trail = layout_.caster.trail;
   for (int k = 0; k < sample_.contact_count; ++k) {
-    double cx = rest_x_[k];
-    double cy = rest_y_[k];
-    if (contact_role_[k] == WheelRole::kCaster && k < ground_contacts_) {
-      cx += trail * (1.0 - caster_cos_[k]);
-      cy -= trail * caster_sin_[k];
-    }
     WheelContact& contact = sample_.contacts[k];
-    contact.x = pose.x + c * cx - s * cy;
-    contact.y = pose.y + s * cx + c * cy;
+    contact.x = pose.x + c * body_x_[k] - s * body_y_[k];
+    contact.y = pose.y + s * body_x_[k] + c * body_y_[k];
     contact.z = floor_.HeightAtNear(contact.x, contact.y, floor_hints_[k]);
   }
   for (int i = 0; i < rows_; ++i) {
@@ -347,10 +352,13 @@ double FullChairSimulator::RollTorqueNow() const {
          roll_torque_.per_lateral_accel * sample_.a_y;
 }
 
-void FullChairSimulator::Vertical(double pitch_torque, double roll_torque) {
-  const GeometricOutput gm_begin = sample_.gm;
-  const double roll_begin = sample_.roll_gm;
-  sample_.gm = gm_.Evaluate(std::span<const double>(sample_.z_O.data(), rows_));
+void FullChairSimulator::UpdateGeometry() {
+  bool same = geometry_valid_;
+  for (int k = 0; k < ground_contacts_; ++k) {
+    same = same && std::bit_cast<std::uint64_t>(sample_.contacts[k].z) == std::bit_cast<std::uint64_t>(geometry_z_[k]);
+  }
+  if (same) return;  // the same heights, bit for bit: the same outputs
+  geometry_ = gm_.Evaluate(std::span<const double>(sample_.z_O.data(), rows_));
   double roll_gm = 0.0;
   for (int i = 0; i < rows_; ++i) {
     const double rise = sample_.contacts[2 * i].z - sample_.contacts[2 * i + 1].z;
@@ -358,6 +366,17 @@ void FullChairSimulator::Vertical(double pitch_torque, double roll_torque) {
     const double sine = std::clamp(rise * inv_row_track_[i], -1.0, 1.0);
     roll_gm += roll_weight_[i] * std::asin(sine);
   }
+  geometry_roll_ = roll_gm;
+  for (int k = 0; k < ground_contacts_; ++k) geometry_z_[k] = sample_.contacts[k].z;
+  geometry_valid_ = true;
+}
+
+void FullChairSimulator::Vertical(double pitch_torque, double roll_torque) {
+  const GeometricOutput gm_begin = sample_.gm;
+  const double roll_begin = sample_.roll_gm;
+  UpdateGeometry();
+  const double roll_gm = geometry_roll_;
+  sample_.gm = geometry_;
   sample_.roll_gm = roll_gm;
 
   const LumpedInput input{gm_begin.z, sample_.gm.z, gm_begin.pitch, sample_.gm.pitch, pitch_torque};
@@ -445,6 +464,7 @@ const FullChairSample& FullChairSimulator::Start(const PlanarState& pose, double
     if (contact_role_[c] == WheelRole::kCaster) sample_.casters[c].angle = caster_angle;
     caster_cos_[c] = std::cos(sample_.casters[c].angle);
     caster_sin_[c] = std::sin(sample_.casters[c].angle);
+    if (contact_role_[c] == WheelRole::kCaster) PlaceCasterContact(c);
   }
   along_x0_ = pose.x;
   along_y0_ = pose.y;
@@ -491,6 +511,7 @@ const FullChairSample& FullChairSimulator::AdvanceAlong(const Longitudinal& driv
                                      caster_sin_[c], pivot_x_[c], rest_y_[c], drive.v, 0.0, 0.0, sample_.contacts[c].load);
     caster_cos_[c] = f.cos_angle;
     caster_sin_[c] = f.sin_angle;
+    PlaceCasterContact(c);
     sample_.contacts[c].force_x = f.fx;
     sample_.contacts[c].force_y = f.fy;
   }
@@ -575,6 +596,7 @@ const FullChairSample& FullChairSimulator::AdvanceSetpoints(const ControllerStat
                                        caster_sin_[c], pivot_x_[c], py, vx, vy, w, load);
       caster_cos_[c] = f.cos_angle;
       caster_sin_[c] = f.sin_angle;
+      PlaceCasterContact(c);
       fx = f.fx;
       fy = f.fy;
       lever_x = f.contact_x - drive_x_;

@@ -248,8 +248,13 @@ class FullChairSimulator {
 
  private:
   void Vertical(double pitch_torque, double roll_torque);
+  /// Z_GM, θ_GM (eq. 1-2) and φ_GM of the contacts' heights into geometry_, geometry_roll_;
+  /// kept from the last evaluation while the heights are the same bits (level ground).
+  void UpdateGeometry();
   void Loads(double a_x, double a_y);
   void ContactsAt(const PlanarState& pose);
+  /// Caster c's contact point in V (body_x_, body_y_) from its cos δ, sin δ.
+  void PlaceCasterContact(int c);
   void Equilibrium();
   double PitchTorqueNow() const;
   double RollTorqueNow() const;
@@ -301,10 +306,16 @@ class FullChairSimulator {
   double floor_tan_pitch_{0.0}, floor_tan_roll_{0.0};
   double floor_cos_pitch_{1.0}, floor_sin_pitch_{0.0}, floor_cos_roll_{1.0}, floor_sin_roll_{0.0};
   std::array<double, kMaxContacts> caster_cos_{}, caster_sin_{};  ///< of each caster's δ
+  /// Each contact point in V [m]: at rest, or a caster's p_rest + t (1 - cos δ, -sin δ).
+  std::array<double, kMaxContacts> body_x_{}, body_y_{};
 
   // --- caches (results kept to spare a lookup; any value gives the same bits) ---
   std::array<FloorHint, kMaxContacts> floor_hints_{};  ///< each contact's floor lookup hint
   JoystickInput target_joystick_;  ///< the deflection target_ was computed for
+  std::array<double, kMaxContacts> geometry_z_{};  ///< contact heights geometry_ is from [m]
+  GeometricOutput geometry_;       ///< gm_.Evaluate of their row means
+  double geometry_roll_{0.0};      ///< φ_GM of them [rad]
+  bool geometry_valid_{false};
   ControllerState target_;         ///< ControllerTarget(layout_.controller, target_joystick_)
 
   FullChairSample sample_;

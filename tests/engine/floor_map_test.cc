@@ -27,7 +27,8 @@ TEST(FloorMapTest, ProfileAloneIsTheTerrainBitForBit) {
 }
 
 // Tests that the hinted lookup of a wheel (HeightAtNear: the profile's segment, the interval
-// clear of every feature and the grid, and the level interval carried from call to call)
+// clear of every feature and the grid, and the level interval, with or without one feature on
+// it, carried from call to call)
 // returns HeightAt's bits on a path that enters and leaves level and sloped profile segments,
 // sharp and tapered features (one on another), the grid and the profile's ends, and jumps back
 // and forth (the hint then misses and is rebuilt).
@@ -43,16 +44,19 @@ TEST(FloorMapTest, HintedLookupIsHeightAtBitForBit) {
   floor.profile.z[0] = -0.0;  // a -0 start: the clear interval's z + 0 must turn it into +0 as HeightAt does
   FloorHint hint;
   int clear_hits = 0;
+  int level_feature_hits = 0;  // on a level piece of the profile with one feature active
   for (int k = 0; k < 40000; ++k) {
     const double x = -1.0 + 25.0 * (0.5 - 0.5 * std::cos(k * 1.7e-4)) + (k % 997 == 0 ? 3.0 : 0.0);
     const double y = 1.2 * std::sin(k * 3.1e-4);
     const bool clear = x > hint.clear_lo && x < hint.clear_hi;
+    level_feature_hits += x > hint.level_lo && x < hint.level_hi && hint.level_feature >= 0;
     const double z = floor.HeightAtNear(x, y, hint);
     ASSERT_EQ(std::signbit(z), std::signbit(floor.HeightAt(x, y))) << x << " " << y;
     ASSERT_EQ(z, floor.HeightAt(x, y)) << x << " " << y;
     clear_hits += clear;
   }
   EXPECT_GT(clear_hits, 10000);  // the clear interval was really used
+  EXPECT_GT(level_feature_hits, 5000);  // and the level interval under the plane and the kerb
   for (double x = 7.6; x < 9.9; x += 0.01) {  // into and out of the grid between two features
     ASSERT_EQ(floor.HeightAtNear(x, -0.5, hint), floor.HeightAt(x, -0.5)) << x;
   }
