@@ -36,7 +36,7 @@
 // rests show it at two time scales. (1) The level of a trial's final rest differs from its
 // initial rest by D with E D² = q Δt for a random walk of rate q [unit²/s] (Δt between the
 // windows' centres), against v = σ² (1/ν_s + 1/ν_e) for stationary noise (ν the windows'
-// effective samples). (2) Within each rest window of n samples at step h the least-squares
+// effective samples). (2) Within each initial rest window of n samples at step h the least-squares
 // slope b = Σ c_i y_i, c_i = (t_i − t̄)/Σ(t − t̄)², has E b² = q w + σ² u under a walk plus the
 // stationary noise, w = Σ_ij c_i c_j min(t_i, t_j) (≈ 6/(5 L) over a window of length L) and
 // u = Σ_ij c_i c_j r(|i − j|) (1/Σ(t − t̄)² = 12/(h² n (n² − 1)) for white noise). A smooth drift
@@ -45,7 +45,8 @@
 // training + selection trials (at rest the model is the terrain's geometry alone; the final
 // rest's later half only, as the chair settles after it stops): drift when
 // Σ D²/v + Σ b²/(σ² u) exceeds χ²_M(0.99) (M the level changes and slopes, each χ²_1 under
-// stationary noise) and, per family (level changes, initial-rest slopes, final-rest slopes),
+// stationary noise) and, per family (level changes, initial-rest slopes; the final rest's tilt
+// carries the chair's settling after braking and is not used),
 // its mean is not told from 0 by a two-sided t test at 1 % (drift has no sign; a change or
 // tilt all trials share is the model's, e.g. a settling it gets wrong; such a family is left
 // out). The walk-equivalent rate is the larger of the families' moment estimates,
