@@ -73,6 +73,8 @@ def plan(args):
         for j in range(count):
             kind = NOISE_KINDS[j % len(NOISE_KINDS)]
             tasks.append((split, f"{base + j:05d}_none_{kind}", base + j, "none", kind))
+    if args.unseen_noise and args.calibration > 60:
+        sys.exit("--unseen-noise: seeds 960+ would meet calibration seeds beyond 60 sets")
     for j in range(args.unseen_noise):
         kind = UNSEEN_KINDS[j % len(UNSEEN_KINDS)]
         tasks.append(("unseen_noise", f"{960 + j:05d}_none_{kind}", 960 + j, "none", kind))
