@@ -13,6 +13,8 @@ Splits (seed = base + 100 j + row index, j = 0, 1, ... the set's number in its r
   calibration   no-effect seeds 900 + j     (development; noise kinds in turn: white, lowpass,
                 drift, outliers, mix), for calibrating the verdict
   false alarm   no-effect seeds 90000 + j   (evaluation; kinds in turn as above)
+  unseen noise  no-effect seeds 960 + j     (development; noise kinds the law space never draws,
+                forced in turn: pink, sine, step, burst, quantised; law_space.h ExtraNoiseKinds)
 
 Sets run in parallel with a bounded number of jobs, each under `nice`; a set already diagnosed
 (WORK/results/NAME.json) is skipped, so an interrupted run resumes. Every file is written to a
@@ -42,6 +44,7 @@ ROWS = ["none", "wheel_radius", "tyre_compliance", "cushion_compliance", "heave_
         "tyre_compliance+inertial_pitch", "heave_pitch_coupling+nonlinear_stiffness"]
 OUTSIDE = {"occupant_seat"}
 NOISE_KINDS = ["white", "lowpass", "drift", "outliers", "mix"]
+UNSEEN_KINDS = ["pink", "sine", "step", "burst", "quantised"]
 VERDICTS = ["adequate", "explained", "partly_explained", "unexplained", "failed"]
 
 
@@ -70,6 +73,11 @@ def plan(args):
         for j in range(count):
             kind = NOISE_KINDS[j % len(NOISE_KINDS)]
             tasks.append((split, f"{base + j:05d}_none_{kind}", base + j, "none", kind))
+    if args.unseen_noise and args.calibration > 60:
+        sys.exit("--unseen-noise: seeds 960+ would meet calibration seeds beyond 60 sets")
+    for j in range(args.unseen_noise):
+        kind = UNSEEN_KINDS[j % len(UNSEEN_KINDS)]
+        tasks.append(("unseen_noise", f"{960 + j:05d}_none_{kind}", 960 + j, "none", kind))
     return tasks
 
 
@@ -177,6 +185,7 @@ def goals(results):
 def report(args, results):
     by = lambda split: [r for r in results if r["split"] == split]
     dev, ev, cal, fa = by("development"), by("evaluation"), by("calibration"), by("false_alarm")
+    unseen = by("unseen_noise")
     rows = [row for row in ROWS if any(r["row"] == row for r in dev + ev)]
     md = io.StringIO()
     md.write("# The diagnosis on the independent truth's law space\n\n"
@@ -200,7 +209,11 @@ def report(args, results):
     cal_ok = sum(r["verdict"] == "adequate" for r in cal)
     fa_bad = sum(r["verdict"] != "adequate" for r in fa)
     md.write(f"| calibration set (no effect, development seeds 900+): `adequate` | – | {rate(cal_ok, len(cal))} | |\n")
-    md.write(f"| false-alarm set (no effect, evaluation seeds 90000+): not `adequate` | ≤ 5 % | | {rate(fa_bad, len(fa))} |\n\n")
+    md.write(f"| false-alarm set (no effect, evaluation seeds 90000+): not `adequate` | ≤ 5 % | | {rate(fa_bad, len(fa))} |\n")
+    if unseen:
+        md.write(f"| unseen noise kinds (no effect, development seeds 960+): `adequate` | – | "
+                 f"{rate(sum(r['verdict'] == 'adequate' for r in unseen), len(unseen))} | |\n")
+    md.write("\n")
     md.write("| hidden effect | development: seed (law / noise): verdict, causes with held-out gain "
              "| evaluation: the same |\n|---|---|---|\n")
     for row in rows:
@@ -209,6 +222,8 @@ def report(args, results):
     if cal or fa:
         md.write(f"| no effect, calibration (development) / false alarm (evaluation) | {row_cell(cal)} | "
                  f"{row_cell(fa)} |\n")
+    if unseen:
+        md.write(f"| no effect, unseen noise kinds (development) | {row_cell(unseen)} | – |\n")
     write_atomic(args.md, md.getvalue())
     out = io.StringIO()
     w = csv.writer(out)
@@ -232,6 +247,8 @@ def main():
     p.add_argument("--eval-sets", type=int, default=1, help="sets per row on evaluation seeds")
     p.add_argument("--calibration", type=int, default=20, help="no-effect calibration sets")
     p.add_argument("--false-alarm", type=int, default=20, help="no-effect false-alarm sets")
+    p.add_argument("--unseen-noise", type=int, default=0,
+                   help="no-effect sets under noise kinds never drawn (seeds 960 + j, <= 39)")
     p.add_argument("--rows", default="", help="comma-separated rows (default: all)")
     p.add_argument("--jobs", type=int, default=2)
     p.add_argument("--nice", type=int, default=15)
@@ -246,6 +263,8 @@ def main():
     args = p.parse_args()
     if args.jobs < 1:
         sys.exit("--jobs: expected >= 1")
+    if not 0 <= args.unseen_noise <= 39:
+        sys.exit("--unseen-noise: 0-39 (development seeds 960-999)")
     args.diagnose_arg = [a for arg in args.diagnose_arg for a in arg.split("=", 1)]
     args.md = args.md or os.path.join(args.work, "evaluation.md")
     args.csv = args.csv or os.path.join(args.work, "evaluation.csv")

@@ -32,15 +32,28 @@
 // x, Z and θ of every trial before anything else (the fit, the centring on the rest window
 // and the noise model would otherwise all carry them).
 //
-// Drift (a marker or calibration wandering slowly): a stationary model cannot hold it: the
-// level of a trial's final rest differs from its initial rest by D with E D² = q Δt for a
-// random walk of rate q [unit²/s] (Δt between the windows' centres), against v = σ² (1/ν_s +
-// 1/ν_e) for stationary noise (ν the windows' effective samples). From the base model's
-// residual on the training + selection trials (at rest the model is the terrain's geometry
-// alone; the final rest's later half only, as the chair settles after it stops): drift when
-// Σ D²/v exceeds χ²_N(0.99) (N trials with both rests) and the mean of D is not told from 0
-// by a two-sided t test at 1 % (drift has no sign; a change all trials share is the model's,
-// e.g. a settling it gets wrong), then q̂ = Σ max(0, D² − v) / Σ Δt. The verdict then judges the residual less its slow part,
+// Drift (a marker or calibration wandering slowly): a stationary model cannot hold it. The
+// rests show it at two time scales. (1) The level of a trial's final rest differs from its
+// initial rest by D with E D² = q Δt for a random walk of rate q [unit²/s] (Δt between the
+// windows' centres), against v = σ² (1/ν_s + 1/ν_e) for stationary noise (ν the windows'
+// effective samples). (2) Within each initial rest window of n samples at step h the least-squares
+// slope b = Σ c_i y_i, c_i = (t_i − t̄)/Σ(t − t̄)², has E b² = q w + σ² u under a walk plus the
+// stationary noise, w = Σ_ij c_i c_j min(t_i, t_j) (≈ 6/(5 L) over a window of length L) and
+// u = Σ_ij c_i c_j r(|i − j|) (1/Σ(t − t̄)² = 12/(h² n (n² − 1)) for white noise). A smooth drift
+// whose period the trials nearly span (a slow sinusoid) leaves D ≈ 0 but tilts every rest: the
+// slopes see it where the level changes cannot. From the base model's residual on the
+// training + selection trials (at rest the model is the terrain's geometry alone; the final
+// rest's later half only, as the chair settles after it stops): drift when
+// Σ D²/v + Σ b²/(σ² u) exceeds χ²_M(0.99) (M the level changes and slopes, each χ²_1 under
+// stationary noise) and, per family (level changes, initial-rest slopes; the final rest's tilt
+// carries the chair's settling after braking and is not used),
+// its mean is not told from 0 by a two-sided t test at 1 % (drift has no sign; a change or
+// tilt all trials share is the model's, e.g. a settling it gets wrong; such a family is left
+// out). The walk-equivalent rate is the larger of the families' moment estimates,
+//     q̂_D = Σ max(0, D² − v) / Σ Δt,   q̂_b = Σ max(0, b² − σ² u) / Σ w,
+// the drift judged at least as rough as the roughest scale shows it (a sinusoid of amplitude A
+// and angular frequency ω gives q̂_b ≈ (5 L/6) A² ω²/2 while q̂_D may be ≈ 0). The verdict then
+// judges the residual less its slow part,
 // a local-linear Gaussian smooth of scale s_d [s] (transfer ≈ 1 − e^{−(2π f s_d)²/2}); a walk
 // of rate q leaves above it the variance
 //     q s_d ∫₀^∞ (1 − e^{−u²/2})² / u² du / π = q s_d (√2 − 1) / √π  ≈ 0.2337 q s_d,
@@ -48,8 +61,10 @@
 // is added to the noise variance the tests allow). s_d comes from the rests alone, never from
 // the residual's own slow power, which carries the model's errors (a slow inertial-pitch error
 // would be taken for drift and removed). Slow model errors below 1/(2π s_d) are not told from
-// drift: the price of drifting data, paid only when the rests show drift. A slow wave whose
-// period a trial nearly spans hides from the rests (D ≈ 0) and is then taken for structure.
+// drift: the price of drifting data, paid only when the rests show drift.
+// Where drift is found, the rests' variogram carries it too (a walk adds ½ q k h at lag k,
+// which a stationary fit would take for colour): the colour and level are fitted again on
+// γ̂(k) − ½ q̂ k h (RefitWithoutDrift).
 //
 // What the verdict needs from the model (verdict.h):
 //  effective samples of n consecutive residual samples, n_eff = n² / Σ_{i,j} r(|i − j|)²
@@ -93,6 +108,9 @@ struct ChannelNoise {
 
   /// n² / Σ_{i,j<n} r(|i − j|)² (n for white noise).
   double EffectiveSamples(std::size_t n) const;
+  /// u = Σ_ij c_i c_j r(|i − j|) for the least-squares slope of n samples at step h [1/s²]:
+  /// Var b = σ² u under this noise.
+  double SlopeVarianceFactor(std::size_t n, double h) const;
   /// Mean of r(1..lags) (0 for white noise).
   double MeanAutocorrelation(std::size_t lags = 5) const;
 };
@@ -150,12 +168,18 @@ effects::TrialRecord WithoutOutliers(effects::TrialRecord record, double rest_wi
 /// Samples of the final rest of a trial (RestSamples on the time-reversed trial).
 std::size_t EndRestSamples(const std::vector<double>& t, const std::vector<double>& x, double rest_window);
 
-/// One trial's level change between its initial and final rest windows.
+/// One trial's level change between its initial and final rest windows, and the slope within each.
 struct RestLevelChange {
   double change{0.0};  ///< D: mean over the final rest − mean over the initial rest
   double dt_s{0.0};    ///< Δt between the windows' centres [s]
   std::size_t n_start{0}, n_end{0};
+  double slope_start{0.0}, slope_end{0.0};  ///< least-squares slopes b within each window [unit/s]
+  double step_s{0.0};                       ///< h, the sampling step of the windows [s]
 };
+
+/// w = Σ_ij c_i c_j min(t_i, t_j) of the least-squares slope of n samples at step h: E b² = q w
+/// for a random walk of rate q (→ 6/(5 L) for a window of length L = (n − 1) h).
+double SlopeWalkFactor(std::size_t n, double h);
 
 /// D of `e` (a residual or a channel) on the trial (t, x); n_start = n_end = 0 when either rest
 /// has fewer than kMinRestSamples samples or the two overlap.

@@ -19,7 +19,7 @@ spec.loader.exec_module(ev)
 
 def args(**kw):
     base = dict(rows="", dev_sets=9, eval_sets=12, calibration=20, false_alarm=20, work="", build="/nonexistent",
-                nice=15, jobs=2, speeds="1", loads="0", diagnose_arg=[], md="", csv="")
+                nice=15, jobs=2, speeds="1", loads="0", diagnose_arg=[], md="", csv="", unseen_noise=0)
     base.update(kw)
     return argparse.Namespace(**base)
 
@@ -43,6 +43,16 @@ class Plan(unittest.TestCase):
         self.assertEqual(len(seeds["evaluation"]), 12 * len(ev.ROWS))
         kinds = [t[4] for t in tasks if t[0] == "false_alarm"]
         self.assertEqual(kinds[:5], ev.NOISE_KINDS)
+
+    def test_unseen_noise_sets_are_development_seeds_apart_from_the_calibration(self):
+        tasks = ev.plan(args(dev_sets=0, eval_sets=0, false_alarm=0, calibration=60, unseen_noise=39))
+        every = [t[2] for t in tasks]
+        self.assertEqual(len(every), len(set(every)))
+        unseen = [t for t in tasks if t[0] == "unseen_noise"]
+        self.assertTrue(all(960 <= t[2] <= 999 for t in unseen))
+        self.assertEqual([t[4] for t in unseen[:5]], ev.UNSEEN_KINDS)
+        with self.assertRaises(SystemExit):
+            ev.plan(args(calibration=61, unseen_noise=1))
 
     def test_refuses_development_sets_that_would_reach_evaluation_seeds(self):
         with self.assertRaises(SystemExit):

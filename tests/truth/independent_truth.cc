@@ -322,9 +322,11 @@ TruthTrial SimulateTruthTrial(const TruthTrialConfig& c) {
       out.z.push_back(mz + c.noise_z_m * gauss(rng));
       out.pitch.push_back(th + c.noise_pitch_rad * gauss(rng));
     } else {
-      out.x.push_back(mx + ex[k]);
-      out.z.push_back(mz + ez[k]);
-      out.pitch.push_back(th + ep[k]);
+      // Quantised exports (quantum 0: as is): the recorded value on its grid.
+      auto grid = [](double v, double q) { return q > 0.0 ? q * std::round(v / q) : v; };
+      out.x.push_back(grid(mx + ex[k], c.noise.x.quantum));
+      out.z.push_back(grid(mz + ez[k], c.noise.z.quantum));
+      out.pitch.push_back(grid(th + ep[k], c.noise.pitch.quantum));
     }
   }
   return out;

@@ -143,6 +143,50 @@ void DrawWhite(Draw& d, MeasurementNoise& n, double gain) {
   n.pitch.white_sigma = raw * pitch_per_m;
 }
 
+/// The kinds the law space never draws (law_space.h ExtraNoiseKinds), from the same stream.
+std::string DrawExtraNoise(const std::string& kind, Draw& d, MeasurementNoise& n) {
+  n.white_only = false;
+  n.kind = kind;
+  std::string text = kind + ":";
+  if (kind == "pink") {
+    n.pink_lo_hz = d.In(0.05, 0.2);
+    n.pink_hi_hz = 40.0;
+    text += " 1/f noise from " + Fmt(n.pink_lo_hz) + " to 40 Hz;";
+  }
+  DrawWhite(d, n, 1.0);
+  text += " white sigma " + Fmt(n.z.white_sigma * 1e3) + " mm;";
+  if (kind == "sine") {  // the drift kind's sinusoid alone, at its slowest
+    n.drift_sine = true;
+    n.drift_sine_hz = d.In(0.05, 0.15);
+    const double a = d.In(5e-4, 1.5e-3);
+    n.x.drift_sine_amp = n.z.drift_sine_amp = a;
+    n.pitch.drift_sine_amp = a * d.In(1.0, 2.0);
+    text += " sinusoidal drift " + Fmt(a * 1e3) + " mm at " + Fmt(n.drift_sine_hz) + " Hz;";
+  }
+  if (kind == "step") {
+    const double s = d.In(3e-4, 1.5e-3);
+    n.x.drift_step = n.z.drift_step = s;
+    n.pitch.drift_step = s * d.In(1.0, 2.0);
+    text += " level step " + Fmt(s * 1e3) + " mm;";
+  }
+  if (kind == "burst") {
+    n.outlier_prob = d.In(0.0005, 0.002);
+    n.burst_length = 2 + d.Pick(4);
+    const double m = d.In(3e-3, 1e-2);
+    n.x.outlier_size = n.z.outlier_size = m;
+    n.pitch.outlier_size = m * d.In(1.0, 3.0);
+    text += " outlier bursts of up to " + std::to_string(n.burst_length) + " samples, p " +
+            Fmt(n.outlier_prob * 100) + " %, " + Fmt(m * 1e3) + " mm;";
+  }
+  if (kind == "quantised") {
+    const double q = d.In(1.0, 3.0) * n.z.white_sigma;
+    n.x.quantum = n.z.quantum = q;
+    n.pitch.quantum = q * n.pitch.white_sigma / n.z.white_sigma;
+    text += " quantised to " + Fmt(q * 1e3) + " mm;";
+  }
+  return text;
+}
+
 std::string DrawNoise(const std::string& kind, Draw& d, MeasurementNoise& n) {
   constexpr double kRateHz = 100.0;
   n.white_only = false;
@@ -192,6 +236,7 @@ std::string DrawNoise(const std::string& kind, Draw& d, MeasurementNoise& n) {
 }  // namespace
 
 std::vector<std::string> NoiseKinds() { return {"white", "lowpass", "drift", "outliers", "mix"}; }
+std::vector<std::string> ExtraNoiseKinds() { return {"pink", "sine", "step", "burst", "quantised"}; }
 
 LawDraw DrawLaws(std::uint64_t seed, const std::vector<std::string>& effects, const TruthChair& chair,
                  const std::string& noise_kind) {
@@ -204,8 +249,14 @@ LawDraw DrawLaws(std::uint64_t seed, const std::vector<std::string>& effects, co
   const std::vector<std::string> kinds = NoiseKinds();
   const int drawn = noise.Pick(static_cast<int>(kinds.size()));
   const std::string kind = noise_kind.empty() ? kinds[static_cast<std::size_t>(drawn)] : noise_kind;
+  const std::vector<std::string> extra = ExtraNoiseKinds();
+  if (std::find(extra.begin(), extra.end(), kind) != extra.end()) {
+    out.laws.push_back("noise " + DrawExtraNoise(kind, noise, out.noise));
+    return out;
+  }
   if (std::find(kinds.begin(), kinds.end(), kind) == kinds.end())
-    throw std::invalid_argument("unknown noise kind '" + kind + "' (white, lowpass, drift, outliers, mix)");
+    throw std::invalid_argument("unknown noise kind '" + kind +
+                                "' (white, lowpass, drift, outliers, mix; pink, sine, step, burst, quantised)");
   out.laws.push_back("noise " + DrawNoise(kind, noise, out.noise));
   return out;
 }

@@ -33,6 +33,11 @@
 //   same range) | drift (random walk reaching 0.5-2 mm over 10 s, or a 0.3-1.5 mm sinusoid at
 //   0.05-0.3 Hz) | outliers (p 0.1-0.5 % per sample, 3-10 mm, pitch 1-3 rad/m × that) |
 //   mix (lowpass + drift + outliers).
+// Kinds never drawn, only forced (`--noise KIND`), to try the diagnosis on noise it was not
+// calibrated on (measurement_noise.h): pink (1/f from 0.05-0.2 to 40 Hz) | sine (a 0.5-1.5 mm
+// sinusoid at 0.05-0.15 Hz alone) | step (a level step of 0.3-1.5 mm at a random time) | burst
+// (outliers in bursts of 2-5 samples, p 0.05-0.2 %) | quantised (rounded to 1-3 σ); each on
+// white noise of the range above. Forcing one leaves the effects' laws as drawn.
 
 #include <cstdint>
 #include <string>
@@ -49,9 +54,10 @@ struct LawDraw {
 };
 
 std::vector<std::string> NoiseKinds();  ///< white, lowpass, drift, outliers, mix
+std::vector<std::string> ExtraNoiseKinds();  ///< pink, sine, step, burst, quantised (forced only)
 
 /// The laws of `effects` (TruthEffectNames()) and the noise for set `seed`. `noise_kind` empty:
-/// drawn; otherwise one of NoiseKinds(). @throws std::invalid_argument for an unknown name or kind.
+/// drawn; otherwise one of NoiseKinds() or ExtraNoiseKinds(). @throws std::invalid_argument for an unknown name or kind.
 LawDraw DrawLaws(std::uint64_t seed, const std::vector<std::string>& effects, const TruthChair& chair,
                  const std::string& noise_kind = "");
 

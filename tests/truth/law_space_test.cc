@@ -80,14 +80,16 @@ TEST(LawSpace, ForcingTheNoiseKindKeepsTheLaws) {
   std::mt19937_64 rng(9);
   const TruthChair chair = RandomTruthChair(rng);
   const LawDraw drawn = DrawLaws(1234, {"suspension_friction", "inertial_pitch"}, chair);
-  for (const std::string& kind : NoiseKinds()) {
+  std::vector<std::string> kinds = NoiseKinds();
+  for (const std::string& extra : ExtraNoiseKinds()) kinds.push_back(extra);  // forced only
+  for (const std::string& kind : kinds) {
     const LawDraw forced = DrawLaws(1234, {"suspension_friction", "inertial_pitch"}, chair, kind);
     EXPECT_EQ(forced.noise.kind, kind);
     EXPECT_FALSE(forced.noise.white_only);
     EXPECT_EQ(std::vector<std::string>(forced.laws.begin(), forced.laws.end() - 1),
               std::vector<std::string>(drawn.laws.begin(), drawn.laws.end() - 1));
   }
-  EXPECT_THROW(DrawLaws(1, {}, chair, "pink"), std::invalid_argument);
+  EXPECT_THROW(DrawLaws(1, {}, chair, "brown"), std::invalid_argument);
   EXPECT_THROW(DrawLaws(1, {"warp_drive"}, chair), std::invalid_argument);
 }
 

@@ -64,6 +64,31 @@ double NoiseVarianceGain(const std::vector<Biquad>& filter, bool zero_phase, std
   return sum;
 }
 
+std::vector<double> PinkFilter(const std::vector<double>& white, double lo_hz, double hi_hz, double rate_hz) {
+  std::vector<double> out(white.size(), 0.0);
+  std::vector<double> a, w;  // y_k = a y_{k−1} + (1 − a) x_k, weight √f
+  for (double f = lo_hz; f <= hi_hz * 1.0001; f *= 4.0) {
+    a.push_back(std::exp(-2.0 * std::numbers::pi * f / rate_hz));
+    w.push_back(std::sqrt(f));
+  }
+  for (std::size_t j = 0; j < a.size(); ++j) {
+    double y = 0.0;
+    for (std::size_t k = 0; k < white.size(); ++k) {
+      y = a[j] * y + (1.0 - a[j]) * white[k];
+      out[k] += w[j] * y;
+    }
+  }
+  // Stationary output variance per unit input variance: the sections share their input, so
+  // Σ_i Σ_j w_i w_j (1 − a_i)(1 − a_j) / (1 − a_i a_j).
+  double gain = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    for (std::size_t j = 0; j < a.size(); ++j)
+      gain += w[i] * w[j] * (1.0 - a[i]) * (1.0 - a[j]) / (1.0 - a[i] * a[j]);
+  const double scale = gain > 0.0 ? 1.0 / std::sqrt(gain) : 0.0;
+  for (double& v : out) v *= scale;
+  return out;
+}
+
 std::vector<double> ChannelNoiseSequence(const MeasurementNoise& model, const ChannelNoise& ch,
                                          std::size_t n, double rate_hz, std::mt19937_64& rng) {
   std::normal_distribution<double> gauss(0.0, 1.0);
@@ -72,8 +97,20 @@ std::vector<double> ChannelNoiseSequence(const MeasurementNoise& model, const Ch
   for (double& v : e) v = ch.white_sigma * gauss(rng);
   if (model.lowpass_order > 0)
     e = FilterZeroPhase(ButterworthLowPass(model.lowpass_order, model.lowpass_cutoff_hz, rate_hz), e);
+  if (model.pink_lo_hz > 0.0) {  // after a run-in of 10 slowest time constants, dropped
+    const auto run_in = static_cast<std::size_t>(10.0 * rate_hz / (2.0 * std::numbers::pi * model.pink_lo_hz));
+    std::vector<double> longer(run_in);
+    for (double& v : longer) v = ch.white_sigma * gauss(rng);
+    longer.insert(longer.end(), e.begin(), e.end());
+    longer = PinkFilter(longer, model.pink_lo_hz, model.pink_hi_hz, rate_hz);
+    e.assign(longer.begin() + static_cast<std::ptrdiff_t>(run_in), longer.end());
+  }
   const double dt = 1.0 / rate_hz;
-  if (model.drift_sine) {
+  if (ch.drift_step > 0.0) {
+    const double sign = unit(rng) < 0.5 ? -1.0 : 1.0;
+    const auto at = static_cast<std::size_t>((0.1 + 0.8 * unit(rng)) * static_cast<double>(n));
+    for (std::size_t k = at; k < n; ++k) e[k] += sign * ch.drift_step;
+  } else if (model.drift_sine) {
     const double phase = 2.0 * std::numbers::pi * unit(rng);
     for (std::size_t k = 0; k < n; ++k)
       e[k] += ch.drift_sine_amp *
@@ -87,10 +124,16 @@ std::vector<double> ChannelNoiseSequence(const MeasurementNoise& model, const Ch
     }
   }
   if (model.outlier_prob > 0.0 && ch.outlier_size > 0.0) {
-    for (double& v : e) {
+    for (std::size_t k = 0; k < n; ++k) {
       if (unit(rng) >= model.outlier_prob) continue;
       const double sign = unit(rng) < 0.5 ? -1.0 : 1.0;
-      v += sign * ch.outlier_size * (0.5 + 0.5 * unit(rng));
+      const double jump = sign * ch.outlier_size * (0.5 + 0.5 * unit(rng));
+      std::size_t length = 1;
+      if (model.burst_length > 1)
+        length = 1 + std::min<std::size_t>(static_cast<std::size_t>(unit(rng) * model.burst_length),
+                                           static_cast<std::size_t>(model.burst_length - 1));
+      for (std::size_t j = k; j < std::min(n, k + length); ++j) e[j] += jump;
+      k += length - 1;
     }
   }
   return e;

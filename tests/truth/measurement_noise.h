@@ -18,7 +18,18 @@
 //   drift:    a random walk d_k = d_{k-1} + σ_rw √Δt ξ_k (variance σ_rw² t) or a slow sinusoid
 //             A sin(2π f t + φ) with a random phase.
 //   outliers: each sample independently with probability p jumps by ± M (sign and 0.5-1 × M
-//             at random): marker swaps and reflections.
+//             at random): marker swaps and reflections; with burst_length b > 1 an outlier
+//             starts a burst of 1..b consecutive samples (length uniform) all off by that jump.
+// Kinds the law space never draws (only when forced, law_space.h ExtraNoiseKinds), for testing
+// the diagnosis on noise it was not calibrated on:
+//   pink:      the white sequence through a bank of first-order low-passes at corners spaced by
+//              factors of 4 from f_lo to f_hi, each weighted by the square root of its corner:
+//              a power spectrum ≈ 1/f between the corners (Σ_j f_j / (f_j² + f²)), scaled back
+//              to the white part's variance;
+//   step:      the drift as a level step of ± S (sign at random) at a uniform time in the middle
+//              80 % of the trial (a marker knocked, a camera moved);
+//   quantised: the whole noisy value (truth + noise) rounded to a grid of `quantum`
+//              (independent_truth.cc applies it after the noise is added).
 // A noise model is any mixture of these, added channel by channel.
 
 #include <cstdint>
@@ -54,6 +65,8 @@ struct ChannelNoise {
   double drift_walk_sigma{0.0};  ///< σ_rw [unit/√s]
   double drift_sine_amp{0.0};    ///< A
   double outlier_size{0.0};      ///< M
+  double drift_step{0.0};        ///< S (step kind)
+  double quantum{0.0};           ///< grid of the recorded value (0: not quantised)
 };
 
 struct MeasurementNoise {
@@ -65,9 +78,16 @@ struct MeasurementNoise {
   bool drift_sine{false};        ///< drift as a sinusoid instead of a random walk
   double drift_sine_hz{0.1};
   double outlier_prob{0.0};      ///< p per sample and channel
+  int burst_length{1};           ///< outliers in bursts of 1..burst_length samples
+  double pink_lo_hz{0.0};        ///< pink part between these corners (0: none)
+  double pink_hi_hz{0.0};
   ChannelNoise x, z, pitch;
   std::string kind{"white"};     ///< label: white, lowpass, drift, outliers, mix
 };
+
+/// The pink-shaping bank applied to `white` from a zero state, scaled to unit stationary
+/// variance per unit input variance (see above).
+std::vector<double> PinkFilter(const std::vector<double>& white, double lo_hz, double hi_hz, double rate_hz);
 
 /// The noise sequence of one channel, n samples at rate_hz, from its own generator.
 std::vector<double> ChannelNoiseSequence(const MeasurementNoise& model, const ChannelNoise& channel,
