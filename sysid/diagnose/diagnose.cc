@@ -130,6 +130,17 @@ Splits MakeSplits(const std::vector<effects::TrialRecord>& records, const std::v
   return out;
 }
 
+/// Where the noise model found drift, every trial of `splits` gets slow drift terms for its
+/// slow part's scale (greybox_fit.h DriftTerms), so that the fits and the held-out errors do
+/// not take the drift for the model's error; false (nothing changed) without drift.
+bool AddDriftTerms(const NoiseModel& noise, Splits& splits) {
+  const double sz = noise.z.slow_scale_s, sp = noise.pitch.slow_scale_s;
+  if (!(sz > 0.0) && !(sp > 0.0)) return false;
+  for (std::vector<FitTrial>* list : {&splits.training, &splits.selection, &splits.report, &splits.all})
+    for (FitTrial& t : *list) SetDriftTerms(t, sz, sp);
+  return true;
+}
+
 /// The residual tests (verdict.h) of `params` on `trials` (records `index`).
 NoiseCheck Check(const std::vector<FitTrial>& trials, const std::vector<effects::TrialRecord>& records,
                  const std::vector<std::size_t>& index, const effects::ExtendedParams& params,
@@ -300,6 +311,7 @@ void RegeometryUnderLever(const std::vector<effects::TrialRecord>& records,
                                              best.fit.params.fx.marker_lever_z, options.rest_window);
     Splits next = MakeSplits(records, report, dx.selection, &regeometry, &best.fit.params.fx,
                              options.rest_window);
+    AddDriftTerms(dx.noise, next);
     FitResult refit = FitModelJoint(next.training, best.fit.effects, best.fit.params, w, refine);
     const double sel = HeldOutError(next.selection, refit.params, w);
     if (!(sel < best.selection_error)) break;
@@ -530,6 +542,8 @@ Diagnosis DiagnoseOnPool(const std::vector<effects::TrialRecord>& given, const D
   const ChannelWeights w = MakeChannelWeights(first.training);
   dx.base = FitModel(first.training, std::nullopt, dx.chair.lm.value_or(LumpedParams{}), w, options.fit);  // 2
   EstimateNoise(records, report, first, dx);  // 3
+  if (AddDriftTerms(dx.noise, geometries.front()))  // drift: the base model again, drift terms beside it
+    dx.base = FitModel(first.training, std::nullopt, dx.base.params.lm, w, options.fit);
   const NoiseCheck base_selection =    // 4: decided on the selection trials
       Check(first.selection, records, first.selection_index, dx.base.params, dx.noise, options.verdict);
   dx.trials = BaseAnalysis(records, report, first.all, dx.base.params);  // 5

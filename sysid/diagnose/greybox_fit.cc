@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "engine/check.h"
 #include "sysid/diagnose/parallel_for.h"
@@ -82,8 +83,11 @@ std::vector<TrialResidual> ComputeResiduals(const std::vector<FitTrial>& trials,
 /// its Jacobian, and the fit scores the point it ends at; neither is simulated again.
 class TrialBatch {
  public:
-  TrialBatch(const std::vector<FitTrial>& trials, const Mapper& map, const ChannelWeights& w)
-      : trials_(trials), map_(map), w_(w) {}
+  /// `held`: columns held at their start (a SubsetManifold ignores their Jacobian columns,
+  /// which are left 0 and not simulated).
+  TrialBatch(const std::vector<FitTrial>& trials, const Mapper& map, const ChannelWeights& w,
+             const std::vector<int>& held = {})
+      : trials_(trials), map_(map), w_(w), held_(held) {}
 
   /// Trial `i`'s weighted residuals at u and, when `jacobian` is not null, its Jacobian
   /// (row-major, residual × parameter). False where a simulation is not finite.
@@ -145,7 +149,7 @@ class TrialBatch {
     std::vector<char> moved_finite(trials * size, 0);
     ParallelFor(trials * size, [&](std::size_t slot) {
       const std::size_t i = slot / size, j = slot % size;
-      if (!p.residuals[i].finite) return;
+      if (!p.residuals[i].finite || Held(j)) return;
       std::vector<double> u = p.u;
       u[j] = p.u[j] + delta[j];
       const TrialResidual res = ComputeResidual(trials_[i], map_.Params(u.data()));
@@ -161,6 +165,7 @@ class TrialBatch {
       jac.assign(r0.size() * size, 0.0);
       bool finite = true;
       for (std::size_t j = 0; j < size && finite; ++j) {
+        if (Held(j)) continue;  // its column stays 0
         finite = moved_finite[i * size + j] != 0;
         if (!finite) break;
         const std::vector<double>& r1 = moved[i * size + j];
@@ -171,10 +176,15 @@ class TrialBatch {
     }
   }
 
+  bool Held(std::size_t column) const {
+    return std::find(held_.begin(), held_.end(), static_cast<int>(column)) != held_.end();
+  }
+
   static constexpr std::size_t kKept = 3;
   const std::vector<FitTrial>& trials_;
   const Mapper& map_;
   ChannelWeights w_;
+  std::vector<int> held_;
   std::vector<Point> points_;
 };
 
@@ -236,6 +246,17 @@ std::vector<double> SeriesStiffnessStart(const effects::PreparedTrial& trial, co
   return out;
 }
 
+/// e − Q Qᵀ e over the first `modes` columns of `basis` (samples × columns, column-major).
+void RemoveDriftTerms(const std::vector<double>& basis, std::size_t modes, std::vector<double>& e) {
+  const std::size_t n = e.size();
+  for (std::size_t k = 0; k < modes; ++k) {
+    const double* q = basis.data() + k * n;
+    double c = 0.0;
+    for (std::size_t i = 0; i < n; ++i) c += q[i] * e[i];
+    for (std::size_t i = 0; i < n; ++i) e[i] -= c * q[i];
+  }
+}
+
 double Centre(const std::vector<double>& measured, const std::vector<double>& model,
               std::size_t count) {
   double sum = 0.0;
@@ -258,7 +279,43 @@ FitTrial MakeFitTrial(const effects::TrialRecord& record, const Chair& chair, do
   while (count < record.t.size() && (count == 0 || record.t[count] - record.t[0] <= rest_window))
     ++count;
   fit.rest_samples = std::max<std::size_t>(1, count);
+  fit.t = record.t;
   return fit;
+}
+
+std::size_t DriftModes(double duration_s, double slow_scale_s, std::size_t samples) {
+  if (!(slow_scale_s > 0.0) || !(duration_s > 0.0)) return 0;
+  const double below_knee = 1.0 + std::floor(duration_s / (std::numbers::pi * slow_scale_s));
+  const std::size_t cap = std::max<std::size_t>(1, std::min(kMaxDriftModes, samples / 10));
+  return std::min(cap, static_cast<std::size_t>(below_knee));
+}
+
+void SetDriftTerms(FitTrial& trial, double slow_scale_z_s, double slow_scale_pitch_s) {
+  const std::size_t n = trial.t.size();
+  PWSIM_DEMAND(n == trial.z.size() && n >= 2);
+  const double t0 = trial.t.front(), duration = trial.t.back() - t0;
+  DriftTerms& d = trial.drift;
+  d.modes_z = DriftModes(duration, slow_scale_z_s, n);
+  d.modes_pitch = DriftModes(duration, slow_scale_pitch_s, n);
+  const std::size_t modes = std::max(d.modes_z, d.modes_pitch);
+  d.basis.assign(n * modes, 0.0);
+  for (std::size_t k = 0; k < modes; ++k) {
+    double* q = d.basis.data() + k * n;
+    for (std::size_t i = 0; i < n; ++i) q[i] = std::cos(std::numbers::pi * static_cast<double>(k) * (trial.t[i] - t0) / duration);
+    for (int pass = 0; pass < 2; ++pass) {  // modified Gram–Schmidt, twice
+      for (std::size_t j = 0; j < k; ++j) {
+        const double* p = d.basis.data() + j * n;
+        double c = 0.0;
+        for (std::size_t i = 0; i < n; ++i) c += p[i] * q[i];
+        for (std::size_t i = 0; i < n; ++i) q[i] -= c * p[i];
+      }
+    }
+    double norm = 0.0;
+    for (std::size_t i = 0; i < n; ++i) norm += q[i] * q[i];
+    norm = std::sqrt(norm);
+    PWSIM_DEMAND(norm > 0.0);
+    for (std::size_t i = 0; i < n; ++i) q[i] /= norm;
+  }
 }
 
 ChannelWeights MakeChannelWeights(const std::vector<FitTrial>& trials) {
@@ -296,8 +353,9 @@ TrialResidual ComputeResidual(const FitTrial& trial, const effects::ExtendedPara
       return res;
     }
   }
-  const double oz = Centre(trial.z, res.model.z, trial.rest_samples);
-  const double op = Centre(trial.pitch, res.model.pitch, trial.rest_samples);
+  const DriftTerms& drift = trial.drift;
+  const double oz = drift.modes_z > 0 ? 0.0 : Centre(trial.z, res.model.z, trial.rest_samples);
+  const double op = drift.modes_pitch > 0 ? 0.0 : Centre(trial.pitch, res.model.pitch, trial.rest_samples);
   res.z_model.resize(n);
   res.pitch_model.resize(n);
   res.e_z.resize(n);
@@ -307,6 +365,15 @@ TrialResidual ComputeResidual(const FitTrial& trial, const effects::ExtendedPara
     res.pitch_model[k] = res.model.pitch[k] + op;
     res.e_z[k] = trial.z[k] - res.z_model[k];
     res.e_pitch[k] = trial.pitch[k] - res.pitch_model[k];
+  }
+  // The drift terms' least-squares share leaves the residual and joins the model's output.
+  if (drift.modes_z > 0) {
+    RemoveDriftTerms(drift.basis, drift.modes_z, res.e_z);
+    for (std::size_t k = 0; k < n; ++k) res.z_model[k] = trial.z[k] - res.e_z[k];
+  }
+  if (drift.modes_pitch > 0) {
+    RemoveDriftTerms(drift.basis, drift.modes_pitch, res.e_pitch);
+    for (std::size_t k = 0; k < n; ++k) res.pitch_model[k] = trial.pitch[k] - res.e_pitch[k];
   }
   return res;
 }
@@ -443,7 +510,7 @@ Solved Solve(const std::vector<FitTrial>& training, const Mapper& map, const Cha
              const FitOptions& options, const std::vector<int>& held, std::vector<double>& x,
              int max_iterations) {
   const int size = map.Size();
-  TrialBatch batch(training, map, weights);
+  TrialBatch batch(training, map, weights, held);
   ceres::Problem problem;
   for (std::size_t i = 0; i < training.size(); ++i)
     problem.AddResidualBlock(new TrialCost(&batch, i, size, static_cast<int>(2 * training[i].z.size())),

@@ -4,6 +4,8 @@
 // together with one effect's parameters (none: the base model). The criterion is the
 // simulation error of both channels, each centred on the trial's initial rest window (as
 // the paper's Fig. 5) and weighted by 1/std of the measured channel over the training set.
+// Where the measurement drifts (noise_model.h), each trial carries slow drift terms instead
+// of the centring (DriftTerms below), nuisance parameters eliminated in closed form.
 
 #include <optional>
 #include <string>
@@ -15,6 +17,26 @@
 
 namespace pwsim::diagnose {
 
+/// Slow drift terms of a trial (separable least squares: nuisance parameters eliminated in
+/// closed form). A channel with K > 0 terms is compared with the model plus its least-squares
+/// combination of the first K cosines over the trial,
+///   φ_k(t) = cos(π k (t − t₀) / T),  k = 0 … K − 1,  T = t_last − t₀,
+/// i.e. its residual is e ← e − Q Qᵀ e, Q their orthonormal basis over the trial's samples
+/// (modified Gram–Schmidt, twice). φ₀ is the trial's offset, which then replaces the centring
+/// on the rest window. Cosine k has the frequency k / (2T): the terms span what lies below
+/// k_max / (2T), and a drift there (a wandering marker, a slow calibration change) can neither
+/// hide an effect nor be taken for one. K = 0: the rest-window centring, as without drift.
+struct DriftTerms {
+  std::size_t modes_z{0}, modes_pitch{0};  ///< K of each channel
+  std::vector<double> basis;               ///< Q, column-major: samples × max(K)
+};
+
+/// K for a slow part of scale `slow_scale_s` (noise_model.h: the Gaussian smooth whose transfer
+/// has its knee at 1/(2π s_d)) over a trial lasting `duration_s`: the cosines below the knee,
+/// K = 1 + ⌊T / (π s_d)⌋, at most kMaxDriftModes and a tenth of the samples; 0 for s_d ≤ 0.
+std::size_t DriftModes(double duration_s, double slow_scale_s, std::size_t samples);
+inline constexpr std::size_t kMaxDriftModes = 48;
+
 /// One trial ready for fitting.
 struct FitTrial {
   std::string name;
@@ -23,7 +45,13 @@ struct FitTrial {
   std::vector<double> pitch;  ///< [rad] measured
   double speed{0.0};          ///< [m/s] nominal
   std::size_t rest_samples{1};  ///< samples of the initial centring window (≥ 1)
+  std::vector<double> t;        ///< [s] sample times (for the drift terms)
+  DriftTerms drift;             ///< none: centred on the rest window
 };
+
+/// Sets the trial's drift terms for the slow parts of scale `slow_scale_z_s` (Z) and
+/// `slow_scale_pitch_s` (θ) [s]; 0: none for that channel.
+void SetDriftTerms(FitTrial& trial, double slow_scale_z_s, double slow_scale_pitch_s);
 
 /// Builds a FitTrial from a record; `chair` must have gm (its lm is not used here). The
 /// longitudinal acceleration is estimated from the record's x unless `accel` is given.

@@ -49,7 +49,7 @@ const char* EffectDescription(EffectId id) {
       "off-diagonal stiffness and damping between heave and pitch",
       "progressive (hardening) suspension stiffness: symmetric cubic and per-wheel bump stops, "
       "in compression or both ways",
-      "dry (Coulomb) friction in the suspension",
+      "dry (Coulomb) friction in the suspension: Dahl's law or smooth Coulomb, per wheel",
       "pitch torque from longitudinal acceleration (the Γθ term), chair and occupant levers",
       "tracked origin not at O_V: a lever arm (forward, up) mixes pitch into the measured x and altitude"};
   return text[Index(id)];
@@ -97,7 +97,8 @@ std::vector<ParamSpec> Parameters(EffectId id) {
     case EffectId::kSuspensionFriction:
       return {{"caster_friction_n", 20.0, 0.0, 250.0, {10.0, 40.0}},
               {"drive_friction_n", 20.0, 0.0, 250.0, {10.0, 40.0}},
-              {"friction_presliding_m", 5e-4, 5e-5, 5e-3, {2e-4, 1e-3}}};
+              {"friction_presliding_m", 5e-4, 5e-5, 5e-3, {2e-4, 1e-3}},
+              {"friction_smooth_rate_mps", 5e-3, 5e-4, 5e-2, {5e-3}}};
     case EffectId::kInertialPitch:
       return {{"cm_lever_m", 0.2, -1.5, 1.5, {0.0}}, {"load_cm_lever_m", 0.2, -1.5, 1.5, {0.0}}};
     case EffectId::kMarkerOffset:
@@ -174,6 +175,16 @@ EffectFamily MakeFamily(EffectId id) {
       family.members = {Member("compression", StartGrid(p)), both, rebound};
       break;
     }
+    case EffectId::kSuspensionFriction: {
+      // Dahl's law (v_s held) and smooth Coulomb (δ_p held), the best start of each solved.
+      FamilyMember dahl = Member("dahl", StartGrid(p));
+      dahl.held = {3};
+      FamilyMember smooth = Member("smooth_coulomb", StartGrid(p, {{}, {}, {5e-4}, {2e-3, 8e-3}}));
+      smooth.setting.friction = FrictionLaw::kSmoothCoulomb;
+      smooth.held = {2};
+      family.members = {dahl, smooth};
+      break;
+    }
     default:
       family.members = {Member("law", StartGrid(p))};
   }
@@ -199,12 +210,15 @@ std::vector<std::pair<std::string, double>> MemberFlags(EffectId id, const Effec
   if (id == EffectId::kNonlinearStiffness)
     return {{"bump_rebound", member.stops != StopSides::kCompression ? 1.0 : 0.0},
             {"bump_compression", member.stops != StopSides::kRebound ? 1.0 : 0.0}};
+  if (id == EffectId::kSuspensionFriction)
+    return {{"friction_smooth_coulomb", member.friction == FrictionLaw::kSmoothCoulomb ? 1.0 : 0.0}};
   return {};
 }
 
 void CopyMember(EffectId id, const EffectMembers& from, EffectMembers& to) {
   if (id == EffectId::kCushionCompliance) to.cushion_load = from.cushion_load;
   if (id == EffectId::kNonlinearStiffness) to.stops = from.stops;
+  if (id == EffectId::kSuspensionFriction) to.friction = from.friction;
 }
 
 void CopyEffect(EffectId id, const EffectParams& from, EffectParams& to) {
@@ -245,6 +259,7 @@ void SetEffectValues(EffectId id, std::span<const double> v, EffectParams& fx) {
       fx.caster_friction = v[0];
       fx.drive_friction = v[1];
       fx.friction_presliding = v[2];
+      fx.friction_smooth_rate = v[3];
       break;
     case EffectId::kInertialPitch:
       fx.cm_lever = v[0];
@@ -271,7 +286,7 @@ std::vector<double> GetEffectValues(EffectId id, const EffectParams& fx) {
     case EffectId::kNonlinearStiffness:
       return {fx.heave_hardening, fx.pitch_hardening, fx.bump_gain, fx.bump_gap};
     case EffectId::kSuspensionFriction:
-      return {fx.caster_friction, fx.drive_friction, fx.friction_presliding};
+      return {fx.caster_friction, fx.drive_friction, fx.friction_presliding, fx.friction_smooth_rate};
     case EffectId::kInertialPitch:
       return {fx.cm_lever, fx.load_cm_lever};
     case EffectId::kMarkerOffset:

@@ -179,6 +179,7 @@ struct Setup {
   std::array<int, kMaxWheels> tyre{};              ///< 0 rigid, 1 caster tyre, 2 drive tyre
   std::array<double, kMaxWheels> inv_unsprung{};   ///< 1/m_u = ω² c_t [1/kg] (0: no reaction)
   std::array<double, kMaxWheels> friction{};       ///< F_c [N]
+  std::array<double, kMaxWheels> smooth_rate{};    ///< v_s [m/s] of each wheel (smooth Coulomb)
   std::array<double, kMaxWheels> lift_off{};       ///< -(W_i/m_u + g): the tyre's pull limit [m/s²]
   std::array<double, 3> tyre_omega2{}, tyre_2zw{};  ///< ω², 2ζω of each tyre class
   std::array<AxisPropagator, 3> tyre_propagator{};
@@ -195,6 +196,7 @@ struct Setup {
   bool bump_rebound{false}, bump_compression{true};
   double marker_x{0}, marker_z{0};
   bool any_radius{false}, any_tyre{false}, any_friction{false}, unit_heights{true};
+  bool smooth_coulomb{false};  ///< friction by the rate law (header: FrictionLaw)
   bool held_forces{false};  ///< coupling, hardening, bump stops, friction or exact kinematics
   bool exact{false};        ///< exact rigid-body kinematics (header: Kinematics::kExact)
 };
@@ -276,6 +278,16 @@ Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
   m.bump_rebound = fx.member.stops != StopSides::kCompression;
   m.bump_compression = fx.member.stops != StopSides::kRebound;
   m.presliding = std::max(1e-6, fx.friction_presliding);
+  m.smooth_coulomb = fx.member.friction == FrictionLaw::kSmoothCoulomb;
+  if (m.smooth_coulomb) {
+    // Held over the step, the law's slope F_c/v_s is a damper on the chassis: kept below one
+    // n-th of the explicit limit (c Δt (1/M + x_i²/I_θ) < 1 for each of n wheels).
+    const double inv_inertia = 1.0 / PitchInertia(chair, trial.load_kg);
+    for (int i = 0; i < m.wheels; ++i)
+      m.smooth_rate[i] = std::max(fx.friction_smooth_rate,
+                                  m.wheels * m.friction[i] * dt *
+                                      (1.0 / m.mass + m.wheel_x[i] * m.wheel_x[i] * inv_inertia));
+  }
   // Γ_θ = M lever a_x with the mass-weighted lever of chair and occupant.
   m.lever = (chair.mass * fx.cm_lever + trial.load_kg * fx.load_cm_lever) / m.mass;
   m.marker_x = fx.marker_lever_x;
@@ -524,6 +536,10 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
         if (m.friction[i] <= 0.0) continue;
         const double r_rate = ((next.z + m.wheel_x[i] * s1) - (body.z + m.wheel_x[i] * s0) -
                                (zc1[i] - zc0[i])) * inv_dt;
+        if (m.smooth_coulomb) {
+          friction[i] = m.friction[i] * std::tanh(r_rate / m.smooth_rate[i]);
+          continue;
+        }
         const double target = r_rate > 0.0 ? m.friction[i] : (r_rate < 0.0 ? -m.friction[i] : friction[i]);
         friction[i] = target + (friction[i] - target) * std::exp(-std::abs(r_rate) * dt / m.presliding);
       }

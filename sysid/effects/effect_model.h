@@ -56,9 +56,13 @@ enum class StopSides { kCompression, kBoth, kRebound };  ///< where the bump sto
 ///    chassis whose β sum to 1 rests at θ = atan s (exact) instead of asin s (contacts at x_i).
 ///    About a pitch θ the small-angle pitch stiffness is off by sin²θ: 3.9 % at 0.2 rad.
 enum class Kinematics { kSmallAngle, kExact };
+/// The suspension friction's law (EffectParams, suspension_friction): Dahl's (a state relaxing
+/// over a presliding deflection) or smooth Coulomb (a function of the deflection rate).
+enum class FrictionLaw { kDahl, kSmoothCoulomb };
 struct EffectMembers {
   CushionLoad cushion_load{CushionLoad::kPerWheel};
   StopSides stops{StopSides::kCompression};
+  FrictionLaw friction{FrictionLaw::kDahl};
   Kinematics kinematics{Kinematics::kSmallAngle};
 };
 
@@ -116,9 +120,15 @@ struct EffectParams {
   // deflection r_i = Z + x_i θ - Z_Oi (the chassis over the wheel relative to its contact):
   //   dF_i/dt = (ṙ_i / δ_p) (F_c,i sgn ṙ_i - F_i)·sgn ṙ_i,  i.e. presliding stiffness F_c/δ_p,
   // F_i resisting ṙ_i (Coulomb as δ_p -> 0); ΣF_i acts on heave, Σ x_i F_i on pitch.
+  // member.friction == kSmoothCoulomb: instead a function of the rate alone,
+  //   F_i = F_c,i tanh(ṙ_i / v_s)
+  // (Coulomb as v_s -> 0; below v_s a viscous F_c/v_s: a creep rather than Dahl's presliding
+  // spring), held over the step from the previous step's mean rate; v_s is kept above
+  // n F_c,i Δt (1/M + x_i²/I_θ) (n wheels) so that the held law stays stable.
   double caster_friction{0.0};    ///< F_c [N] per caster
   double drive_friction{0.0};     ///< F_c [N] per drive wheel
-  double friction_presliding{5e-4};  ///< δ_p [m]
+  double friction_presliding{5e-4};  ///< δ_p [m] (Dahl)
+  double friction_smooth_rate{5e-3};  ///< v_s [m/s] (smooth Coulomb)
   // inertial_pitch: Γ_θ = (M_0 h + M_u h_u) a_x (nose-up when accelerating for h > 0): the
   // chair's and the occupant's centres of mass at their own heights above the contact line.
   double cm_lever{0.0};       ///< h [m], empty chair

@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <numbers>
 #include <random>
 #include <string>
 
@@ -179,6 +181,56 @@ TEST(EffectFamilyTest, MembersStartWithinBoundsAndHoldWhatTheySay) {
     for (const auto& s : stops.members[m].starts) EXPECT_GT(s[2], 0.0);
   EXPECT_EQ(stops.members[1].setting.stops, effects::StopSides::kBoth);
   EXPECT_EQ(stops.members[2].setting.stops, effects::StopSides::kRebound);
+}
+
+// The drift terms (greybox_fit.h DriftTerms): K = 1 + ⌊T/(π s_d)⌋ cosines, orthonormal over
+// the trial's (unevenly spaced) samples; a residual made of an offset and cosines below the
+// knee leaves entirely, one well above it stays (its leak only what its cosine shares with the
+// slow terms over the finite trial), and the model output absorbs what left the residual.
+TEST(DriftTermsTest, OrthonormalSlowCosinesLeaveTheResidualFastOnesStay) {
+  EXPECT_EQ(DriftModes(10.0, 0.5, 1000), 7u);   // 1 + floor(10 / (π 0.5)) = 1 + 6
+  EXPECT_EQ(DriftModes(10.0, 0.0, 1000), 0u);   // no slow part: no terms
+  EXPECT_EQ(DriftModes(100.0, 0.15, 1000), kMaxDriftModes);
+  EXPECT_EQ(DriftModes(10.0, 0.15, 50), 5u);    // a tenth of the samples at most
+  std::vector<FitTrial> trials = TrialsWith(effects::EffectParams{}, 1, 0.0);
+  FitTrial& trial = trials.front();
+  for (std::size_t k = 0; k < trial.t.size(); ++k) trial.t[k] += 1e-3 * std::sin(0.37 * static_cast<double>(k));
+  SetDriftTerms(trial, 0.5, 0.0);
+  const std::size_t n = trial.t.size();
+  const double t0 = trial.t.front(), span = trial.t.back() - t0;
+  const std::size_t modes = DriftModes(span, 0.5, n);
+  ASSERT_EQ(trial.drift.modes_z, modes);
+  EXPECT_EQ(trial.drift.modes_pitch, 0u);
+  ASSERT_EQ(trial.drift.basis.size(), n * modes);
+  for (std::size_t a = 0; a < modes; ++a)
+    for (std::size_t b = 0; b <= a; ++b) {
+      double dot = 0.0;
+      for (std::size_t i = 0; i < n; ++i) dot += trial.drift.basis[a * n + i] * trial.drift.basis[b * n + i];
+      EXPECT_NEAR(dot, a == b ? 1.0 : 0.0, 1e-12) << a << " " << b;
+    }
+  // Measured Z = the model's + 2 mm + a slow wander (cosines 1 and K-1 below the knee) + a fast
+  // cosine at 8 Hz; pitch the model's + 1 mrad (centred on the rest: the offset goes).
+  const effects::ExtendedParams base{*trial.prepared.chair.lm, {}};
+  const effects::ModelOutput model = effects::SimulateExtended(trial.prepared, base);
+  const double pi = std::numbers::pi;
+  std::vector<double> fast(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double u = (trial.t[i] - t0) / span;
+    fast[i] = 3e-4 * std::sin(2.0 * pi * 8.0 * (trial.t[i] - t0));
+    trial.z[i] = model.z[i] + 2e-3 + 1e-3 * std::cos(pi * u) +
+                 5e-4 * std::cos(pi * static_cast<double>(modes - 1) * u) + fast[i];
+    trial.pitch[i] = model.pitch[i] + 1e-3;
+  }
+  const TrialResidual res = ComputeResidual(trial, base);
+  ASSERT_TRUE(res.finite);
+  double leak = 0.0, fast_power = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    leak += (res.e_z[i] - fast[i]) * (res.e_z[i] - fast[i]);
+    fast_power += fast[i] * fast[i];
+    EXPECT_NEAR(res.e_pitch[i], 0.0, 1e-12);
+    EXPECT_DOUBLE_EQ(res.z_model[i], trial.z[i] - res.e_z[i]);
+  }
+  EXPECT_LT(leak, 1e-2 * fast_power) << leak / fast_power;
 }
 
 }  // namespace
