@@ -114,7 +114,9 @@ nlohmann::ordered_json DiagnosisJson(const Diagnosis& d, const std::string& base
     for (double a : d.chair.gm->alpha) alpha.push_back(JsonNumber(a));
     j["extended_model"] = {{"effects", effects},
                            {"parameters", params},
-                           {"gm", {{"identified_under_marker_lever", d.gm_under_marker}, {"alpha", alpha}}}};
+                           {"gm", {{"identified_under_marker_lever", d.gm_under_marker},
+                                   {"identified_under_cushion", d.base_under_cushion},
+                                   {"alpha", alpha}}}};
   }
   j["base_model"] = {{"source", base_source},
                      {"k_z", JsonNumber(d.base.params.lm.k_z)},

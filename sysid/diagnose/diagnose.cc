@@ -324,6 +324,37 @@ void RegeometryUnderLever(const std::vector<effects::TrialRecord>& records,
   }
 }
 
+/// A cushion found in a set whose base came from the trials: that base was identified against
+/// obstacles taller than the wheels met, its GM and LM bent to match them (the LM can flee to
+/// K_Z -> 0 with a large C, a low-pass that shrinks the obstacle, and no fit that multiplies K
+/// comes back from there). The base is identified again with each wheel's height scaled by the
+/// cushion's yield (BaseUnderCushion), the causes re-fitted from its LM (the cushion's pitch
+/// gain from 1: the new β no longer carry the yield), alternating while the selection error
+/// falls (by more than 1 % to go on; at most four rounds).
+void RebaseUnderCushion(const std::vector<effects::TrialRecord>& records, const std::vector<bool>& report,
+                        std::deque<Splits>& geometries, Candidate& best, double current_sel,
+                        const ChannelWeights& w, const DiagnoseOptions& options, Diagnosis& dx) {
+  FitOptions refine = options.fit;
+  refine.multi_start = false;
+  for (int round = 0; round < 4; ++round) {
+    const Chair rebased = BaseUnderCushion(records, dx.chair, best.fit.params.fx, options.rest_window);
+    Splits next = MakeSplits(records, report, dx.selection, &rebased, &best.fit.params.fx, options.rest_window);
+    AddDriftTerms(dx.noise, next);
+    effects::ExtendedParams start = best.fit.params;
+    start.lm = rebased.lm.value_or(start.lm);
+    start.fx.cushion_pitch_gain = 1.0;
+    FitResult refit = FitModelJoint(next.training, best.fit.effects, start, w, refine);
+    const double sel = HeldOutError(next.selection, refit.params, w);
+    if (!(sel < best.selection_error)) break;
+    const bool small = sel > 0.99 * best.selection_error;
+    geometries.push_back(std::move(next));
+    dx.chair = rebased;
+    dx.base_under_cushion = true;
+    best = Candidate{std::move(refit), current_sel > 0.0 ? 1.0 - sel / current_sel : best.gain, sel};
+    if (small) break;
+  }
+}
+
 /// Round 1: every candidate fitted alone on the training trials (concurrently, each in its own
 /// slot), judged on the selection trials; earning ones first, then by selection gain.
 std::vector<RankEntry> Rank(const Splits& splits, const FitResult& base, double base_sel,
@@ -363,6 +394,8 @@ void ForwardSelect(const std::vector<effects::TrialRecord>& records, const std::
     if (!best) break;
     if (records.front().gm_from_trials && best->fit.effects.back() == EffectId::kMarkerOffset)
       RegeometryUnderLever(records, report, geometries, *best, current_sel, w, options, dx);
+    if (records.front().gm_from_trials && best->fit.effects.back() == EffectId::kCushionCompliance)
+      RebaseUnderCushion(records, report, geometries, *best, current_sel, w, options, dx);
     Cause c;
     c.effect = best->fit.effects.back();
     c.selection_gain = best->gain;

@@ -160,6 +160,7 @@ struct Diagnosis {
   FitResult base;
   Chair chair;        ///< the chair whose GM was used (by the extended model)
   bool gm_under_marker{false};  ///< the GM was identified again under the marker lever found
+  bool base_under_cushion{false};  ///< GM and LM identified again under the cushion found
   ResidualReport residuals;
   std::vector<TrialAnalysis> trials;
   std::vector<bool> selection;      ///< per trial: used to choose the causes
@@ -207,6 +208,16 @@ GeometricParams GeometryUnderMarkerLever(const std::vector<effects::TrialRecord>
                                          const Chair& chair, const LumpedParams& lm,
                                          double lever_x_m, double lever_z_m,
                                          double rest_window = 0.25);
+
+/// The base model (GM and LM, sysid/identify's method with the α summing to 1) identified again
+/// on the trials RecordsFromMeasured identified it on, each wheel's contact height scaled by the
+/// cushion's yield in `fx` (effects::CushionHeightFactors; `chair`'s α give the wheel loads) and
+/// each track corrected for fx's marker lever: the base the trials would have given had the
+/// terrain file held the heights the wheels met. Used once cushion_compliance is found in a set
+/// whose GM came from the trials; without it the base's GM and LM, fitted to obstacles taller
+/// than the wheels met, stay distorted (its LM can flee to K_Z -> 0) under the extension.
+Chair BaseUnderCushion(const std::vector<effects::TrialRecord>& records, const Chair& chair,
+                       const effects::EffectParams& fx, double rest_window = 0.25);
 
 /// MATLAB fit of model vs measured pooled over trials.
 FitPct PooledFitPct(const std::vector<FitTrial>& trials, const effects::ExtendedParams& params);

@@ -50,6 +50,16 @@ std::vector<bool> ChooseHeldOut(const std::vector<effects::TrialRecord>& trials,
   return held;
 }
 
+namespace {
+/// The base model's identification: identify's method with rigid heave (the α sum to 1), so
+/// that an obstacle lower under the chair than in its terrain file stays in the residual.
+IdentifyOptions BaseIdentifyOptions() {
+  IdentifyOptions options;
+  options.rigid_heave = true;
+  return options;
+}
+}  // namespace
+
 std::vector<effects::TrialRecord> RecordsFromMeasured(const std::vector<MeasuredTrial>& trials,
                                                       std::string* base_source) {
   std::vector<effects::TrialRecord> records;
@@ -84,16 +94,17 @@ std::vector<effects::TrialRecord> RecordsFromMeasured(const std::vector<Measured
   std::stable_sort(training.begin(), training.end(),
                    [](const MeasuredTrial& a, const MeasuredTrial& b) { return a.name < b.name; });
   try {
-    const IdentifyResult id = IdentifyChair(training, AssignRoles(training));
+    const IdentifyResult id = IdentifyChair(training, AssignRoles(training), BaseIdentifyOptions());
     chair = id.chair;
-    if (base_source) *base_source = "identified on the training trials (pwsim identify's method)";
+    if (base_source)
+      *base_source = "identified on the training trials (pwsim identify's method, α summing to 1)";
   } catch (const InputError&) {
     // Too few speed levels for the paper's GM/LM roles: GM on every training trial, Table I LM.
     std::vector<const MeasuredTrial*> ptrs;
     for (const MeasuredTrial& m : training) ptrs.push_back(&m);
-    chair.gm = IdentifyGeometric(ptrs, chair);
+    chair.gm = IdentifyGeometric(ptrs, chair, BaseIdentifyOptions());
     if (!chair.lm) chair.lm = LumpedParams{};
-    if (base_source) *base_source = "GM identified on every training trial, LM from Table I";
+    if (base_source) *base_source = "GM identified on every training trial (α summing to 1), LM from Table I";
   }
   for (auto& r : records) {
     r.chair = chair;
@@ -120,10 +131,13 @@ TrackUnderLever TrackUnderMarkerLever(const effects::TrialRecord& r, double leve
   return out;
 }
 
-GeometricParams GeometryUnderMarkerLever(const std::vector<effects::TrialRecord>& records,
-                                         const Chair& chair, const LumpedParams& lm,
-                                         double lever_x_m, double lever_z_m, double rest_window) {
-  PWSIM_DEMAND(chair.gm.has_value());
+namespace {
+/// The trials RecordsFromMeasured identified the base on (all but the report trials, in the
+/// order of their names) as measured trials for `chair`: each track corrected for the marker
+/// lever of `fx` and each wheel's contact height scaled by the cushion's yield in `fx`.
+std::vector<MeasuredTrial> TrialsUnderEffects(const std::vector<effects::TrialRecord>& records,
+                                              const Chair& chair, const effects::EffectParams& fx,
+                                              double rest_window) {
   const std::vector<bool> held = ChooseHeldOut(records);
   std::vector<MeasuredTrial> trials;
   for (std::size_t i = 0; i < records.size(); ++i) {
@@ -135,24 +149,55 @@ GeometricParams GeometryUnderMarkerLever(const std::vector<effects::TrialRecord>
     m.terrain = r.terrain;
     m.load_kg = r.load_kg;
     m.profile.speed = r.speed;
-    TrackUnderLever corrected = TrackUnderMarkerLever(r, lever_x_m, lever_z_m, rest_window);
+    TrackUnderLever corrected = TrackUnderMarkerLever(r, fx.marker_lever_x, fx.marker_lever_z, rest_window);
     m.track.t = r.t;
     m.track.x = std::move(corrected.x);
     m.track.z = std::move(corrected.z);
     m.track.pitch = r.pitch;
     m.track.y.assign(r.t.size(), 0.0);
+    m.contact_height_scale = effects::CushionHeightFactors(chair, r.load_kg, fx);
     trials.push_back(std::move(m));
   }
   std::stable_sort(trials.begin(), trials.end(),
                    [](const MeasuredTrial& a, const MeasuredTrial& b) { return a.name < b.name; });
-  // The same GM trials as the base identification (the slowest speed level), else all.
+  return trials;
+}
+
+/// The GM trials of `trials` (the slowest speed level), else all.
+std::vector<const MeasuredTrial*> GeometricTrials(const std::vector<MeasuredTrial>& trials) {
   const std::vector<TrialRole> roles = AssignRoles(trials);
   std::vector<const MeasuredTrial*> gm_trials;
   for (std::size_t k = 0; k < trials.size(); ++k)
     if (roles[k] == TrialRole::kGeometric) gm_trials.push_back(&trials[k]);
   if (gm_trials.empty())
     for (const MeasuredTrial& m : trials) gm_trials.push_back(&m);
-  return IdentifyGeometric(gm_trials, chair, {}, lm);
+  return gm_trials;
+}
+}  // namespace
+
+GeometricParams GeometryUnderMarkerLever(const std::vector<effects::TrialRecord>& records,
+                                         const Chair& chair, const LumpedParams& lm,
+                                         double lever_x_m, double lever_z_m, double rest_window) {
+  PWSIM_DEMAND(chair.gm.has_value());
+  effects::EffectParams lever;
+  lever.marker_lever_x = lever_x_m;
+  lever.marker_lever_z = lever_z_m;
+  const std::vector<MeasuredTrial> trials = TrialsUnderEffects(records, chair, lever, rest_window);
+  return IdentifyGeometric(GeometricTrials(trials), chair, BaseIdentifyOptions(), lm);
+}
+
+Chair BaseUnderCushion(const std::vector<effects::TrialRecord>& records, const Chair& chair,
+                       const effects::EffectParams& fx, double rest_window) {
+  PWSIM_DEMAND(chair.gm.has_value() && chair.lm.has_value());
+  const std::vector<MeasuredTrial> trials = TrialsUnderEffects(records, chair, fx, rest_window);
+  try {
+    return IdentifyChair(trials, AssignRoles(trials), BaseIdentifyOptions()).chair;
+  } catch (const InputError&) {
+    // Too few speed levels for the paper's roles: the GM alone, under the LM as it is.
+    Chair out = chair;
+    out.gm = IdentifyGeometric(GeometricTrials(trials), chair, BaseIdentifyOptions(), chair.lm);
+    return out;
+  }
 }
 
 FitPct PooledFitPct(const std::vector<FitTrial>& trials, const effects::ExtendedParams& params) {

@@ -87,7 +87,8 @@ std::vector<ParamSpec> Parameters(EffectId id) {
     case EffectId::kCushionCompliance:
       return {{"cushion_loss_per_kn", 0.2, 0.0, 1.2, {0.1, 0.4}},
               {"cushion_height_gain", 0.2, 0.5, 1.5, {1.0}},
-              {"cushion_exponent", 0.5, 0.3, 2.5, {1.0}}};
+              {"cushion_exponent", 0.5, 0.3, 2.5, {1.0}},
+              {"cushion_pitch_gain", 0.2, 0.5, 2.0, {1.0}}};
     case EffectId::kHeavePitchCoupling:
       return {{"stiffness_coupling", 0.2, -0.8, 0.8, {-0.2, 0.2}},
               {"damping_coupling", 0.2, -0.8, 0.8, {0.0}}};
@@ -244,6 +245,7 @@ void SetEffectValues(EffectId id, std::span<const double> v, EffectParams& fx) {
       fx.cushion_loss_per_kn = v[0];
       fx.cushion_height_gain = v[1];
       fx.cushion_exponent = v[2];
+      fx.cushion_pitch_gain = v[3];
       break;
     case EffectId::kHeavePitchCoupling:
       fx.stiffness_coupling = v[0];
@@ -280,7 +282,7 @@ std::vector<double> GetEffectValues(EffectId id, const EffectParams& fx) {
       return {fx.caster_tyre_period, fx.drive_tyre_period, fx.tyre_damping, fx.caster_tyre_compliance,
               fx.drive_tyre_compliance};
     case EffectId::kCushionCompliance:
-      return {fx.cushion_loss_per_kn, fx.cushion_height_gain, fx.cushion_exponent};
+      return {fx.cushion_loss_per_kn, fx.cushion_height_gain, fx.cushion_exponent, fx.cushion_pitch_gain};
     case EffectId::kHeavePitchCoupling:
       return {fx.stiffness_coupling, fx.damping_coupling};
     case EffectId::kNonlinearStiffness:

@@ -34,6 +34,20 @@ std::vector<double> StaticWheelLoads(const Chair& chair, double load_kg) {
   return loads;
 }
 
+std::vector<double> CushionHeightFactors(const Chair& chair, double load_kg, const EffectParams& fx) {
+  const std::vector<double> loads = StaticWheelLoads(chair, load_kg);
+  const bool whole_chair = fx.member.cushion_load == CushionLoad::kWholeChair;
+  std::vector<double> factors(loads.size());
+  for (std::size_t i = 0; i < loads.size(); ++i) {
+    const double load_kn = 1e-3 * (whole_chair ? MovingMass(chair, load_kg) * kGravity : loads[i]);
+    const double loss = fx.cushion_loss_per_kn == 0.0
+                            ? 0.0
+                            : fx.cushion_loss_per_kn * std::pow(std::max(0.0, load_kn), fx.cushion_exponent);
+    factors[i] = std::max(0.0, fx.cushion_height_gain - loss);
+  }
+  return factors;
+}
+
 EnvelopePoint RollingDiscEnvelope(const Terrain& terrain, double x, double radius) {
   if (radius <= 0.0) return {terrain.HeightAt(x), terrain.SlopeAt(x)};
   const double r2 = radius * radius;
@@ -176,6 +190,7 @@ struct Setup {
   std::array<double, kMaxWheels> alpha{};
   std::array<double, kMaxWheels> radius{};         ///< rolling-disc radius (0 = point)
   std::array<double, kMaxWheels> height_factor{};  ///< cushion: effective / nominal height
+  double gm_pitch_gain{1.0};                       ///< cushion: q, the β rescaled
   std::array<int, kMaxWheels> tyre{};              ///< 0 rigid, 1 caster tyre, 2 drive tyre
   std::array<double, kMaxWheels> inv_unsprung{};   ///< 1/m_u = ω² c_t [1/kg] (0: no reaction)
   std::array<double, kMaxWheels> friction{};       ///< F_c [N]
@@ -208,7 +223,7 @@ Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
   Setup m;
   m.wheels = chair.wheel_count();
   PWSIM_DEMAND(m.wheels <= kMaxWheels);
-  const std::vector<double> loads = StaticWheelLoads(chair, trial.load_kg);
+  const std::vector<double> factors = CushionHeightFactors(chair, trial.load_kg, fx);
   const double dt = trial.step;
   for (int t = 1; t <= 2; ++t) {
     const double period = t == 1 ? fx.caster_tyre_period : fx.drive_tyre_period;
@@ -235,14 +250,11 @@ Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
     m.series = m.series || m.inv_unsprung[i] > 0.0;
     m.friction[i] = caster ? fx.caster_friction : fx.drive_friction;
     m.any_friction = m.any_friction || m.friction[i] > 0.0;
-    const bool whole_chair = fx.member.cushion_load == CushionLoad::kWholeChair;
-    const double load_kn = 1e-3 * (whole_chair ? MovingMass(chair, trial.load_kg) * kGravity : loads[i]);
-    const double loss = fx.cushion_loss_per_kn == 0.0
-                            ? 0.0
-                            : fx.cushion_loss_per_kn * std::pow(std::max(0.0, load_kn), fx.cushion_exponent);
-    m.height_factor[i] = std::max(0.0, fx.cushion_height_gain - loss);
+    m.height_factor[i] = factors[static_cast<std::size_t>(i)];
     m.unit_heights = m.unit_heights && m.height_factor[i] == 1.0;
   }
+  m.gm_pitch_gain = fx.cushion_pitch_gain;
+  m.unit_heights = m.unit_heights && m.gm_pitch_gain == 1.0;
   m.mass = MovingMass(chair, trial.load_kg);
   if (m.any_tyre) {
     m.share = SuspensionShares(m.alpha, compliance, m.wheels, params.lm.k_z);
@@ -412,6 +424,7 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
   auto geometric = [&](std::size_t j, const double* zc) {
     if (gm_cache) return GeometricOutput{trial.gm_cache[2 * j], trial.gm_cache[2 * j + 1]};
     GeometricOutput out = gm.Evaluate(std::span<const double>(zc, static_cast<std::size_t>(w)));
+    out.pitch *= m.gm_pitch_gain;
     if (m.series) {
       // The GM saw the ground through tyre and suspension in series; on the unsprung wheels'
       // heights it is the suspension's: shift it by the difference of the two planes.

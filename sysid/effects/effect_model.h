@@ -103,6 +103,11 @@ struct EffectParams {
   double cushion_loss_per_kn{0.0};  ///< c [-] fraction of obstacle height lost at W = 1 kN
   double cushion_height_gain{1.0};  ///< g [-]
   double cushion_exponent{1.0};     ///< p [-] (1: linear yield)
+  // ... and θ_GM scaled by q: where the base model's β were identified on these trials (free,
+  // unlike the α, which sum to 1: sysid/identify IdentifyOptions::rigid_heave), they already
+  // carry the yield every wheel shares; q rescales them (θ_GM is linear in the β), so that the
+  // yield is not counted twice in pitch.
+  double cushion_pitch_gain{1.0};   ///< q [-]
   // heave_pitch_coupling: off-diagonal K, C as a fraction of sqrt(K_Z K_θ), sqrt(C_Z C_θ).
   double stiffness_coupling{0.0};  ///< [-] in (-1, 1)
   double damping_coupling{0.0};    ///< [-] in (-1, 1)
@@ -234,5 +239,10 @@ struct TrialRecord {
 
 /// Static wheel load W_i = α_i M g [N] (α as load share; used by cushion_compliance).
 std::vector<double> StaticWheelLoads(const Chair& chair, double load_kg);
+
+/// cushion_compliance's effective / nominal obstacle height under each wheel of `chair` (with
+/// gm) at `load_kg`: max(0, g - c (W / 1 kN)^p), W the wheel's static load or the whole chair's
+/// weight (fx.member.cushion_load); 1 for every wheel without the effect.
+std::vector<double> CushionHeightFactors(const Chair& chair, double load_kg, const EffectParams& fx);
 
 }  // namespace pwsim::effects

@@ -167,8 +167,8 @@ PreparedLumped PrepareLumped(const std::vector<const MeasuredTrial*>& trials, co
   double dev_pitch = 0.0;
   std::size_t samples = 0;
   for (const MeasuredTrial* trial : trials) {
-    const GeometricTrace trace = TraceGeometricModel(chair, trial->terrain, trial->track.t,
-                                                     trial->track.x, options.simulation);
+    const GeometricTrace trace = TraceGeometricModel(chair, trial->terrain, trial->track.t, trial->track.x,
+                                                     options.simulation, trial->contact_height_scale);
     const std::size_t window = WindowCount(trial->track.t, options.offset_window);
     AxisData heave{trace.z_gm, trace.t0, trace.dt, trial->track.t, trial->track.z,
                    MovingMass(chair, trial->load_kg), MovingMass(chair, reference_load_kg),
@@ -311,7 +311,8 @@ GeometricParams IdentifyGeometric(const std::vector<const MeasuredTrial*>& trial
     const MeasuredTrial& trial = *trials[static_cast<std::size_t>(r)];
     const auto& t = trial.track.t;
     const std::vector<std::vector<double>> heights =
-        TraceContactHeights(chair, trial.terrain, t, trial.track.x, options.simulation);
+        TraceContactHeights(chair, trial.terrain, t, trial.track.x, options.simulation,
+                            trial.contact_height_scale);
     const double t0 = t.front();
     const double dt = options.simulation.dt;
     std::optional<LumpedModelParams> filter;
@@ -351,6 +352,16 @@ GeometricParams IdentifyGeometric(const std::vector<const MeasuredTrial*>& trial
       y_p(row) = trial.track.pitch[s];
     }
   }
+  if (options.rigid_heave && n > 1) {
+    // α_n = 1 - Σ_{i<n} α_i: the last wheel's column moves to the left-hand side and is taken
+    // from the others; its own column is then left out of the regression.
+    for (int i = 0; i + 1 < n; ++i) a_z.col(i) -= a_z.col(n - 1);
+    y_z -= a_z.col(n - 1);
+    a_z.col(n - 1).setZero();
+    Eigen::MatrixXd reduced(a_z.rows(), a_z.cols() - 1);
+    reduced << a_z.leftCols(n - 1), a_z.rightCols(trial_count);
+    a_z = std::move(reduced);
+  }
   const auto qr_z = a_z.colPivHouseholderQr();
   const auto qr_p = a_p.colPivHouseholderQr();
   if (qr_z.rank() < a_z.cols() || qr_p.rank() < a_p.cols()) {
@@ -362,7 +373,16 @@ GeometricParams IdentifyGeometric(const std::vector<const MeasuredTrial*>& trial
   const Eigen::VectorXd alpha = qr_z.solve(y_z);
   const Eigen::VectorXd beta = qr_p.solve(y_p);
   GeometricParams params;
-  for (int i = 0; i < n; ++i) params.alpha.push_back(alpha(i));
+  if (options.rigid_heave && n > 1) {
+    double rest = 1.0;
+    for (int i = 0; i + 1 < n; ++i) {
+      params.alpha.push_back(alpha(i));
+      rest -= alpha(i);
+    }
+    params.alpha.push_back(rest);
+  } else {
+    for (int i = 0; i < n; ++i) params.alpha.push_back(alpha(i));
+  }
   for (int i = 0; i < n; ++i) {
     for (int j = i + 1; j < n; ++j) {
       double weight = 0.0;

@@ -43,6 +43,13 @@ struct IdentifyOptions {
   std::optional<double> reference_load_kg;
   int passes{2};                 ///< GM/LM alternations; 1 = the paper's single pass
   bool all_beta_pairs{false};    ///< fit every β_ij (nearly collinear); default adjacent pairs
+  /// Rigid heave: the α_i sum to 1 (a ground raised by h under every wheel raises O_GM by h,
+  /// whatever the suspension: its deflections do not change). Fitted as
+  ///   Z - Z_On = Σ_{i<n} α_i (Z_Oi - Z_On) + offset,  α_n = 1 - Σ_{i<n} α_i,
+  /// so that an obstacle lower under the chair than in the terrain file (a cushion that
+  /// yields) is left in the residual instead of scaling the α down (without the constraint
+  /// a cushion yielding a share y is fitted exactly by Σ α = 1 - y). Table I's α sum to 1.00.
+  bool rigid_heave{false};
   SimulationOptions simulation;  ///< internal step of the exact LM
   double offset_window{0.25};    ///< [s] initial window that centres each channel
   int max_iterations{100};       ///< Ceres iterations per LM solve

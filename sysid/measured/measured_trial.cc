@@ -94,13 +94,16 @@ std::vector<double> SampleGrid(std::span<const double> grid, double t0, double d
 std::vector<std::vector<double>> TraceContactHeights(const Chair& chair, const Terrain& terrain,
                                                      std::span<const double> t,
                                                      std::span<const double> x,
-                                                     const SimulationOptions& options) {
+                                                     const SimulationOptions& options,
+                                                     std::span<const double> height_scale) {
+  PWSIM_DEMAND(height_scale.empty() || height_scale.size() == chair.wheels.size());
   const std::vector<double> x_grid = InterpolateOnGrid(t, x, options.dt);
   std::vector<std::vector<double>> heights(chair.wheels.size(),
                                            std::vector<double>(x_grid.size()));
   for (std::size_t i = 0; i < chair.wheels.size(); ++i) {
+    const double scale = height_scale.empty() ? 1.0 : height_scale[i];
     for (std::size_t k = 0; k < x_grid.size(); ++k) {
-      heights[i][k] = terrain.HeightAt(x_grid[k] + chair.wheels[i].x);
+      heights[i][k] = terrain.HeightAt(x_grid[k] + chair.wheels[i].x) * scale;
     }
   }
   return heights;
@@ -108,7 +111,9 @@ std::vector<std::vector<double>> TraceContactHeights(const Chair& chair, const T
 
 GeometricTrace TraceGeometricModel(const Chair& chair, const Terrain& terrain,
                                    std::span<const double> t, std::span<const double> x,
-                                   const SimulationOptions& options) {
+                                   const SimulationOptions& options,
+                                   std::span<const double> height_scale) {
+  PWSIM_DEMAND(height_scale.empty() || height_scale.size() == chair.wheels.size());
   const GeometricModel gm(chair);
   const std::vector<double> x_grid = InterpolateOnGrid(t, x, options.dt);
   GeometricTrace trace;
@@ -120,6 +125,7 @@ GeometricTrace TraceGeometricModel(const Chair& chair, const Terrain& terrain,
   const std::size_t wheels = static_cast<std::size_t>(gm.wheel_count());
   for (std::size_t k = 0; k < x_grid.size(); ++k) {
     gm.ContactHeights(terrain, x_grid[k], std::span<double>(z_O.data(), wheels));
+    for (std::size_t i = 0; i < height_scale.size(); ++i) z_O[i] *= height_scale[i];
     const GeometricOutput out = gm.Evaluate(std::span<const double>(z_O.data(), wheels));
     trace.z_gm[k] = out.z;
     trace.pitch_gm[k] = out.pitch;

@@ -40,6 +40,10 @@ struct MeasuredTrial {
   std::string mocap_format;       ///< "csv" or "qtm-6d-tsv"
   std::string mocap_body;         ///< qtm-6d-tsv body name
   MocapTrack track;
+  /// Per wheel, the height the wheel meets over the terrain file's (an obstacle yielding under
+  /// it by that share, as a diagnosis found it: effects::CushionHeightFactors); empty: 1. Not
+  /// read from the folder: set by code that knows it, and used by identification.
+  std::vector<double> contact_height_scale;
 
   /// The programmed speed if given, else the peak measured speed [m/s].
   double NominalSpeed() const;
@@ -73,16 +77,21 @@ struct GeometricTrace {
   std::vector<double> pitch_gm;  ///< [rad]
 };
 
-/// Contact heights and GM output along a measured x(t). @pre t strictly increasing, chair.gm.
+/// Contact heights and GM output along a measured x(t), each wheel's height times
+/// `height_scale[i]` where given (MeasuredTrial::contact_height_scale). @pre t strictly
+/// increasing, chair.gm.
 GeometricTrace TraceGeometricModel(const Chair& chair, const Terrain& terrain,
                                    std::span<const double> t, std::span<const double> x,
-                                   const SimulationOptions& options = {});
+                                   const SimulationOptions& options = {},
+                                   std::span<const double> height_scale = {});
 
-/// Contact heights Z_Oi on the internal grid (one vector per wheel) for regressions on α, β.
+/// Contact heights Z_Oi on the internal grid (one vector per wheel) for regressions on α, β,
+/// scaled as TraceGeometricModel's.
 std::vector<std::vector<double>> TraceContactHeights(const Chair& chair, const Terrain& terrain,
                                                      std::span<const double> t,
                                                      std::span<const double> x,
-                                                     const SimulationOptions& options = {});
+                                                     const SimulationOptions& options = {},
+                                                     std::span<const double> height_scale = {});
 
 /// Points of the internal grid t0 + k dt that cover [t.front(), t.back()].
 std::size_t GridSize(std::span<const double> t, double dt);
