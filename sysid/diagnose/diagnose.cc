@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <deque>
+#include <functional>
 #include <map>
 
 
@@ -292,36 +293,58 @@ std::optional<Candidate> BestJoint(const Splits& splits, const std::vector<RankE
   return best;
 }
 
-/// A marker lever found in a set whose GM was identified on the measured x: that GM saw the
-/// wheels where the marker was, not where they were. The GM is identified again on the tracks
-/// corrected for the lever, and the causes so far re-fitted with it, alternating GM and fit
-/// while the selection error improves (by more than 1 % to go on; at most six rounds). Without
-/// this, a later extension that can move the GM (the tyre family's suspension plane) earns by
-/// mending the GM instead of its own effect.
-void RegeometryUnderLever(const std::vector<effects::TrialRecord>& records,
-                          const std::vector<bool>& report, std::deque<Splits>& geometries,
-                          Candidate& best, double current_sel, const ChannelWeights& w,
-                          const DiagnoseOptions& options, Diagnosis& dx) {
+/// A base model for the causes of `best` and the fit's start under it.
+struct Rebased {
+  Chair chair;
+  effects::ExtendedParams start;
+};
+
+/// Alternates a base identified again under the causes found (`rebase`) with the causes'
+/// re-fit from `rebase`'s start (no multi-start) while the selection error falls: by more than
+/// 1 % to go on, at most `rounds` rounds. Each accepted round's splits join `geometries`, its
+/// chair becomes dx.chair and `best` the re-fit. True when a round was accepted.
+bool AlternateBase(const std::vector<effects::TrialRecord>& records, const std::vector<bool>& report,
+                   std::deque<Splits>& geometries, Candidate& best, double current_sel,
+                   const ChannelWeights& w, const DiagnoseOptions& options, Diagnosis& dx, int rounds,
+                   const std::function<Rebased(const Candidate&)>& rebase) {
   FitOptions refine = options.fit;
   refine.multi_start = false;
-  for (int round = 0; round < 6; ++round) {
-    Chair regeometry = dx.chair;
-    regeometry.gm = GeometryUnderMarkerLever(records, dx.chair, best.fit.params.lm,
-                                             best.fit.params.fx.marker_lever_x,
-                                             best.fit.params.fx.marker_lever_z, options.rest_window);
-    Splits next = MakeSplits(records, report, dx.selection, &regeometry, &best.fit.params.fx,
+  bool accepted = false;
+  for (int round = 0; round < rounds; ++round) {
+    const Rebased next_base = rebase(best);
+    Splits next = MakeSplits(records, report, dx.selection, &next_base.chair, &best.fit.params.fx,
                              options.rest_window);
     AddDriftTerms(dx.noise, next);
-    FitResult refit = FitModelJoint(next.training, best.fit.effects, best.fit.params, w, refine);
+    FitResult refit = FitModelJoint(next.training, best.fit.effects, next_base.start, w, refine);
     const double sel = HeldOutError(next.selection, refit.params, w);
     if (!(sel < best.selection_error)) break;
     const bool small = sel > 0.99 * best.selection_error;
     geometries.push_back(std::move(next));
-    dx.chair = regeometry;
-    dx.gm_under_marker = true;
+    dx.chair = next_base.chair;
+    accepted = true;
     best = Candidate{std::move(refit), current_sel > 0.0 ? 1.0 - sel / current_sel : best.gain, sel};
     if (small) break;
   }
+  return accepted;
+}
+
+/// A marker lever found in a set whose GM was identified on the measured x: that GM saw the
+/// wheels where the marker was, not where they were. The GM is identified again on the tracks
+/// corrected for the lever (the LM as fitted), alternating with the causes' re-fit (at most six
+/// rounds). Without this, a later extension that can move the GM (the tyre family's suspension
+/// plane) earns by mending the GM instead of its own effect.
+void RegeometryUnderLever(const std::vector<effects::TrialRecord>& records,
+                          const std::vector<bool>& report, std::deque<Splits>& geometries,
+                          Candidate& best, double current_sel, const ChannelWeights& w,
+                          const DiagnoseOptions& options, Diagnosis& dx) {
+  auto rebase = [&](const Candidate& c) {
+    Rebased out{dx.chair, c.fit.params};
+    out.chair.gm = GeometryUnderMarkerLever(records, dx.chair, c.fit.params.lm, c.fit.params.fx.marker_lever_x,
+                                            c.fit.params.fx.marker_lever_z, options.rest_window);
+    return out;
+  };
+  if (AlternateBase(records, report, geometries, best, current_sel, w, options, dx, 6, rebase))
+    dx.gm_under_marker = true;
 }
 
 /// A cushion found in a set whose base came from the trials: that base was identified against
@@ -329,30 +352,18 @@ void RegeometryUnderLever(const std::vector<effects::TrialRecord>& records,
 /// K_Z -> 0 with a large C, a low-pass that shrinks the obstacle, and no fit that multiplies K
 /// comes back from there). The base is identified again with each wheel's height scaled by the
 /// cushion's yield (BaseUnderCushion), the causes re-fitted from its LM (the cushion's pitch
-/// gain from 1: the new β no longer carry the yield), alternating while the selection error
-/// falls (by more than 1 % to go on; at most four rounds).
+/// gain from 1: the new β no longer carry the yield), alternating (at most four rounds).
 void RebaseUnderCushion(const std::vector<effects::TrialRecord>& records, const std::vector<bool>& report,
                         std::deque<Splits>& geometries, Candidate& best, double current_sel,
                         const ChannelWeights& w, const DiagnoseOptions& options, Diagnosis& dx) {
-  FitOptions refine = options.fit;
-  refine.multi_start = false;
-  for (int round = 0; round < 4; ++round) {
-    const Chair rebased = BaseUnderCushion(records, dx.chair, best.fit.params.fx, options.rest_window);
-    Splits next = MakeSplits(records, report, dx.selection, &rebased, &best.fit.params.fx, options.rest_window);
-    AddDriftTerms(dx.noise, next);
-    effects::ExtendedParams start = best.fit.params;
-    start.lm = rebased.lm.value_or(start.lm);
-    start.fx.cushion_pitch_gain = 1.0;
-    FitResult refit = FitModelJoint(next.training, best.fit.effects, start, w, refine);
-    const double sel = HeldOutError(next.selection, refit.params, w);
-    if (!(sel < best.selection_error)) break;
-    const bool small = sel > 0.99 * best.selection_error;
-    geometries.push_back(std::move(next));
-    dx.chair = rebased;
+  auto rebase = [&](const Candidate& c) {
+    Rebased out{BaseUnderCushion(records, dx.chair, c.fit.params.fx, options.rest_window), c.fit.params};
+    out.start.lm = out.chair.lm.value_or(out.start.lm);
+    out.start.fx.cushion_pitch_gain = 1.0;
+    return out;
+  };
+  if (AlternateBase(records, report, geometries, best, current_sel, w, options, dx, 4, rebase))
     dx.base_under_cushion = true;
-    best = Candidate{std::move(refit), current_sel > 0.0 ? 1.0 - sel / current_sel : best.gain, sel};
-    if (small) break;
-  }
 }
 
 /// Round 1: every candidate fitted alone on the training trials (concurrently, each in its own

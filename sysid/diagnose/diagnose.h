@@ -9,7 +9,8 @@
 //     report. Of the rest, a `selection` share (every third by speed and load, rotating the
 //     load) decides; the remaining `training` trials are fitted.
 //  2. Base: GM from the chair (or identified on training + selection trials when the chair has
-//     none, sysid/identify/), LM re-identified by output error on the training trials.
+//     none, sysid/identify/, with the α summing to 1: rigid heave), LM re-identified by output
+//     error on the training trials.
 //  3. Noise model from the training + selection trials (noise_model.h): a level per channel
 //     and the noise's colour, from the rest before each trial's start.
 //  4. The base model's residual on the selection trials tested against it (verdict.h (a)-(e)):
@@ -24,7 +25,8 @@
 //     on), and so on while one earns, at most max_causes, stopping when the residual on the
 //     selection trials is noise-like. A marker lever, once found in a set whose GM came from
 //     the trials, has the GM identified again on the tracks corrected for it
-//     (GeometryUnderMarkerLever), alternating with the fit, and a_x taken from O_V's x.
+//     (GeometryUnderMarkerLever), alternating with the fit, and a_x taken from O_V's x; a
+//     cushion, likewise, has GM and LM identified again under its yield (BaseUnderCushion).
 //  7. Report (ReportOnHeldOut in diagnose.cc): fitness of base and extended model on the
 //     report trials, each cause's gain as the share of the base model's error above the noise
 //     that adding it removed, and whether the report trials confirm it (Cause::confirmed); the
