@@ -10,6 +10,7 @@
 
 #include "app/commands.h"
 #include "engine/input_error.h"
+#include "sysid/solver_log.h"
 
 namespace {
 
@@ -28,6 +29,7 @@ void PrintTopHelp() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  pwsim::QuietSolverLog();
   std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
     PrintTopHelp();

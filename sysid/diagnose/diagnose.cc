@@ -253,11 +253,13 @@ std::optional<Candidate> BestAlone(const std::vector<RankEntry>& ranking, double
 /// Rounds ≥ 2: every further extension that improved the training fit alone (ΔBIC below the
 /// threshold) fitted jointly with the causes found, starting where its fit alone ended (only
 /// its own discrete member copied), screened after `screen_iterations`; the winner that earns
-/// is solved on to the full iterations (kept when it still earns).
+/// is solved on to the full iterations (kept when it still earns). `rebased`: the base was
+/// identified again since the ranking (a marker lever's GM, a cushion's base), so the fits
+/// alone ended under another base: each candidate is multi-started over its family instead.
 std::optional<Candidate> BestJoint(const Splits& splits, const std::vector<RankEntry>& ranking,
                                    const std::vector<EffectId>& found, const FitResult& current,
                                    double current_sel, const ChannelWeights& w,
-                                   const DiagnoseOptions& options) {
+                                   const DiagnoseOptions& options, bool rebased) {
   auto judge = [&](FitResult f) {
     const double sel = HeldOutError(splits.selection, f.params, w);
     const double gain = current_sel > 0.0 ? 1.0 - sel / current_sel : 0.0;
@@ -266,7 +268,7 @@ std::optional<Candidate> BestJoint(const Splits& splits, const std::vector<RankE
   };
   FitOptions screen = options.fit;
   screen.max_iterations = std::min(options.fit.max_iterations, options.screen_iterations);
-  screen.multi_start = false;
+  screen.multi_start = rebased;
   std::vector<const RankEntry*> tried;
   for (const RankEntry& solo : ranking)
     if (std::find(found.begin(), found.end(), solo.effect) == found.end() &&
@@ -401,7 +403,8 @@ void ForwardSelect(const std::vector<effects::TrialRecord>& records, const std::
   while (static_cast<int>(found.size()) < options.max_causes) {
     std::optional<Candidate> best =
         found.empty() ? BestAlone(dx.ranking, base_sel)
-                      : BestJoint(geometries.back(), dx.ranking, found, current, current_sel, w, options);
+                      : BestJoint(geometries.back(), dx.ranking, found, current, current_sel, w, options,
+                                  geometries.size() > 1);
     if (!best) break;
     if (records.front().gm_from_trials && best->fit.effects.back() == EffectId::kMarkerOffset)
       RegeometryUnderLever(records, report, geometries, *best, current_sel, w, options, dx);
