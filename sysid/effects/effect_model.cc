@@ -210,7 +210,8 @@ struct Setup {
   double hard_z{0}, hard_t{0}, bump_gain{0}, bump_gap{0}, presliding{5e-4};
   bool bump_rebound{false}, bump_compression{true};
   double marker_x{0}, marker_z{0};
-  bool any_radius{false}, any_tyre{false}, any_friction{false}, unit_heights{true};
+  bool any_radius{false}, any_tyre{false}, any_friction{false};
+  bool gm_unscaled{true};  ///< no cushion factor and q = 1: the trial's cached GM output holds
   bool smooth_coulomb{false};  ///< friction by the rate law (header: FrictionLaw)
   bool held_forces{false};  ///< coupling, hardening, bump stops, friction or exact kinematics
   bool exact{false};        ///< exact rigid-body kinematics (header: Kinematics::kExact)
@@ -251,10 +252,10 @@ Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
     m.friction[i] = caster ? fx.caster_friction : fx.drive_friction;
     m.any_friction = m.any_friction || m.friction[i] > 0.0;
     m.height_factor[i] = factors[static_cast<std::size_t>(i)];
-    m.unit_heights = m.unit_heights && m.height_factor[i] == 1.0;
+    m.gm_unscaled = m.gm_unscaled && m.height_factor[i] == 1.0;
   }
   m.gm_pitch_gain = fx.cushion_pitch_gain;
-  m.unit_heights = m.unit_heights && m.gm_pitch_gain == 1.0;
+  m.gm_unscaled = m.gm_unscaled && m.gm_pitch_gain == 1.0;
   m.mass = MovingMass(chair, trial.load_kg);
   if (m.any_tyre) {
     m.share = SuspensionShares(m.alpha, compliance, m.wheels, params.lm.k_z);
@@ -401,7 +402,7 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
   const int w = m.wheels;
   const bool marker = m.marker_x != 0.0 || m.marker_z != 0.0;
   const bool wheel_cache = cached && !marker && !m.any_radius && !m.exact;
-  const bool gm_cache = wheel_cache && !m.any_tyre && m.unit_heights;
+  const bool gm_cache = wheel_cache && !m.any_tyre && m.gm_unscaled;
   const bool need_contacts = !gm_cache || m.held_forces;
 
   // Ground contact heights h_i under the wheels at grid point j, the chair pitched by θ.

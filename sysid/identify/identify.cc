@@ -357,7 +357,6 @@ GeometricParams IdentifyGeometric(const std::vector<const MeasuredTrial*>& trial
     // from the others; its own column is then left out of the regression.
     for (int i = 0; i + 1 < n; ++i) a_z.col(i) -= a_z.col(n - 1);
     y_z -= a_z.col(n - 1);
-    a_z.col(n - 1).setZero();
     Eigen::MatrixXd reduced(a_z.rows(), a_z.cols() - 1);
     reduced << a_z.leftCols(n - 1), a_z.rightCols(trial_count);
     a_z = std::move(reduced);
