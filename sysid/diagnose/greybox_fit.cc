@@ -9,6 +9,7 @@
 #include <numbers>
 
 #include "engine/check.h"
+#include "sysid/diagnose/noise_model.h"
 #include "sysid/diagnose/parallel_for.h"
 
 namespace pwsim::diagnose {
@@ -257,11 +258,14 @@ void RemoveDriftTerms(const std::vector<double>& basis, std::size_t modes, std::
   }
 }
 
+/// The level of measured − model over the first `count` samples (the initial rest): Huber's
+/// location (noise_model.h), so that outliers the replacement left there (a burst of several
+/// samples) do not shift the whole trial, as they would shift a mean.
 double Centre(const std::vector<double>& measured, const std::vector<double>& model,
               std::size_t count) {
-  double sum = 0.0;
-  for (std::size_t k = 0; k < count; ++k) sum += measured[k] - model[k];
-  return sum / static_cast<double>(count);
+  std::vector<double> difference(count);
+  for (std::size_t k = 0; k < count; ++k) difference[k] = measured[k] - model[k];
+  return HuberLocation(difference);
 }
 
 }  // namespace

@@ -3,7 +3,8 @@
 // Ceres Solver: the lumped model's K_Z, C_Z, K_θ, C_θ (log multipliers) are re-identified
 // together with one effect's parameters (none: the base model). The criterion is the
 // simulation error of both channels, each centred on the trial's initial rest window (as
-// the paper's Fig. 5) and weighted by 1/std of the measured channel over the training set.
+// the paper's Fig. 5; the level is Huber's location, noise_model.h, robust to a burst of
+// outliers left there) and weighted by 1/std of the measured channel over the training set.
 // Where the measurement drifts (noise_model.h), each trial carries slow drift terms instead
 // of the centring (DriftTerms below), nuisance parameters eliminated in closed form.
 

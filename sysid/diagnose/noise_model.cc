@@ -5,6 +5,7 @@
 #include <boost/math/distributions/students_t.hpp>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 #include "sysid/diagnose/verdict.h"
 
@@ -35,6 +36,26 @@ double Median(std::vector<double> v) {
   double m = v[mid];
   if (v.size() % 2 == 0) m = 0.5 * (m + *std::max_element(v.begin(), v.begin() + static_cast<long>(mid)));
   return m;
+}
+
+double HuberLocation(const std::vector<double>& y, double k_scales) {
+  if (y.empty()) return 0.0;
+  const double median = Median(y);
+  std::vector<double> deviation(y.size());
+  for (std::size_t i = 0; i < y.size(); ++i) deviation[i] = std::abs(y[i] - median);
+  const double s = kMadToSigma * Median(std::move(deviation));
+  const double n = static_cast<double>(y.size());
+  if (!(s > 0.0)) return std::accumulate(y.begin(), y.end(), 0.0) / n;
+  double mu = median;
+  for (int step = 0; step < 50; ++step) {
+    double sum = 0.0;
+    for (double v : y) sum += std::clamp(v, mu - k_scales * s, mu + k_scales * s);
+    const double next = sum / n;
+    const bool converged = std::abs(next - mu) < 1e-12 * s;
+    mu = next;
+    if (converged) break;
+  }
+  return mu;
 }
 
 double ColourAutocorrelation(NoiseColour form, double tau, std::size_t k) {
@@ -292,14 +313,39 @@ std::size_t ReplaceOutliers(std::vector<double>& y, double noise_sigma, double l
     }
     const double scale = std::max(kMadToSigma * Median(magnitude), noise_sigma);
     if (!(scale > 0.0)) break;
+    // The samples beyond their limit. Among those within ±2 of each other the outlier is the one
+    // whose replacement leaves no |d| beyond its limit within ±2 (the least left of such), or,
+    // where no single replacement does (two spikes side by side), the largest |d| in limits, as
+    // before. A spike at the second sample drives the first one's extrapolated |d| to twice its
+    // own: the largest |d| alone would replace the good first sample.
+    auto in_limits = [&](std::size_t k) { return magnitude[k] / (limit * scale * EndWidening(k, n)); };
+    auto left_after = [&](std::size_t k) {  // max |d_j| in limits, j within ±2, with y_k replaced
+      const double kept = y[k];
+      y[k] = Predicted(y, k);
+      double worst = 0.0;
+      for (std::size_t j = (k >= 2 ? k - 2 : 0); j < std::min(n, k + 3); ++j)
+        worst = std::max(worst, std::abs(y[j] - Predicted(y, j)) / (limit * scale * EndWidening(j, n)));
+      y[k] = kept;
+      return worst;
+    };
+    std::vector<double> left(n, 0.0);
+    for (std::size_t k = 0; k < n; ++k)
+      if (in_limits(k) > 1.0) left[k] = left_after(k);
+    // k before j: k explains its neighbourhood and j does not or leaves more; or neither does
+    // and k's |d| is the larger.
+    auto before = [&](std::size_t k, std::size_t j) {
+      const bool k_explains = left[k] <= 1.0, j_explains = left[j] <= 1.0;
+      if (k_explains != j_explains) return k_explains;
+      if (k_explains) return left[k] < left[j] || (left[k] == left[j] && k < j);
+      return in_limits(k) > in_limits(j) || (in_limits(k) == in_limits(j) && k < j);
+    };
     std::vector<std::size_t> outliers;
     for (std::size_t k = 0; k < n; ++k) {
-      const double widening = EndWidening(k, n);
-      if (magnitude[k] <= limit * scale * widening) continue;
-      bool largest = true;
+      if (!(in_limits(k) > 1.0)) continue;
+      bool first = true;
       for (std::size_t j = (k >= 2 ? k - 2 : 0); j < std::min(n, k + 3); ++j)
-        if (j != k && magnitude[j] / EndWidening(j, n) > magnitude[k] / widening) largest = false;
-      if (largest) outliers.push_back(k);
+        if (j != k && in_limits(j) > 1.0 && before(j, k)) first = false;
+      if (first) outliers.push_back(k);
     }
     if (outliers.empty()) break;
     for (std::size_t k : outliers) y[k] = Predicted(y, k);

@@ -301,6 +301,26 @@ TEST(NoiseModelTest, ASmoothMotionHasNoOutliers) {
   for (std::size_t k = 0; k < ramp.size(); ++k) EXPECT_NEAR(ramp[k], before[k], 0.01) << k;
 }
 
+TEST(NoiseModelTest, ASpikeOnTheSecondSampleIsReplacedNotTheGoodFirstOne) {
+  // A spike of M at sample 1 gives sample 0's extrapolation (2 y_1 − y_2) d = −2M, larger than
+  // its own d = M even in limits: choosing by the largest |d| replaced the good first sample by
+  // ≈ 2M and left the spike (development calibration set 928: a 6 mrad spike at the second
+  // sample became a 0.8 mrad offset of the whole trial through the centring on the rest).
+  std::mt19937_64 rng(29);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::vector<double> clean(300);
+  for (double& v : clean) v = gauss(rng);
+  for (std::size_t spike : {std::size_t{1}, std::size_t{298}, std::size_t{0}, std::size_t{299}, std::size_t{150}}) {
+    std::vector<double> y = clean;
+    y[spike] += 25.0;
+    EXPECT_EQ(ReplaceOutliers(y, 1.0), 1u) << spike;
+    for (std::size_t k = 0; k < y.size(); ++k) {
+      if (k == spike) EXPECT_NEAR(y[k], clean[k], 4.0 * std::sqrt(5.0)) << spike;  // ŷ: 4 of its σ
+      else EXPECT_EQ(y[k], clean[k]) << spike << " " << k;        // every other sample untouched
+    }
+  }
+}
+
 TEST(NoiseModelTest, KinksInLowPassedNoiseAreNoOutliersAgainstTheNoiseLevel) {
   // 8 Hz Butterworth-filtered noise of σ = 1 makes d small: a kink of 1.5 σ per sample (d = 0.5 σ
   // at both ends of the ramp) stands out of d's own scale, not out of the noise's σ (RestSpread,
@@ -529,6 +549,40 @@ TEST(NoiseModelTest, ASlowSinusoidTheTrialsSpanIsFoundFromTheRestsSlopes) {
   AddDrift(records, 0.25, VerdictOptions{}.drift_budget, model);
   const NoiseCheck check = CheckResidual(records, model);
   EXPECT_TRUE(check.NoiseLike()) << check.Evidence();
+}
+
+}  // namespace
+}  // namespace pwsim::diagnose
+
+namespace pwsim::diagnose {
+namespace {
+
+TEST(NoiseModelTest, HuberLocationSolvesItsEstimatingEquationAndIgnoresABurst) {
+  // Reference: the estimating equation itself, Σ ψ((y − μ)/s) = 0 with s the MAD scale (the
+  // definition R's MASS::huber solves), and the mean where no sample is beyond k s of it.
+  std::mt19937_64 rng(31);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::vector<double> y(25);
+  for (double& v : y) v = 2.0 + 0.1 * gauss(rng);
+  std::vector<double> burst = y;
+  for (std::size_t k = 3; k < 6; ++k) burst[k] += 4.0;  // 3 of 25 samples 40 σ off
+  for (const std::vector<double>* data : {&y, &burst}) {
+    const double mu = HuberLocation(*data);
+    std::vector<double> dev;
+    for (double v : *data) dev.push_back(std::abs(v - Median(*data)));
+    const double s = 1.4826 * Median(dev);
+    double psi = 0.0;
+    for (double v : *data) psi += std::clamp((v - mu) / s, -1.5, 1.5);
+    EXPECT_NEAR(psi, 0.0, 1e-9);
+  }
+  // Samples all within k s of their mean: every ψ is linear, so μ is the mean exactly.
+  // (median 1.05, s = 1.4826 × 0.03, k s = 0.067 > 0.05.)
+  const std::vector<double> close{1.1, 1.0, 1.02, 1.08, 1.05};
+  EXPECT_NEAR(HuberLocation(close), 1.05, 1e-12);
+  // The burst moves a mean by 3 × 4 / 25 = 0.48 (4.8 σ); Huber's location by < 3 × 1.5 s / 25 + its noise.
+  EXPECT_LT(std::abs(HuberLocation(burst) - HuberLocation(y)), 0.25 * 0.1 * 1.5 + 0.05);
+  EXPECT_EQ(HuberLocation({}), 0.0);
+  EXPECT_EQ(HuberLocation({1.0, 1.0, 1.0, 5.0}), 2.0);  // MAD 0 (s = 0): the mean
 }
 
 }  // namespace
