@@ -1,6 +1,7 @@
 #include "sysid/diagnose/diagnose.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <deque>
@@ -574,6 +575,24 @@ void EstimateNoise(const std::vector<effects::TrialRecord>& records, const std::
   dx.sigma_pitch = dx.noise.pitch.sigma;
 }
 
+/// The base model: the LM fitted under the paper's small-angle kinematics and under exact
+/// rigid-body kinematics (effect_model.h), the lower training error kept (small angles at
+/// equal errors; the same parameters either way).
+FitResult FitBase(const std::vector<FitTrial>& training, const LumpedParams& lm, const ChannelWeights& w,
+                  const FitOptions& options) {
+  std::array<FitResult, 2> fits;  // small angles, exact: two independent fits, run concurrently
+  ParallelFor(
+      fits.size(),
+      [&](std::size_t i) {
+        effects::ExtendedParams start;
+        start.lm = lm;
+        start.fx.member.kinematics = i == 0 ? effects::Kinematics::kSmallAngle : effects::Kinematics::kExact;
+        fits[i] = FitModelJoint(training, {}, start, w, options);
+      },
+      Waiting::kAnyTask);
+  return fits[1].sse < fits[0].sse ? std::move(fits[1]) : std::move(fits[0]);
+}
+
 /// The steps of diagnose.h, on the current thread pool.
 Diagnosis DiagnoseOnPool(const std::vector<effects::TrialRecord>& given, const DiagnoseOptions& options) {
   PWSIM_DEMAND(given.size() >= 2);
@@ -587,10 +606,10 @@ Diagnosis DiagnoseOnPool(const std::vector<effects::TrialRecord>& given, const D
   std::deque<Splits> geometries{MakeSplits(records, report, dx.selection, nullptr, nullptr, options.rest_window)};
   const Splits& first = geometries.front();
   const ChannelWeights w = MakeChannelWeights(first.training);
-  dx.base = FitModel(first.training, std::nullopt, dx.chair.lm.value_or(LumpedParams{}), w, options.fit);  // 2
+  dx.base = FitBase(first.training, dx.chair.lm.value_or(LumpedParams{}), w, options.fit);  // 2
   EstimateNoise(records, report, first, dx);  // 3
   if (AddDriftTerms(dx.noise, geometries.front()))  // drift: the base model again, drift terms beside it
-    dx.base = FitModel(first.training, std::nullopt, dx.base.params.lm, w, options.fit);
+    dx.base = FitBase(first.training, dx.base.params.lm, w, options.fit);
   const NoiseCheck base_selection =    // 4: decided on the selection trials
       Check(first.selection, records, first.selection_index, dx.base.params, dx.noise, options.verdict);
   dx.trials = BaseAnalysis(records, report, first.all, dx.base.params);  // 5

@@ -10,7 +10,9 @@
 //     load) decides; the remaining `training` trials are fitted.
 //  2. Base: GM from the chair (or identified on training + selection trials when the chair has
 //     none, sysid/identify/, with the α summing to 1: rigid heave), LM re-identified by output
-//     error on the training trials.
+//     error on the training trials, under the paper's small-angle kinematics and under exact
+//     rigid-body kinematics (effect_model.h Kinematics; concurrently), the lower training
+//     error kept: the model's geometry, not a cause, chosen on training data like a member.
 //  3. Noise model from the training + selection trials (noise_model.h): a level per channel
 //     and the noise's colour, from the rest before each trial's start.
 //  4. The base model's residual on the selection trials tested against it (verdict.h (a)-(e)):
