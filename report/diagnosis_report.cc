@@ -53,6 +53,7 @@ nlohmann::ordered_json VerdictInputsJson(const Diagnosis& d) {
                       {"drift_budget", o.drift_budget},
                       {"bic_threshold", d.options.bic_threshold},
                       {"min_selection_gain", d.options.min_heldout_gain}}},
+          {"selection_noise_ms", JsonNumber(d.selection_noise_ms)},
           {"noise", {{"z", NoiseJson(d.noise.z)}, {"pitch", NoiseJson(d.noise.pitch)}}},
           {"base", CheckJson(d.base_check)},
           {"extended", CheckJson(d.extended_check)}};
@@ -216,7 +217,7 @@ std::string DiagnosisMarkdown(const Diagnosis& d, const std::string& base_source
           " % of the held-out error above the noise (95 % lower bound of the error it removes: " +
           Fixed(c.heldout_gain_lcb_pct, 1) + " %; " + std::to_string(c.report_trials_improved) + " of " +
           std::to_string(c.report_trials) + " report trials improved; chosen on the selection "
-          "trials, where it removed " + Fixed(100.0 * c.selection_gain, 1) + " % of the error).\n";
+          "trials, where it removed " + Fixed(100.0 * c.selection_gain, 1) + " % of the error above the noise).\n";
   }
   md += std::string("\nNoise (from the data: ") +
         (d.noise.z.from_rest ? "rest windows, variogram and MAD" : "4th differences, white") + "): Z " + Significant(1e3 * d.sigma_z, 3) + " mm, pitch " +

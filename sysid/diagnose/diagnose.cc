@@ -150,6 +150,29 @@ NoiseCheck Check(const std::vector<FitTrial>& trials, const std::vector<effects:
   return CheckResidual(ResidualRecords(trials, records, index, params), noise, options);
 }
 
+/// The share of the selection trials' structured error a model change removes: with ρ² =
+/// max(0, RMS² − N) the weighted mean square above the noise's N (the structured RMS of the
+/// verdict, verdict.h (a)),
+///   gain = 1 − ρ_after / ρ_before,
+/// so that an effect's gain does not shrink with the noise the trials happen to carry (a share
+/// of the whole RMS, noise included, penalised second and weak causes: the noise is most of
+/// what is left). N is the noise's lower bound (SelectionNoise): an overestimated noise would
+/// inflate every gain. The share of the whole RMS where nothing is above the noise.
+double SelectionGain(double rms_before, double rms_after, double noise_ms) {
+  const double before = rms_before * rms_before - noise_ms;
+  if (!(before > 0.0)) return rms_before > 0.0 ? 1.0 - rms_after / rms_before : 0.0;
+  return 1.0 - std::sqrt(std::max(0.0, rms_after * rms_after - noise_ms) / before);
+}
+
+/// N of SelectionGain: ½ (w_Z² σ_Z,low² + w_θ² σ_θ,low²), the weighted noise mean square per
+/// residual of both channels, with σ_low = σ̂² / σ̂_upper (the lower bound as far below σ̂ as
+/// the upper one is above it, noise_model.h sigma_upper).
+double SelectionNoise(const NoiseModel& noise, const ChannelWeights& w) {
+  auto low = [](const ChannelNoise& c) { return c.sigma_upper > 0.0 ? c.sigma * c.sigma / c.sigma_upper : c.sigma; };
+  const double z = w.z * low(noise.z), pitch = w.pitch * low(noise.pitch);
+  return 0.5 * (z * z + pitch * pitch);
+}
+
 /// Per report trial, the weighted mean square of the residual of `params`.
 std::vector<double> PerTrialMeanSquare(const std::vector<FitTrial>& trials,
                                        const effects::ExtendedParams& params, const ChannelWeights& w) {
@@ -243,11 +266,11 @@ struct Candidate {
 };
 
 /// Round 1: the earning extension of the ranking with the largest selection gain.
-std::optional<Candidate> BestAlone(const std::vector<RankEntry>& ranking, double base_sel) {
+std::optional<Candidate> BestAlone(const std::vector<RankEntry>& ranking) {
   std::optional<Candidate> best;
   for (const RankEntry& e : ranking)
     if (e.earns && (!best || e.selection_gain > best->gain))
-      best = Candidate{e.fit, e.selection_gain, base_sel * (1.0 - e.selection_gain)};
+      best = Candidate{e.fit, e.selection_gain, e.selection_error};
   return best;
 }
 
@@ -259,11 +282,11 @@ std::optional<Candidate> BestAlone(const std::vector<RankEntry>& ranking, double
 /// alone ended under another base: each candidate is multi-started over its family instead.
 std::optional<Candidate> BestJoint(const Splits& splits, const std::vector<RankEntry>& ranking,
                                    const std::vector<EffectId>& found, const FitResult& current,
-                                   double current_sel, const ChannelWeights& w,
+                                   double current_sel, const ChannelWeights& w, double noise_ms,
                                    const DiagnoseOptions& options, bool rebased) {
   auto judge = [&](FitResult f) {
     const double sel = HeldOutError(splits.selection, f.params, w);
-    const double gain = current_sel > 0.0 ? 1.0 - sel / current_sel : 0.0;
+    const double gain = SelectionGain(current_sel, sel, noise_ms);
     const bool earns = f.bic - current.bic < options.bic_threshold && gain >= options.min_heldout_gain;
     return earns ? std::optional<Candidate>(Candidate{std::move(f), gain, sel}) : std::nullopt;
   };
@@ -325,7 +348,7 @@ bool AlternateBase(const std::vector<effects::TrialRecord>& records, const std::
     geometries.push_back(std::move(next));
     dx.chair = next_base.chair;
     accepted = true;
-    best = Candidate{std::move(refit), current_sel > 0.0 ? 1.0 - sel / current_sel : best.gain, sel};
+    best = Candidate{std::move(refit), SelectionGain(current_sel, sel, dx.selection_noise_ms), sel};
     if (small) break;
   }
   return accepted;
@@ -372,15 +395,15 @@ void RebaseUnderCushion(const std::vector<effects::TrialRecord>& records, const 
 /// Round 1: every candidate fitted alone on the training trials (concurrently, each in its own
 /// slot), judged on the selection trials; earning ones first, then by selection gain.
 std::vector<RankEntry> Rank(const Splits& splits, const FitResult& base, double base_sel,
-                            const ChannelWeights& w, const DiagnoseOptions& options) {
+                            const ChannelWeights& w, double noise_ms, const DiagnoseOptions& options) {
   std::vector<RankEntry> ranking(options.candidates.size());
   ParallelFor(options.candidates.size(), [&](std::size_t i) {
     RankEntry& e = ranking[i];
     e.effect = options.candidates[i];
     e.fit = FitModel(splits.training, e.effect, base.params.lm, w, options.fit);
     e.delta_bic = e.fit.bic - base.bic;
-    const double sel = HeldOutError(splits.selection, e.fit.params, w);
-    e.selection_gain = base_sel > 0.0 ? 1.0 - sel / base_sel : 0.0;
+    e.selection_error = HeldOutError(splits.selection, e.fit.params, w);
+    e.selection_gain = SelectionGain(base_sel, e.selection_error, noise_ms);
     e.earns = e.delta_bic < options.bic_threshold && e.selection_gain >= options.min_heldout_gain;
     e.parameters = NamedParameters(e.fit);
   }, Waiting::kAnyTask);
@@ -403,9 +426,9 @@ void ForwardSelect(const std::vector<effects::TrialRecord>& records, const std::
   std::vector<EffectId> found;
   while (static_cast<int>(found.size()) < options.max_causes) {
     std::optional<Candidate> best =
-        found.empty() ? BestAlone(dx.ranking, base_sel)
-                      : BestJoint(geometries.back(), dx.ranking, found, current, current_sel, w, options,
-                                  geometries.size() > 1);
+        found.empty() ? BestAlone(dx.ranking)
+                      : BestJoint(geometries.back(), dx.ranking, found, current, current_sel, w,
+                                  dx.selection_noise_ms, options, geometries.size() > 1);
     if (!best) break;
     if (records.front().gm_from_trials && best->fit.effects.back() == EffectId::kMarkerOffset)
       RegeometryUnderLever(records, report, geometries, *best, current_sel, w, options, dx);
@@ -438,7 +461,7 @@ void ReportRanking(const Splits& base_splits, const effects::ExtendedParams& bas
     e.heldout_gain = base_error > 0.0 ? 1.0 - err / base_error : 0.0;
     e.heldout = PooledFitPct(base_splits.report, e.fit.params);
     e.evidence = dx.residuals.evidence[static_cast<int>(e.effect)] +
-                 Format("; extension removes %.0f %% of the selection error (earns at ≥ %.0f %% "
+                 Format("; extension removes %.0f %% of the selection error above the noise (earns at ≥ %.0f %% "
                         "and ΔBIC < %.0f), %.0f %% of the held-out error",
                         100.0 * e.selection_gain, 100.0 * options.min_heldout_gain,
                         options.bic_threshold, 100.0 * e.heldout_gain);
@@ -615,7 +638,8 @@ Diagnosis DiagnoseOnPool(const std::vector<effects::TrialRecord>& given, const D
   dx.trials = BaseAnalysis(records, report, first.all, dx.base.params);  // 5
   dx.residuals = Analyse(dx.trials, dx.chair, records);
   const double base_sel = HeldOutError(first.selection, dx.base.params, w);  // 6
-  dx.ranking = Rank(first, dx.base, base_sel, w, options);
+  dx.selection_noise_ms = SelectionNoise(dx.noise, w);
+  dx.ranking = Rank(first, dx.base, base_sel, w, dx.selection_noise_ms, options);
   std::vector<Stage> models{{dx.base, &first}};  // the model after each cause
   if (!base_selection.NoiseLike()) ForwardSelect(records, report, geometries, base_sel, w, models, dx);
   dx.extended = models.back().fit;

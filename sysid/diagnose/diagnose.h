@@ -21,7 +21,7 @@
 //  6. Every extension fitted alone on the training trials (the ranking; concurrently); then
 //     forward selection: the extension with the largest gain on the SELECTION trials earns when
 //     ΔBIC < bic_threshold (training) AND it removes ≥ min_heldout_gain of the selection
-//     error; it is added, every further candidate (those with ΔBIC < bic_threshold alone) is
+//     trials' structured RMS (above the noise: diagnose.cc SelectionGain); it is added, every further candidate (those with ΔBIC < bic_threshold alone) is
 //     fitted JOINTLY with the ones found (concurrently; starting where its fit alone ended,
 //     only its own discrete member copied; compared after screen_iterations, the winner solved
 //     on), and so on while one earns, at most max_causes, stopping when the residual on the
@@ -52,7 +52,7 @@
 namespace pwsim::diagnose {
 
 struct DiagnoseOptions {
-  double min_heldout_gain{0.10};  ///< share of the held-out error an extension must remove
+  double min_heldout_gain{0.10};  ///< share of the selection trials' structured RMS an extension must remove
   double bic_threshold{-10.0};    ///< ΔBIC (extended - base) an extension must beat
   FitOptions fit;
   std::vector<effects::EffectId> candidates{effects::AllEffects().begin(),
@@ -78,7 +78,10 @@ struct RankEntry {
   double delta_bic{0.0};  ///< BIC(extended) - BIC(base) on training trials (< 0 favours it)
   FitPct heldout;         ///< held-out fitness of the extended model
   double heldout_gain{0.0};  ///< 1 - E_ext / E_base, E = RMS weighted residual, report trials
-  double selection_gain{0.0};  ///< the same on the selection trials (decides `earns`)
+  /// 1 − ρ_ext / ρ_base on the selection trials, ρ² = max(0, E² − N) the structured error above
+  /// the noise's mean square N (Diagnosis::selection_noise_ms; decides `earns`)
+  double selection_gain{0.0};
+  double selection_error{0.0};  ///< E_ext on the selection trials (RMS weighted residual)
   bool earns{false};
   FitResult fit;
   std::vector<std::pair<std::string, double>> parameters;  ///< effect and LM, named
@@ -133,7 +136,7 @@ struct ResidualReport {
 struct Cause {
   effects::EffectId effect{};
   double heldout_gain_pct{0.0};   ///< [%] share of the report trials' error above noise removed
-  double selection_gain{0.0};     ///< [-] share of the selection error removed when added
+  double selection_gain{0.0};     ///< [-] share of the selection error above the noise removed when added
   double delta_bic{0.0};          ///< vs the model before it
   /// The report trials confirm it: the one-sided 95 % lower bound of the reduction of their
   /// weighted squared error, from the model before it to the model with it, is positive (its
@@ -152,6 +155,9 @@ struct Diagnosis {
   FitPct noise_floor;              ///< [%] on the report trials
   NoiseModel noise;                ///< from the training + selection trials (noise_model.h)
   double sigma_z{0.0}, sigma_pitch{0.0};  ///< σ̂ [m], [rad] (noise.z.sigma, noise.pitch.sigma)
+  /// N: the weighted noise mean square per residual the selection gains are taken above (the
+  /// noise's lower bound, diagnose.cc SelectionNoise)
+  double selection_noise_ms{0.0};
   NoiseCheck base_check, extended_check;  ///< selection + report trials, read at the end
   FitResult selected;              ///< the joint fit forward selection ended with (base: none)
   FitResult extended;              ///< `selected`, or the base model when the verdict is adequate

@@ -211,7 +211,7 @@ TEST_P(HiddenEffectTest, NamesTheCauseAndGainsOnHeldOutTrials) {
   // and the limits this run used.
   EXPECT_TRUE(d.causes.front().confirmed) << CausesLine(d);
   EXPECT_GT(d.causes.front().heldout_gain_lcb_pct, 0.0);
-  EXPECT_NE(top.evidence.find(Format("removes %.0f %% of the selection error (earns at ≥ 10 %% and ΔBIC < -10)",
+  EXPECT_NE(top.evidence.find(Format("removes %.0f %% of the selection error above the noise (earns at ≥ 10 %% and ΔBIC < -10)",
                                      100.0 * top.selection_gain)),
             std::string::npos)
       << top.evidence;

@@ -288,15 +288,35 @@ TEST(IndependentTruthDiagnoseTest, CushionYieldingAFixedShareIsNamed) {
   EXPECT_LT(hz, 20.0) << run.dx.extended.params.lm.k_z;
 }
 
-// (development seed 207's draw: F_c 44.2 N, v_s 6.8 mm/s, a viscous share, white noise here)
-// and Dahl's law where it is Dahl's (form 1: 1 mm presliding, 56 N), each with the truth's
-// force within a third.
+// A fixed-share cushion with Dahl friction per wheel under drift (development set 12: the law
+// space's draw for seed 12, its noise kind drift). Under the exact-kinematics base the cushion
+// removed 9.4 % of the selection RMS, noise included (10 % needed), and neither cause was
+// found; as a share of the error above the noise both are, and both confirmed.
+TEST(IndependentTruthDiagnoseTest, FrictionBesideAFixedShareCushionIsFoundAboveTheNoise) {
+  TruthRun run;
+  run.dx = Diagnose(TruthRecords({"cushion_compliance", "suspension_friction"}, 1.0, 0, 12, &run.set, false, "drift"));
+  ASSERT_TRUE(run.set.effects.cushion_proportional);
+  const std::vector<std::string> causes = Causes(run.dx);
+  ASSERT_GE(causes.size(), 2u) << run.dx.base_check.Evidence();
+  EXPECT_EQ(causes[0], "cushion_compliance");
+  EXPECT_EQ(causes[1], "suspension_friction");
+  EXPECT_TRUE(run.dx.causes[0].confirmed);
+  EXPECT_TRUE(run.dx.causes[1].confirmed);
+  EXPECT_GT(run.dx.selection_noise_ms, 0.0);
+  // Its gain is the share of the structured RMS: above what the RMS itself would say.
+  EXPECT_GE(run.dx.causes[0].selection_gain, run.dx.options.min_heldout_gain);
+}
+
 std::vector<FitTrial> FitTrials(const std::vector<effects::TrialRecord>& records) {
   std::vector<FitTrial> out;
   for (const effects::TrialRecord& r : records) out.push_back(MakeFitTrial(r, r.chair));
   return out;
 }
 
+// The friction family keeps the truth's law: smooth Coulomb where it is smooth Coulomb
+// (development seed 207's draw: F_c 44.2 N, v_s 6.8 mm/s, a viscous share, white noise here)
+// and Dahl's law where it is Dahl's (form 1: 1 mm presliding, 56 N), each with the truth's
+// force within a third.
 TEST(IndependentTruthDiagnoseTest, FrictionFamilyKeepsTheTruthsLaw) {
   truth::TruthSet smooth_set, dahl_set;
   const std::vector<FitTrial> smooth = FitTrials(TruthRecords({"suspension_friction"}, 1.0, 0, 207, &smooth_set, false, "white"));
