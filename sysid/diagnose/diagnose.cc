@@ -393,14 +393,16 @@ void RebaseUnderCushion(const std::vector<effects::TrialRecord>& records, const 
 }
 
 /// Round 1: every candidate fitted alone on the training trials (concurrently, each in its own
-/// slot), judged on the selection trials; earning ones first, then by selection gain.
+/// slot), from the base's LM under the base's kinematics (a candidate under other kinematics
+/// than its base would gain or lose by the kinematics too), judged on the selection trials;
+/// earning ones first, then by selection gain.
 std::vector<RankEntry> Rank(const Splits& splits, const FitResult& base, double base_sel,
                             const ChannelWeights& w, double noise_ms, const DiagnoseOptions& options) {
   std::vector<RankEntry> ranking(options.candidates.size());
   ParallelFor(options.candidates.size(), [&](std::size_t i) {
     RankEntry& e = ranking[i];
     e.effect = options.candidates[i];
-    e.fit = FitModel(splits.training, e.effect, base.params.lm, w, options.fit);
+    e.fit = FitModelJoint(splits.training, {e.effect}, base.params, w, options.fit);  // its kinematics
     e.delta_bic = e.fit.bic - base.bic;
     e.selection_error = HeldOutError(splits.selection, e.fit.params, w);
     e.selection_gain = SelectionGain(base_sel, e.selection_error, noise_ms);

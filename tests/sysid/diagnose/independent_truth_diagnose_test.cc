@@ -103,6 +103,10 @@ TEST(IndependentTruthDiagnoseTest, NoEffectUnderLowPassedNoiseIsAdequateUnderExa
   EXPECT_EQ(run.dx.base.params.fx.member.kinematics, effects::Kinematics::kExact);
   EXPECT_EQ(run.dx.verdict, Verdict::kAdequate) << run.dx.base_check.Evidence();
   EXPECT_TRUE(run.dx.causes.empty());
+  // Every candidate is fitted under the base's kinematics (else it would gain or lose by them).
+  ASSERT_FALSE(run.dx.ranking.empty());
+  for (const RankEntry& e : run.dx.ranking)
+    EXPECT_EQ(e.fit.params.fx.member.kinematics, effects::Kinematics::kExact) << effects::EffectName(e.effect);
 }
 
 // No effect with outliers (development calibration set 928's draw): one of them on a trial's
