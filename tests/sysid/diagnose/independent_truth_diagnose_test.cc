@@ -298,7 +298,10 @@ TEST(IndependentTruthDiagnoseTest, CushionYieldingAFixedShareIsNamed) {
 // found; as a share of the error above the noise both are, and both confirmed.
 TEST(IndependentTruthDiagnoseTest, FrictionBesideAFixedShareCushionIsFoundAboveTheNoise) {
   TruthRun run;
-  run.dx = Diagnose(TruthRecords({"cushion_compliance", "suspension_friction"}, 1.0, 0, 12, &run.set, false, "drift"));
+  DiagnoseOptions two;  // the two causes sought (a third round of joint fits would only cost time)
+  two.max_causes = 2;
+  run.dx = Diagnose(TruthRecords({"cushion_compliance", "suspension_friction"}, 1.0, 0, 12, &run.set, false, "drift"),
+                    two);
   ASSERT_TRUE(run.set.effects.cushion_proportional);
   const std::vector<std::string> causes = Causes(run.dx);
   ASSERT_GE(causes.size(), 2u) << run.dx.base_check.Evidence();
