@@ -40,13 +40,10 @@ double Median(std::vector<double> v) {
 
 double HuberLocation(const std::vector<double>& y, double k_scales) {
   if (y.empty()) return 0.0;
-  const double median = Median(y);
-  std::vector<double> deviation(y.size());
-  for (std::size_t i = 0; i < y.size(); ++i) deviation[i] = std::abs(y[i] - median);
-  const double s = kMadToSigma * Median(std::move(deviation));
+  const double s = RestSpread(y, y.size());  // the MAD scale of all of y
   const double n = static_cast<double>(y.size());
   if (!(s > 0.0)) return std::accumulate(y.begin(), y.end(), 0.0) / n;
-  double mu = median;
+  double mu = Median(y);
   for (int step = 0; step < 50; ++step) {
     double sum = 0.0;
     for (double v : y) sum += std::clamp(v, mu - k_scales * s, mu + k_scales * s);
