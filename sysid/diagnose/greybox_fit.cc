@@ -547,6 +547,7 @@ Solved Solve(const std::vector<FitTrial>& training, const Mapper& map, const Cha
 /// The best of a multi-start: its optimiser vector, its start, the iterations, the training
 /// error.
 struct Best {
+  LumpedParams origin;  ///< the LM that u's first four columns are relative to
   std::vector<double> u;
   std::optional<Start> start;  ///< empty: nothing solved yet
   int iterations{0};
@@ -568,7 +569,7 @@ Best SolveStarts(const std::vector<FitTrial>& training, Mapper map, const Channe
     const Solved it = Solve(training, map, weights, options, s.held, x, first_pass);
     solved.push_back({s.member ? s.member->name : "", s.base_fx.member.kinematics, it.sse});
     if (!best.start || it.sse < best.sse) {  // the first of equal errors
-      best = Best{x, s, it.iterations, it.sse};
+      best = Best{map.start, x, s, it.iterations, it.sse};
     }
   }
   map.base_fx = best.start->base_fx;
@@ -585,6 +586,27 @@ Best SolveStarts(const std::vector<FitTrial>& training, Mapper map, const Channe
 }
 
 }  // namespace
+
+LumpedParams PlausibleLm(const Chair& chair, const LumpedParams& lm, double load_kg) {
+  constexpr double kTwoPi = 2.0 * std::numbers::pi;
+  auto plausible = [&](const Mode& mode) { return std::isfinite(mode.omega_n) && mode.omega_n >= kTwoPi * 0.3; };
+  const Chair paper = MakeTableOneChair();
+  const Mode paper_heave = HeaveMode(paper, 50.0), paper_pitch = PitchMode(paper, 50.0);
+  Chair given = chair;
+  given.lm = lm;
+  LumpedParams out = lm;
+  if (!plausible(HeaveMode(given, load_kg))) {
+    const double mass = MovingMass(chair, load_kg);
+    out.k_z = mass * paper_heave.omega_n * paper_heave.omega_n;
+    out.c_z = 2.0 * paper_heave.zeta * std::sqrt(out.k_z * mass);
+  }
+  if (!plausible(PitchMode(given, load_kg))) {
+    const double inertia = PitchInertia(chair, load_kg);
+    out.k_theta = inertia * paper_pitch.omega_n * paper_pitch.omega_n;
+    out.c_theta = 2.0 * paper_pitch.zeta * std::sqrt(out.k_theta * inertia);
+  }
+  return out;
+}
 
 FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
                         const std::vector<effects::EffectId>& effect_list,
@@ -613,16 +635,28 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
   if (last && options.multi_start && kinematics.front() == effects::Kinematics::kSmallAngle &&
       LargestPitchSwing(training) > options.small_angle_limit)
     kinematics.push_back(effects::Kinematics::kExact);
+  // The LMs the multi-start runs from: start.lm, and the plausible LM where start.lm is not.
+  std::vector<LumpedParams> origins{start.lm};
+  if (last && options.multi_start) {
+    double load_kg = 0.0;
+    for (const FitTrial& t : training) load_kg += t.prepared.load_kg / static_cast<double>(training.size());
+    const LumpedParams plausible = PlausibleLm(training.front().prepared.chair, start.lm, load_kg);
+    if (plausible.k_z != start.lm.k_z || plausible.k_theta != start.lm.k_theta) origins.push_back(plausible);
+  }
   FitResult result;
   Best best;
-  for (effects::Kinematics geometry : kinematics) {
-    map.base_fx.member.kinematics = geometry;
-    const std::vector<Start> starts =
-        last && options.multi_start ? ChooseStarts(training, map, effects::Family(*last), u, last_col, weights)
-                                    : std::vector<Start>{Start{u, nullptr, start.fx, {}, 0.0}};
-    Best fit = SolveStarts(training, map, weights, options, starts, result.starts);
-    if (!best.start || fit.sse < best.sse) best = std::move(fit);
+  for (const LumpedParams& origin : origins) {
+    map.start = origin;
+    for (effects::Kinematics geometry : kinematics) {
+      map.base_fx.member.kinematics = geometry;
+      const std::vector<Start> starts =
+          last && options.multi_start ? ChooseStarts(training, map, effects::Family(*last), u, last_col, weights)
+                                      : std::vector<Start>{Start{u, nullptr, start.fx, {}, 0.0}};
+      Best fit = SolveStarts(training, map, weights, options, starts, result.starts);
+      if (!best.start || fit.sse < best.sse) best = std::move(fit);
+    }
   }
+  map.start = best.origin;
   map.base_fx = best.start->base_fx;
   u = best.u;
   result.iterations = best.iterations;

@@ -44,7 +44,7 @@ const char* EffectName(EffectId id) {
 const char* EffectDescription(EffectId id) {
   static constexpr std::array<const char*, kEffectCount> text{
       "finite wheel radius: wheel centres ride the rolling-disc envelope of the ground",
-      "vertical tyre compliance: series spring-damper (with unsprung mass) per wheel",
+      "vertical tyre compliance: series spring-damper per wheel, with an unsprung mass or massless",
       "the obstacle yields under load: effective height h (g - c (W/1 kN)^p), W per wheel or whole chair",
       "off-diagonal stiffness and damping between heave and pitch",
       "progressive (hardening) suspension stiffness: symmetric cubic and per-wheel bump stops, "
@@ -83,7 +83,8 @@ std::vector<ParamSpec> Parameters(EffectId id) {
               {"drive_tyre_period_s", 0.1, 0.02, 1.0, {0.05, 0.15}},
               {"tyre_damping_ratio", 0.3, 0.05, 1.0, {0.3}},
               {"caster_tyre_compliance_m_per_n", 5e-5, 0.0, 5e-4, {0.0, 5e-5, 2.5e-4}},
-              {"drive_tyre_compliance_m_per_n", 1e-5, 0.0, 2e-4, {0.0, 1e-5, 6e-5}}};
+              {"drive_tyre_compliance_m_per_n", 1e-5, 0.0, 2e-4, {0.0, 1e-5, 6e-5}},
+              {"tyre_time_constant_s", 0.005, 1e-4, 0.05, {0.005}}};
     case EffectId::kCushionCompliance:
       return {{"cushion_loss_per_kn", 0.2, 0.0, 1.2, {0.1, 0.4}},
               {"cushion_height_gain", 0.2, 0.5, 1.5, {1.0}},
@@ -147,14 +148,23 @@ EffectFamily MakeFamily(EffectId id) {
       // compliant tyres in series with each wheel's own suspension spring (the best start of
       // each caster-compliance rung: a start's error favours the stiff rungs, whose fits stay
       // near the base model, over a soft tyre's basin).
+      // Massless tyres in series (no unsprung mass: the periods and ζ held, the dampers' time
+      // constant fitted), the best start of each caster-compliance rung as well.
+      auto compliant_tyre = [](const std::vector<double>& s) { return s[3] > 0.0 || s[4] > 0.0; };
       FamilyMember stiff = Member("stiff", StartGrid(p, {{}, {}, {}, {0.0}, {0.0}}));
-      stiff.held = {3, 4};
+      stiff.held = {3, 4, 5};
       stiff.solved = 2;
-      FamilyMember compliant = Member(
-          "compliant", StartGrid(p, {}, [](const std::vector<double>& s) { return s[3] > 0.0 || s[4] > 0.0; }));
+      FamilyMember compliant = Member("compliant", StartGrid(p, {}, compliant_tyre));
+      compliant.held = {5};
       compliant.rung = 3;
       compliant.series_start = true;
-      family.members = {stiff, compliant};
+      FamilyMember massless =
+          Member("massless", StartGrid(p, {{0.15}, {0.15}, {0.3}, {}, {}, {0.003, 0.008}}, compliant_tyre));
+      massless.setting.tyre = TyreLaw::kMassless;
+      massless.held = {0, 1, 2};
+      massless.rung = 3;
+      massless.series_start = true;
+      family.members = {stiff, compliant, massless};
       break;
     }
     case EffectId::kCushionCompliance: {
@@ -213,6 +223,7 @@ std::vector<std::pair<std::string, double>> MemberFlags(EffectId id, const Effec
             {"bump_compression", member.stops != StopSides::kRebound ? 1.0 : 0.0}};
   if (id == EffectId::kSuspensionFriction)
     return {{"friction_smooth_coulomb", member.friction == FrictionLaw::kSmoothCoulomb ? 1.0 : 0.0}};
+  if (id == EffectId::kTyreCompliance) return {{"tyre_massless", member.tyre == TyreLaw::kMassless ? 1.0 : 0.0}};
   return {};
 }
 
@@ -220,6 +231,7 @@ void CopyMember(EffectId id, const EffectMembers& from, EffectMembers& to) {
   if (id == EffectId::kCushionCompliance) to.cushion_load = from.cushion_load;
   if (id == EffectId::kNonlinearStiffness) to.stops = from.stops;
   if (id == EffectId::kSuspensionFriction) to.friction = from.friction;
+  if (id == EffectId::kTyreCompliance) to.tyre = from.tyre;
 }
 
 void CopyEffect(EffectId id, const EffectParams& from, EffectParams& to) {
@@ -240,6 +252,7 @@ void SetEffectValues(EffectId id, std::span<const double> v, EffectParams& fx) {
       fx.tyre_damping = v[2];
       fx.caster_tyre_compliance = v[3];
       fx.drive_tyre_compliance = v[4];
+      fx.tyre_time_constant = v[5];
       break;
     case EffectId::kCushionCompliance:
       fx.cushion_loss_per_kn = v[0];
@@ -280,7 +293,7 @@ std::vector<double> GetEffectValues(EffectId id, const EffectParams& fx) {
       return {fx.caster_radius, fx.drive_radius};
     case EffectId::kTyreCompliance:
       return {fx.caster_tyre_period, fx.drive_tyre_period, fx.tyre_damping, fx.caster_tyre_compliance,
-              fx.drive_tyre_compliance};
+              fx.drive_tyre_compliance, fx.tyre_time_constant};
     case EffectId::kCushionCompliance:
       return {fx.cushion_loss_per_kn, fx.cushion_height_gain, fx.cushion_exponent, fx.cushion_pitch_gain};
     case EffectId::kHeavePitchCoupling:

@@ -6,6 +6,8 @@
 #include <limits>
 #include <numbers>
 
+#include <Eigen/Dense>
+
 #include "engine/check.h"
 #include "engine/geometric_model.h"
 #include "engine/lumped_model.h"
@@ -204,6 +206,10 @@ struct Setup {
   std::array<double, kMaxWheels> plane_z{}, plane_t{};  ///< s-weighted plane: Z = Σ plane_z_i u_i
   std::array<double, kMaxWheels> gm_dz{}, gm_dt{};      ///< GM correction (s-plane - α-plane)
   bool series{false};  ///< some tyre is compliant (c_t > 0)
+  // Massless tyres (header, TyreLaw::kMassless).
+  bool massless{false};
+  std::array<double, kMaxWheels> k_tyre{}, c_tyre{};  ///< k_t [N/m], τ_t k_t [N s/m] (0: rigid)
+  std::array<double, kMaxWheels * kMaxWheels> hub_step{};  ///< (τ_t K_t + D + Δt S/2)^-1, row-major
   AxisPropagator heave, pitch;
   double mass{1.0}, lever{0.0};
   double k_z{0}, c_z{0}, k_t{0}, c_t{0}, k_zt{0}, c_zt{0};
@@ -216,6 +222,47 @@ struct Setup {
   bool held_forces{false};  ///< coupling, hardening, bump stops, friction or exact kinematics
   bool exact{false};        ///< exact rigid-body kinematics (header: Kinematics::kExact)
 };
+
+/// The massless hubs' step matrix (header, TyreLaw::kMassless). The suspension's reaction on
+/// wheel i depends on the hubs' rates u̇_j through R_i = ... - Σ_j D_ij u̇_j and on their
+/// heights through - Σ_j S'_ij u_j, with the GM linearised about level ground (Z_GM = Σ g_j u_j,
+/// θ_GM = Σ p_j u_j, the series shift included):
+///   D_ij = a_i (C_Z g_j + C_Zθ p_j) + b_i (C_θ p_j + C_Zθ g_j) + c_i (δ_ij - a_j - x_i b_j)
+/// (a, b the suspension plane's coefficients, c_i the wheel's own damper), S' the same with the
+/// stiffnesses. Rigid wheels' rows are u̇_i = ḣ_i. Stored: (τ_t K_t + D + Δt (K_t + S')/2)^-1.
+void MakeHubStep(const Chair& chair, double dt, Setup& m) {
+  const int w = m.wheels;
+  const GeometricModel gm(chair);
+  std::array<double, kMaxWheels> unit{}, g{}, p{};
+  constexpr double kProbe = 1e-6;  // [m]: the GM's asin is linear to 1e-13 relative here
+  for (int j = 0; j < w; ++j) {
+    unit.fill(0.0);
+    unit[j] = kProbe;
+    const GeometricOutput out = gm.Evaluate(std::span<const double>(unit.data(), static_cast<std::size_t>(w)));
+    g[j] = out.z / kProbe + m.gm_dz[j];
+    p[j] = m.gm_pitch_gain * out.pitch / kProbe + m.gm_dt[j];
+  }
+  using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxWheels, kMaxWheels>;
+  Matrix step = Matrix::Zero(w, w);
+  for (int i = 0; i < w; ++i) {
+    if (m.k_tyre[i] <= 0.0) {
+      step(i, i) = 1.0;
+      continue;
+    }
+    for (int j = 0; j < w; ++j) {
+      const double plane = (i == j ? 1.0 : 0.0) - m.plane_z[j] - m.wheel_x[i] * m.plane_t[j];
+      const double damping = m.plane_z[i] * (m.c_z * g[j] + m.c_zt * p[j]) +
+                             m.plane_t[i] * (m.c_t * p[j] + m.c_zt * g[j]) + m.c_wheel[i] * plane;
+      const double stiffness = m.plane_z[i] * (m.k_z * g[j] + m.k_zt * p[j]) +
+                               m.plane_t[i] * (m.k_t * p[j] + m.k_zt * g[j]) + m.k_wheel[i] * plane;
+      step(i, j) = damping + 0.5 * dt * stiffness;
+    }
+    step(i, i) += m.c_tyre[i] + 0.5 * dt * m.k_tyre[i];
+  }
+  const Matrix inverse = step.fullPivLu().inverse();
+  for (int i = 0; i < w; ++i)
+    for (int j = 0; j < w; ++j) m.hub_step[static_cast<std::size_t>(i * kMaxWheels + j)] = inverse(i, j);
+}
 
 Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
   const Chair& chair = trial.chair;
@@ -242,13 +289,21 @@ Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
     m.radius[i] = caster ? fx.caster_radius : fx.drive_radius;
     m.any_radius = m.any_radius || m.radius[i] > 0.0;
     const double period = caster ? fx.caster_tyre_period : fx.drive_tyre_period;
-    m.tyre[i] = period > 1e-6 ? (caster ? 1 : 2) : 0;
-    m.any_tyre = m.any_tyre || m.tyre[i] != 0;
-    const double omega = m.tyre[i] != 0 ? 2.0 * std::numbers::pi / period : 0.0;
-    if (m.tyre[i] != 0)
+    if (fx.member.tyre == TyreLaw::kMassless) {
       compliance[i] = std::max(0.0, caster ? fx.caster_tyre_compliance : fx.drive_tyre_compliance);
-    m.inv_unsprung[i] = omega * omega * compliance[i];
-    m.series = m.series || m.inv_unsprung[i] > 0.0;
+      m.tyre[i] = compliance[i] > 0.0 ? (caster ? 1 : 2) : 0;
+      m.k_tyre[i] = m.tyre[i] != 0 ? 1.0 / compliance[i] : 0.0;
+      m.c_tyre[i] = std::max(0.0, fx.tyre_time_constant) * m.k_tyre[i];
+      m.massless = m.massless || m.tyre[i] != 0;
+    } else {
+      m.tyre[i] = period > 1e-6 ? (caster ? 1 : 2) : 0;
+      const double omega = m.tyre[i] != 0 ? 2.0 * std::numbers::pi / period : 0.0;
+      if (m.tyre[i] != 0)
+        compliance[i] = std::max(0.0, caster ? fx.caster_tyre_compliance : fx.drive_tyre_compliance);
+      m.inv_unsprung[i] = omega * omega * compliance[i];
+    }
+    m.any_tyre = m.any_tyre || m.tyre[i] != 0;
+    m.series = m.series || m.inv_unsprung[i] > 0.0 || m.k_tyre[i] > 0.0;
     m.friction[i] = caster ? fx.caster_friction : fx.drive_friction;
     m.any_friction = m.any_friction || m.friction[i] > 0.0;
     m.height_factor[i] = factors[static_cast<std::size_t>(i)];
@@ -264,7 +319,9 @@ Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
     for (int i = 0; i < m.wheels; ++i) {
       m.k_wheel[i] = m.share[i] * params.lm.k_z;
       // Held over the step, the wheel's own damper is stable while c Δt / m_u < 2: capped at 1.
-      m.c_wheel[i] = m.inv_unsprung[i] > 0.0
+      // (A massless hub's balance is solved implicitly: no cap.)
+      m.c_wheel[i] = m.k_tyre[i] > 0.0 ? m.share[i] * params.lm.c_z
+                     : m.inv_unsprung[i] > 0.0
                          ? std::min(m.share[i] * params.lm.c_z, 1.0 / (m.inv_unsprung[i] * dt))
                          : 0.0;
       m.plane_z[i] = by_share.z[i];
@@ -308,6 +365,7 @@ Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
   m.exact = fx.member.kinematics == Kinematics::kExact;
   m.held_forces = m.k_zt != 0.0 || m.c_zt != 0.0 || m.hard_z != 0.0 || m.hard_t != 0.0 ||
                   m.bump_gain > 0.0 || m.any_friction || m.exact;
+  if (m.massless) MakeHubStep(chair, dt, m);
   return m;
 }
 
@@ -360,6 +418,55 @@ Load HeldForces(const Setup& m, const Body& b, const GeometricOutput& gm, double
                     m.c_t * (c * b.pitch_rate - c_gm * gm_pitch_rate));
   }
   return f;
+}
+
+/// Each wheel's height off the suspension plane through the heights `u` (its own spring's
+/// share of the deflection, which the chassis does not see).
+void OffPlane(const Setup& m, const double* u, double* d) {
+  double plane_z = 0.0, plane_t = 0.0;
+  for (int i = 0; i < m.wheels; ++i) {
+    plane_z += m.plane_z[i] * u[i];
+    plane_t += m.plane_t[i] * u[i];
+  }
+  for (int i = 0; i < m.wheels; ++i) d[i] = u[i] - plane_z - m.wheel_x[i] * plane_t;
+}
+
+/// One step of the massless hubs (header, TyreLaw::kMassless) from heights `u0` to `u1`, the
+/// ground going from h0 to h1, the chassis at `body` over its GM output `gm` (at u0): the
+/// balance's right-hand side b(u0) with every hub at rest, times MakeHubStep's matrix.
+void AdvanceMasslessHubs(const Setup& m, const Body& body, const GeometricOutput& gm, const double* h0,
+                         const double* h1, const double* u0, const double* off_static, double dt,
+                         double* u1) {
+  const int w = m.wheels;
+  // The suspension's force and torque on the chassis with the hubs at rest (u̇ = 0).
+  const double dz = body.z - gm.z, dp = body.pitch - gm.pitch;
+  const double pitch_spring = m.exact ? m.k_t * (std::sin(body.pitch) - std::sin(gm.pitch)) +
+                                            m.c_t * std::cos(body.pitch) * body.pitch_rate
+                                      : m.k_t * dp + m.c_t * body.pitch_rate;
+  const double force = m.k_z * dz + m.c_z * body.z_rate + m.k_zt * dp + m.c_zt * body.pitch_rate;
+  const double torque = pitch_spring + m.k_zt * dz + m.c_zt * body.z_rate;
+  std::array<double, kMaxWheels> off{}, b{};
+  OffPlane(m, u0, off.data());
+  for (int i = 0; i < w; ++i) {
+    const double ground_rate = (h1[i] - h0[i]) / dt;
+    if (m.k_tyre[i] <= 0.0) {
+      b[i] = ground_rate;
+      continue;
+    }
+    const double reaction = m.plane_z[i] * force + m.plane_t[i] * torque - m.k_wheel[i] * (off[i] - off_static[i]);
+    // The trapezoid's mean of the tyre's spring force over the step, less S Δu / 2 (the matrix).
+    b[i] = m.k_tyre[i] * (0.5 * (h0[i] + h1[i]) - u0[i]) + m.c_tyre[i] * ground_rate + reaction;
+  }
+  for (int i = 0; i < w; ++i) {
+    if (m.k_tyre[i] <= 0.0) {
+      u1[i] = h1[i];  // a rigid wheel on its ground
+      continue;
+    }
+    double rate = 0.0;
+    const double* row = m.hub_step.data() + static_cast<std::size_t>(i * kMaxWheels);
+    for (int j = 0; j < w; ++j) rate += row[j] * b[j];
+    u1[i] = u0[i] + dt * rate;
+  }
 }
 
 }  // namespace
@@ -463,21 +570,16 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
   double gm_z_rate_prev = 0.0, gm_pitch_rate_prev = 0.0;
   // Each wheel's height off the suspension plane through the wheels (its own spring's share of
   // the deflection that the chassis does not see), from its static value.
-  auto off_plane = [&](const double* u, std::array<double, kMaxWheels>& d) {
-    double plane_z = 0.0, plane_t = 0.0;
-    for (int i = 0; i < w; ++i) {
-      plane_z += m.plane_z[i] * u[i];
-      plane_t += m.plane_t[i] * u[i];
-    }
-    for (int i = 0; i < w; ++i) d[i] = u[i] - plane_z - m.wheel_x[i] * plane_t;
-  };
+  auto off_plane = [&](const double* u, std::array<double, kMaxWheels>& d) { OffPlane(m, u, d.data()); };
   std::array<double, kMaxWheels> off0{}, off{}, off_rate{}, zc_rate{};
   if (m.series) off_plane(zc0.data(), off0);
 
   double sin_body = m.any_friction ? std::sin(body.pitch) : 0.0;  // sin θ at the step's start
   for (std::size_t j = 0; j + 1 < grid; ++j) {
     if (need_contacts) contacts(j + 1, body.pitch + dt * body.pitch_rate, h1.data());
-    if (m.any_tyre) {
+    if (m.massless) {
+      AdvanceMasslessHubs(m, body, g0, h0.data(), h1.data(), zc0.data(), off0.data(), dt, zc1.data());
+    } else if (m.any_tyre) {
       // The suspension's force and torque on the chassis at j (spring, damper and coupling,
       // deviations from equilibrium); each unsprung wheel takes its share in reaction.
       const double dz = body.z - g0.z, dp = body.pitch - g0.pitch;

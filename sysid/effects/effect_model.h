@@ -59,8 +59,12 @@ enum class Kinematics { kSmallAngle, kExact };
 /// The suspension friction's law (EffectParams, suspension_friction): Dahl's (a state relaxing
 /// over a presliding deflection) or smooth Coulomb (a function of the deflection rate).
 enum class FrictionLaw { kDahl, kSmoothCoulomb };
+/// The tyres' law (EffectParams, tyre_compliance): an unsprung mass on each tyre, or a massless
+/// spring-damper in series with the suspension.
+enum class TyreLaw { kUnsprung, kMassless };
 struct EffectMembers {
   CushionLoad cushion_load{CushionLoad::kPerWheel};
+  TyreLaw tyre{TyreLaw::kUnsprung};
   StopSides stops{StopSides::kCompression};
   FrictionLaw friction{FrictionLaw::kDahl};
   Kinematics kinematics{Kinematics::kSmallAngle};
@@ -91,11 +95,23 @@ struct EffectParams {
   // s_i M g + m_u g plus the deviation) would fall below zero the wheel leaves the ground for
   // that step (ballistic, R_i and g; at c_t = 0 it still cannot follow the ground down faster
   // than g).
+  // member.tyre == kMassless: no unsprung mass. Each wheel's hub u_i sits between a tyre of
+  // stiffness k_t = 1/c_t with damper τ_t k_t (wheels with c_t = 0 are rigid, u = h) and its
+  // suspension, and the forces balance:
+  //   k_t (h - u) + τ_t k_t (ḣ - u̇) + R_i = 0,
+  // where R_i (as above) depends on every hub's rate through the suspension's dampers: on the
+  // GM's rates (C_Z, C_θ and the coupling, through the GM's linear weights) and on each wheel's
+  // own damper on its rate off the plane. Written (τ_t K_t + D) u̇ = K_t (h - u) + τ_t K_t ḣ + R(u̇ = 0)
+  // and likewise R's dependence on u as a stiffness S, the hubs advance by a linearly implicit
+  // trapezoidal step, u' = u + Δt (τ_t K_t + D + Δt S / 2)^-1 b(u), stable for any τ_t ≥ 0 (the
+  // chassis' state held over the step). The periods and ζ are not used; the tyres never leave
+  // the ground.
   double caster_tyre_period{0.0};      ///< [s] 2π/ω of the caster tyre (0 = rigid)
   double drive_tyre_period{0.0};       ///< [s] 2π/ω of the drive tyre (0 = rigid)
   double tyre_damping{0.5};            ///< ζ [-] of the tyre modes
   double caster_tyre_compliance{0.0};  ///< c_t [m/N] per caster (0 = reaction neglected)
   double drive_tyre_compliance{0.0};   ///< c_t [m/N] per drive wheel
+  double tyre_time_constant{0.005};    ///< τ_t [s] of the massless tyres' dampers
   // cushion_compliance: the obstacle height falls with the load on it, W = the static wheel
   // load α_i M g (per wheel) or the whole chair's weight M g (member.cushion_load), by a power
   // law the data choose:

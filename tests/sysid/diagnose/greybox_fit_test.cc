@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <string>
@@ -66,6 +67,69 @@ TEST(FitModelJointTest, MultiStartKeepsTheMemberTheTrialsWereMadeWith) {
   EXPECT_GT(fit.starts[2].sse, 1.5 * fit.sse);
   EXPECT_GT(fit.starts[0].sse, 1.5 * fit.sse) << fit.starts[0].sse << " " << fit.starts[1].sse;
   EXPECT_NEAR(fit.params.fx.bump_gap / 0.002, 1.0, 0.2);
+}
+
+// Massless tyres in series (TyreLaw::kMassless): the tyre family keeps that member, with the
+// truth's caster compliance, over the unsprung members that cannot reach it.
+TEST(FitModelJointTest, MultiStartKeepsMasslessTyres) {
+  effects::EffectParams truth;
+  truth.member.tyre = effects::TyreLaw::kMassless;
+  truth.caster_tyre_compliance = 8e-5;
+  truth.drive_tyre_compliance = 2e-5;
+  truth.tyre_time_constant = 0.006;
+  const std::vector<FitTrial> trials = TrialsWith(truth);
+  const LumpedParams lm = *trials.front().prepared.chair.lm;
+  const FitResult fit = FitModel(trials, EffectId::kTyreCompliance, lm, MakeChannelWeights(trials));
+  EXPECT_EQ(fit.member, "massless");
+  EXPECT_EQ(fit.params.fx.member.tyre, effects::TyreLaw::kMassless);
+  EXPECT_NEAR(fit.params.fx.caster_tyre_compliance / 8e-5, 1.0, 0.25);
+  double unsprung = std::numeric_limits<double>::infinity();
+  for (const FitResult::SolvedStart& s : fit.starts)
+    if (s.member != "massless") unsprung = std::min(unsprung, s.sse);
+  EXPECT_GT(unsprung, 1.2 * fit.sse);
+}
+
+// PlausibleLm keeps a plausible LM (the paper's on its chair) and replaces an axis that fled
+// to K ≈ 0 by the paper's mode on the chair's own mass and inertia.
+TEST(PlausibleLmTest, ReplacesOnlyTheAxisThatFled) {
+  Chair chair = MakeTableOneChair();
+  const LumpedParams paper = *chair.lm;
+  const LumpedParams kept = PlausibleLm(chair, paper, 50.0);
+  EXPECT_EQ(kept.k_z, paper.k_z);
+  EXPECT_EQ(kept.k_theta, paper.k_theta);
+  chair.mass = 80.0;
+  chair.inertia = 14.0;
+  LumpedParams fled = paper;
+  fled.k_theta = 1e-38;
+  const LumpedParams fixed = PlausibleLm(chair, fled, 20.0);
+  EXPECT_EQ(fixed.k_z, paper.k_z);
+  EXPECT_EQ(fixed.c_z, paper.c_z);
+  chair.lm = fixed;
+  const Chair table = MakeTableOneChair();
+  EXPECT_NEAR(PitchMode(chair, 20.0).omega_n, PitchMode(table, 50.0).omega_n, 1e-9);
+  EXPECT_NEAR(PitchMode(chair, 20.0).zeta, PitchMode(table, 50.0).zeta, 1e-12);
+  EXPECT_NEAR(PitchMode(table, 50.0).omega_n / (2.0 * std::numbers::pi), 3.0, 0.1);
+}
+
+// A base whose pitch stiffness fled to 1e-38 (as identification's did on development set 13):
+// the LM may move only e^±2.5 from where it starts, so a fit from there alone cannot find the
+// inertial pitch; the multi-start from the plausible LM does.
+TEST(FitModelJointTest, AFledBaseIsRefittedFromAPlausibleLm) {
+  effects::EffectParams truth;
+  truth.cm_lever = 0.4;
+  truth.load_cm_lever = 0.3;
+  const std::vector<FitTrial> trials = TrialsWith(truth);
+  effects::ExtendedParams fled{*trials.front().prepared.chair.lm, {}};
+  fled.lm.k_theta = 1e-38;
+  const FitResult fit = FitModelJoint(trials, {EffectId::kInertialPitch}, fled, MakeChannelWeights(trials));
+  EXPECT_NEAR(fit.params.lm.k_theta / trials.front().prepared.chair.lm->k_theta, 1.0, 0.1)
+      << fit.params.lm.k_theta << " " << fit.params.fx.cm_lever << " " << fit.sse << " " << fit.iterations;
+  EXPECT_NEAR(fit.params.fx.cm_lever / 0.4, 1.0, 0.2);
+  FitOptions one;
+  one.multi_start = false;
+  const FitResult stuck = FitModelJoint(trials, {EffectId::kInertialPitch}, fled, MakeChannelWeights(trials), one);
+  EXPECT_LT(stuck.params.lm.k_theta, 1e-30);
+  EXPECT_GT(stuck.sse, 10.0 * fit.sse) << stuck.sse << " " << stuck.params.lm.k_theta;
 }
 
 // Stops acting in rebound only: the family's third member is kept, with the truth's gap.
@@ -169,12 +233,17 @@ TEST(EffectFamilyTest, MembersStartWithinBoundsAndHoldWhatTheySay) {
     }
   }
   const effects::EffectFamily& tyre = effects::Family(EffectId::kTyreCompliance);
-  ASSERT_EQ(tyre.members.size(), 2u);
-  EXPECT_EQ(tyre.members[0].held, (std::vector<std::size_t>{3, 4}));
+  ASSERT_EQ(tyre.members.size(), 3u);
+  EXPECT_EQ(tyre.members[0].held, (std::vector<std::size_t>{3, 4, 5}));
   EXPECT_EQ(tyre.members[0].starts.size(), 6u);  // 3 caster x 2 drive periods x 1 damping
   for (const auto& s : tyre.members[0].starts) EXPECT_TRUE(s[3] == 0.0 && s[4] == 0.0);
   EXPECT_EQ(tyre.members[1].starts.size(), 6u * 8u);  // the 9 compliance pairs but (0, 0)
   for (const auto& s : tyre.members[1].starts) EXPECT_TRUE(s[3] > 0.0 || s[4] > 0.0);
+  // Massless: the periods and ζ held (unused), the 8 compliance pairs x 2 time constants.
+  EXPECT_EQ(tyre.members[2].setting.tyre, effects::TyreLaw::kMassless);
+  EXPECT_EQ(tyre.members[2].held, (std::vector<std::size_t>{0, 1, 2}));
+  EXPECT_EQ(tyre.members[2].starts.size(), 8u * 2u);
+  for (const auto& s : tyre.members[2].starts) EXPECT_TRUE(s[3] > 0.0 || s[4] > 0.0);
   const effects::EffectFamily& stops = effects::Family(EffectId::kNonlinearStiffness);
   ASSERT_EQ(stops.members.size(), 3u);
   for (std::size_t m = 1; m < 3; ++m)

@@ -343,6 +343,24 @@ TEST(IndependentTruthDiagnoseTest, FrictionFamilyKeepsTheTruthsLaw) {
   expect_member(dahl, dahl_set, "dahl");
 }
 
+// Massless series spring-damper tyres (development seed 103's draw: k_t/k 0.54 at the casters,
+// 1.19 at the drive wheels, τ_t 2.6 ms, low-passed noise), simulated by the truth's own hub
+// balance. Without a massless member the tyre family could not reach them (its unsprung wheels'
+// dampers are capped where they get light) and the set was `unexplained`; now the tyres are
+// named first, by the massless member, and confirmed on the report trials.
+TEST(IndependentTruthDiagnoseTest, MasslessSeriesTyresAreNamed) {
+  TruthRun run;
+  DiagnoseOptions one;  // the cause tested (a second round of joint fits would only cost time)
+  one.max_causes = 1;
+  run.dx = Diagnose(TruthRecords({"tyre_compliance"}, 1.0, 0, 103, &run.set, false, "lowpass"), one);
+  ASSERT_TRUE(run.set.effects.tyre_massless);
+  ASSERT_FALSE(run.dx.causes.empty()) << run.dx.base_check.Evidence();
+  EXPECT_EQ(effects::EffectName(run.dx.causes[0].effect), std::string("tyre_compliance"));
+  EXPECT_EQ(run.dx.extended.params.fx.member.tyre, effects::TyreLaw::kMassless);
+  EXPECT_TRUE(run.dx.causes[0].confirmed);
+  EXPECT_GT(run.dx.causes[0].heldout_gain_pct, 0.0);
+}
+
 // Weak per-wheel Dahl friction (24 N, 1.2 mm presliding) under a 1.4 mm sinusoidal drift at
 // 0.086 Hz (development seed 307's draw, its own noise kind): the drift terms keep the wander
 // out of the fits and the held-out errors, and the friction is named with most of the report

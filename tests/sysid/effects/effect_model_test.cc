@@ -255,6 +255,57 @@ TEST(EffectModelTest, CompliantTyresKeepTheStaticResponseTheGmSaw) {
   EXPECT_GT(MaxAbsDiff(fa.z, fb.z), 0.05 * rise);
 }
 
+TEST(EffectModelTest, MasslessTyresKeepTheStaticResponseAndFadeAsTheyStiffen) {
+  // Massless tyres in series: each hub balances k_t (h - u) + τ_t k_t (ḣ - u̇) against its
+  // suspension's reaction, solved implicitly. Crawling (quasi-static), the chassis follows the
+  // GM of the ground heights whatever the tyres' compliance (the suspension's shares keep the
+  // series pairs at the GM's α); driven at 1.2 m/s the tyres matter, less and less as they
+  // stiffen, and the chassis tends to the base model.
+  ExtendedParams massless{MakeTableOneChair().lm.value(), {}};
+  massless.fx.member.tyre = TyreLaw::kMassless;
+  massless.fx.tyre_time_constant = 0.004;
+  auto soft = [&](double compliance) {
+    ExtendedParams p = massless;
+    p.fx.caster_tyre_compliance = compliance;
+    p.fx.drive_tyre_compliance = 0.5 * compliance;
+    return p;
+  };
+  PreparedTrial crawl = CushionTrial(0.05, 50.0);
+  crawl.chair.gm->beta = {{0, 2, 1.0}};  // the α-weighted plane's pitch, as above
+  const ModelOutput rigid = SimulateExtended(crawl, ExtendedParams{*crawl.chair.lm, {}});
+  const ModelOutput crawled = SimulateExtended(crawl, soft(1.0 / crawl.chair.lm->k_z));
+  double rise = 0.0;
+  for (double z : rigid.z) rise = std::max(rise, std::abs(z - rigid.z.front()));
+  ASSERT_GT(rise, 0.02);
+  EXPECT_LT(MaxAbsDiff(rigid.z, crawled.z), 0.01 * rise);
+
+  const PreparedTrial fast = CushionTrial(1.2, 50.0);
+  const ModelOutput base = SimulateExtended(fast, ExtendedParams{*fast.chair.lm, {}});
+  double previous = 1e9;
+  for (double compliance : {1e-4, 1e-5, 1e-6, 1e-7}) {
+    const ModelOutput out = SimulateExtended(fast, soft(compliance));
+    const double diff = MaxAbsDiff(out.z, base.z) + 0.3 * MaxAbsDiff(out.pitch, base.pitch);
+    EXPECT_LT(diff, previous) << compliance;
+    if (compliance == 1e-4) {
+      EXPECT_GT(diff, 1e-3);  // as soft as the suspension: mm
+    }
+    if (compliance == 1e-7) {
+      EXPECT_LT(diff, 1e-4);
+    }
+    previous = diff;
+  }
+  // Stable for any damper, however small against the step, and the same motion at a finer step.
+  ExtendedParams stiff_tyre = soft(2e-6);
+  stiff_tyre.fx.tyre_time_constant = 1e-5;
+  const ModelOutput coarse = SimulateExtended(fast, stiff_tyre);
+  for (std::size_t k = 0; k < coarse.z.size(); ++k)
+    ASSERT_TRUE(std::isfinite(coarse.z[k]) && std::abs(coarse.z[k]) < 1.0) << k;
+  PreparedTrial fine_trial = CushionTrial(1.2, 50.0, 2.5e-4);
+  const ModelOutput a = SimulateExtended(fast, soft(5e-5));
+  const ModelOutput b = SimulateExtended(fine_trial, soft(5e-5));
+  EXPECT_LT(MaxAbsDiff(a.z, b.z), 0.02 * rise);
+}
+
 TEST(EffectModelTest, DahlFrictionLeavesAStictionOffset) {
   const PreparedTrial trial = CushionTrial(0.8, 50.0);
   const ModelOutput base = SimulateExtended(trial, ExtendedParams{*trial.chair.lm, {}});
