@@ -554,33 +554,41 @@ struct Best {
   double sse{std::numeric_limits<double>::infinity()};
 };
 
-/// Solves each of `starts` (more than three: each a few iterations, the best then solved on) and
-/// returns the lowest training error's (the first of equal errors); each solve is appended to
-/// `solved`.
+/// Solves each of `starts` (more than three: each a few iterations, then the best of each member
+/// solved on, so that the laws are compared where their fits end rather than by their first
+/// steps) and returns the lowest training error's (the first of equal errors); each solve is
+/// appended to `solved`.
 Best SolveStarts(const std::vector<FitTrial>& training, Mapper map, const ChannelWeights& weights,
                  const FitOptions& options, const std::vector<Start>& starts,
                  std::vector<FitResult::SolvedStart>& solved) {
   const bool screened = starts.size() > 3;
   const int first_pass = screened ? std::min(options.max_iterations, kScreenIterations) : options.max_iterations;
-  Best best;
+  std::vector<Best> members;  // the best first pass of each member, in the order they first come
   for (const Start& s : starts) {
     map.base_fx = s.base_fx;
     std::vector<double> x = s.u;
     const Solved it = Solve(training, map, weights, options, s.held, x, first_pass);
     solved.push_back({s.member ? s.member->name : "", s.base_fx.member.kinematics, it.sse});
-    if (!best.start || it.sse < best.sse) {  // the first of equal errors
-      best = Best{map.start, x, s, it.iterations, it.sse};
+    auto same = std::find_if(members.begin(), members.end(), [&](const Best& b) { return b.start->member == s.member; });
+    if (same == members.end()) {
+      members.push_back(Best{map.start, x, s, it.iterations, it.sse});
+    } else if (it.sse < same->sse) {  // the first of equal errors
+      *same = Best{map.start, x, s, it.iterations, it.sse};
     }
   }
-  map.base_fx = best.start->base_fx;
-  if (screened && options.max_iterations > first_pass) {
-    std::vector<double> x = best.u;
-    const Solved more = Solve(training, map, weights, options, best.start->held, x, options.max_iterations - first_pass);
-    best.iterations += more.iterations;
-    if (more.sse <= best.sse) {
-      best.u = x;
-      best.sse = more.sse;
+  Best best;
+  for (Best& m : members) {
+    if (screened && options.max_iterations > first_pass) {
+      map.base_fx = m.start->base_fx;
+      std::vector<double> x = m.u;
+      const Solved more = Solve(training, map, weights, options, m.start->held, x, options.max_iterations - first_pass);
+      m.iterations += more.iterations;
+      if (more.sse <= m.sse) {
+        m.u = x;
+        m.sse = more.sse;
+      }
     }
+    if (!best.start || m.sse < best.sse) best = m;
   }
   return best;
 }
