@@ -129,7 +129,7 @@ FitResult FitModel(const std::vector<FitTrial>& training, std::optional<effects:
 /// values and members in `start.fx` (a previous fit); the last is multi-started over its
 /// family's members x starts (effect_catalog.h, EffectFamily): every start scored by its
 /// training error, the best of each member solved (more than three: each a few iterations,
-/// then the best solved on), the lowest training error kept. Where the training trials pitch
+/// then the best of each member solved on), the lowest training error kept. Where the training trials pitch
 /// beyond options.small_angle_limit, the multi-start is run under exact kinematics as well
 /// and the lower final training error kept. Where start.lm has an axis without stiffness
 /// (PlausibleLm: a base whose identification fled to K ≈ 0), the multi-start is
