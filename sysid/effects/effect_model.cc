@@ -568,11 +568,9 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
   }
   record(0, body, g0);
   double gm_z_rate_prev = 0.0, gm_pitch_rate_prev = 0.0;
-  // Each wheel's height off the suspension plane through the wheels (its own spring's share of
-  // the deflection that the chassis does not see), from its static value.
-  auto off_plane = [&](const double* u, std::array<double, kMaxWheels>& d) { OffPlane(m, u, d.data()); };
+  // Each wheel's height off the suspension plane through the wheels, from its static value.
   std::array<double, kMaxWheels> off0{}, off{}, off_rate{}, zc_rate{};
-  if (m.series) off_plane(zc0.data(), off0);
+  if (m.series) OffPlane(m, zc0.data(), off0.data());
 
   double sin_body = m.any_friction ? std::sin(body.pitch) : 0.0;  // sin θ at the step's start
   for (std::size_t j = 0; j + 1 < grid; ++j) {
@@ -593,8 +591,8 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
       const double torque = pitch_spring + m.k_zt * dz + m.c_zt * dz_rate;
       if (m.series) {
         for (int i = 0; i < w; ++i) zc_rate[i] = m.tyre[i] != 0 ? tyre_rate[i] : (h1[i] - h0[i]) * inv_dt;
-        off_plane(zc0.data(), off);
-        off_plane(zc_rate.data(), off_rate);
+        OffPlane(m, zc0.data(), off.data());
+        OffPlane(m, zc_rate.data(), off_rate.data());
       }
       for (int i = 0; i < w; ++i) {
         if (m.tyre[i] == 0) {
