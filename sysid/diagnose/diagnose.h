@@ -19,16 +19,20 @@
 //     noise-like → no cause is looked for.
 //  5. Residual analysis of the base model (residual_analysis.h): evidence lines per effect.
 //  6. Every extension fitted alone on the training trials (the ranking; concurrently); then
-//     forward selection: the extension with the largest gain on the SELECTION trials earns when
-//     ΔBIC < bic_threshold (training) AND it removes ≥ min_heldout_gain of the selection
-//     trials' structured RMS (above the noise: diagnose.cc SelectionGain); it is added, every further candidate (those with ΔBIC < bic_threshold alone) is
-//     fitted JOINTLY with the ones found (concurrently; starting where its fit alone ended,
-//     only its own discrete member copied; compared after screen_iterations, the winner solved
-//     on), and so on while one earns, at most max_causes, stopping when the residual on the
-//     selection trials is noise-like. A marker lever, once found in a set whose GM came from
-//     the trials, has the GM identified again on the tracks corrected for it
-//     (GeometryUnderMarkerLever), alternating with the fit, and a_x taken from O_V's x; a
-//     cushion, likewise, has GM and LM identified again under its yield (BaseUnderCushion).
+//     forward selection. An extension earns when ΔBIC < bic_threshold (training) AND it
+//     removes ≥ min_heldout_gain of the SELECTION trials' structured RMS (above the noise:
+//     diagnose.cc SelectionGain). Of the earning ones the largest selection gain is added,
+//     unless the selection trials cannot tell it from a rival (a Diebold-Mariano test,
+//     paired_test.h): then the lowest training BIC among those tied. Every further candidate
+//     (those with ΔBIC < bic_threshold alone) is fitted JOINTLY with the ones found
+//     (concurrently; from where its fit alone ended, only its own discrete member copied, and
+//     from its family's multi-start, the lower training error kept; compared after
+//     screen_iterations, the chosen one solved on), and so on while one earns, at most
+//     max_causes, stopping when the residual on the selection trials is noise-like. A marker
+//     lever, once found in a set whose GM came from the trials, has the GM identified again on
+//     the tracks corrected for it (GeometryUnderMarkerLever), alternating with the fit, and a_x
+//     taken from O_V's x; a cushion, likewise, has GM and LM identified again under its yield
+//     (BaseUnderCushion).
 //  7. Report (ReportOnHeldOut in diagnose.cc): fitness of base and extended model on the
 //     report trials, each cause's gain as the share of the base model's error above the noise
 //     that adding it removed, and whether the report trials confirm it (Cause::confirmed); the
