@@ -302,23 +302,31 @@ TEST(IndependentTruthDiagnoseTest, CushionYieldingAFixedShareIsNamed) {
   EXPECT_LT(hz, 20.0) << run.dx.extended.params.lm.k_z;
 }
 
+/// A cushion with friction beside it (development seed `seed`'s draw under its own noise kind
+/// `noise`), diagnosed for the two causes sought (a third round of joint fits would only cost
+/// time); the cushion must be found first and the friction second, both confirmed.
+TruthRun CushionThenFriction(std::uint64_t seed, const std::string& noise) {
+  TruthRun run;
+  DiagnoseOptions two;
+  two.max_causes = 2;
+  run.dx = Diagnose(TruthRecords({"cushion_compliance", "suspension_friction"}, 1.0, 0, seed, &run.set, false, noise),
+                    two);
+  const std::vector<std::string> causes = Causes(run.dx);
+  EXPECT_EQ(causes, (std::vector<std::string>{"cushion_compliance", "suspension_friction"}))
+      << run.dx.base_check.Evidence();
+  for (const Cause& c : run.dx.causes)
+    EXPECT_TRUE(c.confirmed) << effects::EffectName(c.effect) << " " << c.heldout_gain_lcb_pct;
+  return run;
+}
+
 // A fixed-share cushion with Dahl friction per wheel under drift (development set 12: the law
 // space's draw for seed 12, its noise kind drift). Under the exact-kinematics base the cushion
 // removed 9.4 % of the selection RMS, noise included (10 % needed), and neither cause was
 // found; as a share of the error above the noise both are, and both confirmed.
 TEST(IndependentTruthDiagnoseTest, FrictionBesideAFixedShareCushionIsFoundAboveTheNoise) {
-  TruthRun run;
-  DiagnoseOptions two;  // the two causes sought (a third round of joint fits would only cost time)
-  two.max_causes = 2;
-  run.dx = Diagnose(TruthRecords({"cushion_compliance", "suspension_friction"}, 1.0, 0, 12, &run.set, false, "drift"),
-                    two);
+  const TruthRun run = CushionThenFriction(12, "drift");
   ASSERT_TRUE(run.set.effects.cushion_proportional);
-  const std::vector<std::string> causes = Causes(run.dx);
-  ASSERT_GE(causes.size(), 2u) << run.dx.base_check.Evidence();
-  EXPECT_EQ(causes[0], "cushion_compliance");
-  EXPECT_EQ(causes[1], "suspension_friction");
-  EXPECT_TRUE(run.dx.causes[0].confirmed);
-  EXPECT_TRUE(run.dx.causes[1].confirmed);
+  ASSERT_EQ(run.dx.causes.size(), 2u);
   EXPECT_GT(run.dx.selection_noise_ms, 0.0);
   // Its gain is the share of the structured RMS: above what the RMS itself would say.
   EXPECT_GE(run.dx.causes[0].selection_gain, run.dx.options.min_heldout_gain);
@@ -331,18 +339,9 @@ TEST(IndependentTruthDiagnoseTest, FrictionBesideAFixedShareCushionIsFoundAboveT
 // friction fits the training trials better for its parameters (BIC), so it is added. The lever
 // used to be added and then the friction no longer earned (9.6 %, 10 % needed).
 TEST(IndependentTruthDiagnoseTest, FrictionTiedWithALeverOnSelectionIsChosenByBic) {
-  TruthRun run;
-  DiagnoseOptions two;  // the two causes sought
-  two.max_causes = 2;
-  run.dx = Diagnose(TruthRecords({"cushion_compliance", "suspension_friction"}, 1.0, 0, 112, &run.set, false, "outliers"),
-                    two);
+  const TruthRun run = CushionThenFriction(112, "outliers");
   ASSERT_FALSE(run.set.effects.cushion_proportional);
-  const std::vector<std::string> causes = Causes(run.dx);
-  ASSERT_EQ(causes.size(), 2u) << run.dx.base_check.Evidence();
-  EXPECT_EQ(causes[0], "cushion_compliance");
-  EXPECT_EQ(causes[1], "suspension_friction");
-  EXPECT_TRUE(run.dx.causes[0].confirmed);
-  EXPECT_TRUE(run.dx.causes[1].confirmed) << run.dx.causes[1].heldout_gain_lcb_pct;
+  ASSERT_EQ(run.dx.causes.size(), 2u);
   EXPECT_GT(run.dx.causes[1].heldout_gain_pct, 0.0);
 }
 
