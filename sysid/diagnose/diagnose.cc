@@ -220,7 +220,7 @@ void ConfirmOnReport(const std::vector<FitTrial>& before_trials, const effects::
       variance += NeweyWestSumVariance(u, kResidualBandwidth);
     }
   }
-  const double lcb = reduction - 1.6448536269514722 * std::sqrt(std::max(0.0, variance));
+  const double lcb = reduction - kOneSidedZ95 * std::sqrt(std::max(0.0, variance));
   cause.heldout_gain_lcb_pct = error_before > 0.0 ? 100.0 * lcb / error_before : 0.0;
   cause.confirmed = lcb > 0.0;
 }
@@ -265,13 +265,15 @@ struct Candidate {
   double selection_error{0.0};
 };
 
-/// Whether `a` predicts the selection trials better than `b` beyond the noise: the
-/// Diebold-Mariano test of paired_test.h over both channels of every selection trial.
-bool ClearlyBetterOnSelection(const std::vector<FitTrial>& selection, const effects::ExtendedParams& a,
+/// Whether the model whose selection residuals are `a` (one per selection trial) predicts the
+/// selection trials better than `b` beyond the noise: the Diebold-Mariano test of
+/// paired_test.h over both channels of every selection trial.
+bool ClearlyBetterOnSelection(const std::vector<TrialResidual>& a, const std::vector<FitTrial>& selection,
                               const effects::ExtendedParams& b, const ChannelWeights& w) {
   LossDifferential d;
-  for (const FitTrial& t : selection) {
-    const TrialResidual ra = ComputeResidual(t, a), rb = ComputeResidual(t, b);
+  for (std::size_t i = 0; i < selection.size(); ++i) {
+    const TrialResidual& ra = a[i];
+    const TrialResidual rb = ComputeResidual(selection[i], b);
     if (!ra.finite || !rb.finite) return ra.finite;
     AddLossDifferential(ra.e_z, rb.e_z, w.z, kResidualBandwidth, d);
     AddLossDifferential(ra.e_pitch, rb.e_pitch, w.pitch, kResidualBandwidth, d);
@@ -289,9 +291,10 @@ std::optional<Candidate> Choose(std::vector<Candidate> earning, const std::vecto
   std::size_t leader = 0;  // the first of equal gains
   for (std::size_t i = 1; i < earning.size(); ++i)
     if (earning[i].gain > earning[leader].gain) leader = i;
+  const std::vector<TrialResidual> leader_residuals = ComputeResiduals(selection, earning[leader].fit.params);
   std::vector<char> tied(earning.size(), 0);
   ParallelFor(earning.size(), [&](std::size_t i) {  // each rival its own slot
-    tied[i] = i == leader || !ClearlyBetterOnSelection(selection, earning[leader].fit.params, earning[i].fit.params, w);
+    tied[i] = i == leader || !ClearlyBetterOnSelection(leader_residuals, selection, earning[i].fit.params, w);
   });
   std::size_t chosen = leader;
   for (std::size_t i = 0; i < earning.size(); ++i)

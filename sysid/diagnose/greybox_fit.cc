@@ -65,13 +65,16 @@ double SumWeightedSquares(const std::vector<TrialResidual>& residuals, const Cha
   return sse;
 }
 
-/// Every trial's residual for `params`, the simulations run concurrently (parallel_for.h).
+}  // namespace
+
 std::vector<TrialResidual> ComputeResiduals(const std::vector<FitTrial>& trials,
                                             const effects::ExtendedParams& params) {
   std::vector<TrialResidual> out(trials.size());
   ParallelFor(trials.size(), [&](std::size_t i) { out[i] = ComputeResidual(trials[i], params); });
   return out;
 }
+
+namespace {
 
 /// The training trials at the optimiser's points, for one solve. Ceres asks for the residuals
 /// (and Jacobian) of one trial's residual block at a time; the first request at a point

@@ -76,6 +76,9 @@ struct TrialResidual {
   bool finite{true};
 };
 TrialResidual ComputeResidual(const FitTrial& trial, const effects::ExtendedParams& params);
+/// Every trial's residual for `params`, the simulations run concurrently (parallel_for.h).
+std::vector<TrialResidual> ComputeResiduals(const std::vector<FitTrial>& trials,
+                                            const effects::ExtendedParams& params);
 
 struct FitOptions {
   int max_iterations{15};

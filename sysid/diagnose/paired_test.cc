@@ -34,7 +34,7 @@ void AddLossDifferential(const std::vector<double>& e_a, const std::vector<doubl
 }
 
 bool ClearlySmaller(const LossDifferential& d) {
-  return d.sum - 1.6448536269514722 * std::sqrt(std::max(0.0, d.variance)) > 0.0;
+  return d.sum - kOneSidedZ95 * std::sqrt(std::max(0.0, d.variance)) > 0.0;
 }
 
 }  // namespace pwsim::diagnose

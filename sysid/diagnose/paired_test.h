@@ -17,6 +17,9 @@
 
 namespace pwsim::diagnose {
 
+/// The one-sided 95 % point of the standard normal distribution.
+inline constexpr double kOneSidedZ95 = 1.6448536269514722;
+
 /// Newey-West variance of the sum of `u` (Bartlett weights, `bandwidth` lags; no centring).
 double NeweyWestSumVariance(const std::vector<double>& u, std::size_t bandwidth);
 
