@@ -516,6 +516,11 @@ void ReportRanking(const Splits& base_splits, const effects::ExtendedParams& bas
                         "and ΔBIC < %.0f), %.0f %% of the held-out error",
                         100.0 * e.selection_gain, 100.0 * options.min_heldout_gain,
                         options.bic_threshold, 100.0 * e.heldout_gain);
+    if (e.effect == EffectId::kMarkerOffset && dx.lever_from_x)
+      e.evidence += Format("; the measured x bears out a lever height of %.3f m (se %.3f m), the fit held within "
+                           "[%.3f, %.3f] m",
+                           dx.lever_from_x->estimate_m, dx.lever_from_x->se_m, dx.lever_from_x->lower_m,
+                           dx.lever_from_x->upper_m);
   }
 }
 
@@ -667,13 +672,29 @@ FitResult FitBase(const std::vector<FitTrial>& training, const LumpedParams& lm,
   return fits[1].sse < fits[0].sse ? std::move(fits[1]) : std::move(fits[0]);
 }
 
+/// The marker lever's height range from the x of the training + selection trials
+/// (lever_from_track.h), set on dx and as a narrowed range of the fits' options.
+void LeverFromTrack(const std::vector<effects::TrialRecord>& records, const std::vector<bool>& report,
+                    Diagnosis& dx) {
+  std::vector<effects::TrialRecord> chosen;
+  for (std::size_t i = 0; i < records.size(); ++i)
+    if (!report[i]) chosen.push_back(records[i]);
+  LeverHeightOptions lever;
+  lever.rest_window_s = dx.options.rest_window;
+  dx.lever_from_x = LeverHeightFromTrack(chosen, lever);
+  if (dx.lever_from_x)
+    dx.options.fit.narrowed.push_back({"marker_lever_z_m", dx.lever_from_x->lower_m, dx.lever_from_x->upper_m});
+}
+
 /// The steps of diagnose.h, on the current thread pool.
-Diagnosis DiagnoseOnPool(const std::vector<effects::TrialRecord>& given, const DiagnoseOptions& options) {
+Diagnosis DiagnoseOnPool(const std::vector<effects::TrialRecord>& given, const DiagnoseOptions& given_options) {
   PWSIM_DEMAND(given.size() >= 2);
   Diagnosis dx;
-  dx.options = options;
+  dx.options = given_options;
   std::vector<bool> report;
   const std::vector<effects::TrialRecord> records = SplitThreeWays(given, report, dx);  // 1
+  LeverFromTrack(records, report, dx);
+  const DiagnoseOptions& options = dx.options;
   dx.chair = records.front().chair;
   PWSIM_DEMAND(dx.chair.gm.has_value());
   // The splits under each GM used (a deque: references stay valid); the last is current.

@@ -46,6 +46,7 @@
 #include <vector>
 
 #include "sysid/diagnose/greybox_fit.h"
+#include "sysid/diagnose/lever_from_track.h"
 #include "sysid/diagnose/noise_model.h"
 #include "sysid/diagnose/residual_analysis.h"
 #include "sysid/diagnose/verdict.h"
@@ -175,6 +176,10 @@ struct Diagnosis {
   Chair chair;        ///< the chair whose GM was used (by the extended model)
   bool gm_under_marker{false};  ///< the GM was identified again under the marker lever found
   bool base_under_cushion{false};  ///< GM and LM identified again under the cushion found
+  /// The marker lever's height the training + selection trials' x bears out
+  /// (lever_from_track.h), the range the lever's fit is held within; none where the pitch does
+  /// not swing the x.
+  std::optional<LeverHeight> lever_from_x;
   ResidualReport residuals;
   std::vector<TrialAnalysis> trials;
   std::vector<bool> selection;      ///< per trial: used to choose the causes

@@ -456,7 +456,7 @@ double LargestPitchSwing(const std::vector<FitTrial>& trials) {
 /// rule (FamilyMember: `solved`, `rung`, `ranked_with_previous`), in member order.
 std::vector<Start> ChooseStarts(const std::vector<FitTrial>& training, Mapper map,
                                 const effects::EffectFamily& family, std::vector<double> u, int col,
-                                const ChannelWeights& weights) {
+                                const ChannelWeights& weights, const FitOptions& options) {
   const std::vector<double> lm_start(u.begin(), u.begin() + 4);
   const bool alone = map.effects.size() == 1;
   std::vector<std::vector<Start>> rankings;  // one per member, or per members ranked together
@@ -471,7 +471,7 @@ std::vector<Start> ChooseStarts(const std::vector<FitTrial>& training, Mapper ma
     for (std::size_t j : member.held) held.push_back(col + static_cast<int>(j));
     for (const std::vector<double>& values : member.starts) {
       for (std::size_t j = 0; j < values.size(); ++j)
-        u[static_cast<std::size_t>(col) + j] = values[j] / family.params[j].scale;
+        u[static_cast<std::size_t>(col) + j] = StartWithin(values[j], family.params[j], options) / family.params[j].scale;
       std::copy(lm_start.begin(), lm_start.end(), u.begin());
       const std::vector<double> raised =
           member.series_start && alone ? SeriesStiffnessStart(training.front().prepared, map, u) : lm_start;
@@ -530,8 +530,9 @@ Solved Solve(const std::vector<FitTrial>& training, const Mapper& map, const Cha
   int col = 4;
   for (effects::EffectId id : map.effects) {
     for (const effects::ParamSpec& spec : effects::EffectParameters(id)) {
-      problem.SetParameterLowerBound(x.data(), col, spec.lower / spec.scale);
-      problem.SetParameterUpperBound(x.data(), col, spec.upper / spec.scale);
+      const auto [lower, upper] = FitBounds(spec, options);
+      problem.SetParameterLowerBound(x.data(), col, lower / spec.scale);
+      problem.SetParameterUpperBound(x.data(), col, upper / spec.scale);
       ++col;
     }
   }
@@ -598,6 +599,24 @@ Best SolveStarts(const std::vector<FitTrial>& training, Mapper map, const Channe
 
 }  // namespace
 
+std::pair<double, double> FitBounds(const effects::ParamSpec& spec, const FitOptions& options) {
+  double lower = spec.lower, upper = spec.upper;
+  for (const FitOptions::NarrowedRange& r : options.narrowed) {
+    if (r.name != spec.name) continue;
+    lower = std::max(lower, r.lower);
+    upper = std::min(upper, r.upper);
+  }
+  if (!(lower <= upper)) return {spec.lower, spec.upper};  // disjoint: the measurement is ignored
+  return {lower, upper};
+}
+
+double StartWithin(double value, const effects::ParamSpec& spec, const FitOptions& options) {
+  const auto [lower, upper] = FitBounds(spec, options);
+  if (value >= lower && value <= upper) return value;
+  if (lower == spec.lower && upper == spec.upper) return std::clamp(value, lower, upper);
+  return 0.5 * (lower + upper);
+}
+
 LumpedParams PlausibleLm(const Chair& chair, const LumpedParams& lm, double load_kg) {
   constexpr double kTwoPi = 2.0 * std::numbers::pi;
   auto plausible = [&](const Mode& mode) { return std::isfinite(mode.omega_n) && mode.omega_n >= kTwoPi * 0.3; };
@@ -636,7 +655,7 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
     const auto& specs = effects::EffectParameters(id);
     const std::vector<double> values = effects::GetEffectValues(id, start.fx);
     for (std::size_t j = 0; j < specs.size(); ++j)
-      u.push_back(std::clamp(values[j], specs[j].lower, specs[j].upper) / specs[j].scale);
+      u.push_back(StartWithin(values[j], specs[j], options) / specs[j].scale);
   }
   // Multi-start of the last effect over its family's members x starts (only its own member
   // changes: the earlier effects keep theirs), or the given start alone. Past the small-angle
@@ -661,7 +680,7 @@ FitResult FitModelJoint(const std::vector<FitTrial>& training_in,
     for (effects::Kinematics geometry : kinematics) {
       map.base_fx.member.kinematics = geometry;
       const std::vector<Start> starts =
-          last && options.multi_start ? ChooseStarts(training, map, effects::Family(*last), u, last_col, weights)
+          last && options.multi_start ? ChooseStarts(training, map, effects::Family(*last), u, last_col, weights, options)
                                       : std::vector<Start>{Start{u, nullptr, start.fx, {}, 0.0}};
       Best fit = SolveStarts(training, map, weights, options, starts, result.starts);
       if (!best.start || fit.sse < best.sse) best = std::move(fit);

@@ -10,6 +10,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "engine/chair.h"
@@ -90,7 +91,21 @@ struct FitOptions {
   /// trial, the multi-start is run under exact rigid-body kinematics as well
   /// (effect_model.h, Kinematics::kExact); the small-angle pitch stiffness is 3.9 % off at 0.2.
   double small_angle_limit{0.2};
+  /// Parameters whose range another measurement narrows (the marker lever's height by the
+  /// measured x, lever_from_track.h): each fitted within [lower, upper] ∩ its family's bounds,
+  /// a start outside the range moved to the range's middle.
+  struct NarrowedRange {
+    std::string name;  ///< EffectParameters' name, e.g. "marker_lever_z_m"
+    double lower{0.0}, upper{0.0};
+  };
+  std::vector<NarrowedRange> narrowed;
 };
+
+/// The bounds `spec` is fitted within under `options` (its own, narrowed by options.narrowed).
+std::pair<double, double> FitBounds(const effects::ParamSpec& spec, const FitOptions& options);
+/// `value` as a start under FitBounds: clamped to the family's bounds; outside a narrowed
+/// range, the range's middle.
+double StartWithin(double value, const effects::ParamSpec& spec, const FitOptions& options);
 
 /// `lm`, but an axis whose stiffness fled towards 0 (natural frequency below 0.3 Hz at
 /// `load_kg`: no suspension, and a fit whose LM moves at most e^±2.5 cannot come back) set to

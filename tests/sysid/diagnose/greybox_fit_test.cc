@@ -89,6 +89,41 @@ TEST(FitModelJointTest, MultiStartKeepsMasslessTyres) {
   EXPECT_GT(unsprung, 1.2 * fit.sse);
 }
 
+// A range narrowed by another measurement (FitOptions::narrowed) intersects the family's
+// bounds; a start outside it moves to its middle; a range disjoint from the bounds is ignored.
+TEST(FitBoundsTest, ANarrowedRangeIntersectsTheFamilysBounds) {
+  const effects::ParamSpec spec{"marker_lever_z_m", 0.2, -1.5, 1.5, {0.0, 0.5}};
+  FitOptions options;
+  EXPECT_EQ(FitBounds(spec, options), std::make_pair(-1.5, 1.5));
+  EXPECT_EQ(StartWithin(2.0, spec, options), 1.5);
+  options.narrowed.push_back({"marker_lever_z_m", 0.3, 2.0});
+  options.narrowed.push_back({"marker_lever_x_m", -0.01, 0.01});  // another parameter's
+  EXPECT_EQ(FitBounds(spec, options), std::make_pair(0.3, 1.5));
+  EXPECT_EQ(StartWithin(0.5, spec, options), 0.5);
+  EXPECT_EQ(StartWithin(0.0, spec, options), 0.9);
+  options.narrowed.front() = {"marker_lever_z_m", 1.6, 2.0};
+  EXPECT_EQ(FitBounds(spec, options), std::make_pair(-1.5, 1.5));
+}
+
+// A marker lever 0.4 m high: fitted freely, its height is found; held within a range the
+// measured x would allow for a marker at O_V, the fit stays inside it, and fits worse.
+TEST(FitModelJointTest, ANarrowedLeverHeightStaysInItsRange) {
+  effects::EffectParams truth;
+  truth.marker_lever_x = 0.1;
+  truth.marker_lever_z = 0.4;
+  const std::vector<FitTrial> trials = TrialsWith(truth);
+  const LumpedParams lm = *trials.front().prepared.chair.lm;
+  const ChannelWeights w = MakeChannelWeights(trials);
+  const FitResult free = FitModel(trials, EffectId::kMarkerOffset, lm, w);
+  EXPECT_NEAR(free.params.fx.marker_lever_z, 0.4, 0.04);
+  FitOptions held;
+  held.narrowed.push_back({"marker_lever_z_m", -0.05, 0.05});
+  const FitResult narrowed = FitModel(trials, EffectId::kMarkerOffset, lm, w, held);
+  EXPECT_GE(narrowed.params.fx.marker_lever_z, -0.05);
+  EXPECT_LE(narrowed.params.fx.marker_lever_z, 0.05);
+  EXPECT_GT(narrowed.sse, 1.5 * free.sse);
+}
+
 // PlausibleLm keeps a plausible LM (the paper's on its chair) and replaces an axis that fled
 // to K ≈ 0 by the paper's mode on the chair's own mass and inertia.
 TEST(PlausibleLmTest, ReplacesOnlyTheAxisThatFled) {

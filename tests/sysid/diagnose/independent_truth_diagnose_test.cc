@@ -250,6 +250,34 @@ TEST(IndependentTruthDiagnoseTest, MarkerLeverIsFoundWithTheGeometryItHid) {
     EXPECT_LT(run.dx.causes[k].heldout_gain_pct, 5.0) << effects::EffectName(run.dx.causes[k].effect);
 }
 
+// The measured x bears out the truth's lever height (lever_from_track.h): within its range and
+// 4 cm of the estimate where there is a lever (development draws 9, a lever alone under
+// outliers, and 11, with inertial pitch under low-passed noise), and a range around 0 that
+// refutes a lever of 12 cm where there is none, even where the chair pitches with its
+// acceleration (draws 8 and 113, inertial pitch; 113 under drift, with tyres).
+TEST(IndependentTruthDiagnoseTest, TheMeasuredXBearsOutTheTruthsLeverHeight) {
+  struct Draw {
+    std::vector<std::string> effects;
+    std::uint64_t seed;
+    const char* noise;
+  };
+  for (const Draw& d : {Draw{{"marker_offset"}, 9, "outliers"}, Draw{{"inertial_pitch", "marker_offset"}, 11, "lowpass"},
+                        Draw{{"inertial_pitch"}, 8, "white"}, Draw{{"tyre_compliance", "inertial_pitch"}, 113, "drift"}}) {
+    truth::TruthSet set;
+    const std::optional<LeverHeight> h = LeverHeightFromTrack(TruthRecords(d.effects, 1.0, 0, d.seed, &set, false, d.noise));
+    ASSERT_TRUE(h.has_value()) << d.seed;
+    const double r_z = set.effects.marker_z_m;
+    EXPECT_LE(h->lower_m, r_z) << d.seed;
+    EXPECT_GE(h->upper_m, r_z) << d.seed;
+    if (r_z != 0.0) {
+      EXPECT_NEAR(h->estimate_m, r_z, 0.04) << d.seed;
+    } else {
+      EXPECT_GT(h->lower_m, -0.12) << d.seed;
+      EXPECT_LT(h->upper_m, 0.12) << d.seed;
+    }
+  }
+}
+
 // GeometryUnderMarkerLever with the truth's own lever gives back (nearly) the GM that the
 // same chair's trials identify with the marker at O_V; the uncorrected tracks do not.
 TEST(IndependentTruthDiagnoseTest, GeometryUnderTheTrueLeverIsTheGeometryWithoutIt) {
