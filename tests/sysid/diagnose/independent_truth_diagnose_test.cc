@@ -278,6 +278,22 @@ TEST(IndependentTruthDiagnoseTest, TheMeasuredXBearsOutTheTruthsLeverHeight) {
   }
 }
 
+// A cushion sinking under each wheel's load, under drift (development set 4: the law space's
+// draw for seed 4). After the cushion, a marker lever 0.10 m below O_V took the pitch-Z mix the
+// cushion's fit left and was added second; the measured x bears out no lever (its range is
+// ±0.03 m), and a lever held there earns nothing.
+TEST(IndependentTruthDiagnoseTest, NoLeverTheMeasuredXRefutesIsAdded) {
+  TruthRun run;
+  DiagnoseOptions two;
+  two.max_causes = 2;
+  run.dx = Diagnose(TruthRecords({"cushion_compliance"}, 1.0, 0, 4, &run.set, false, "drift"), two);
+  ASSERT_EQ(run.set.effects.marker_z_m, 0.0);
+  ASSERT_TRUE(run.dx.lever_from_x.has_value());
+  EXPECT_LT(run.dx.lever_from_x->upper_m - run.dx.lever_from_x->lower_m, 0.1);
+  ExpectNamedFirst(run, "cushion_compliance", 50.0);
+  for (const Cause& c : run.dx.causes) EXPECT_NE(c.effect, effects::EffectId::kMarkerOffset);
+}
+
 // GeometryUnderMarkerLever with the truth's own lever gives back (nearly) the GM that the
 // same chair's trials identify with the marker at O_V; the uncorrected tracks do not.
 TEST(IndependentTruthDiagnoseTest, GeometryUnderTheTrueLeverIsTheGeometryWithoutIt) {
