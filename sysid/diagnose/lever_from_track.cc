@@ -17,6 +17,14 @@ std::vector<double> MinusMovingAverage(const std::vector<double>& y, std::size_t
   return out;
 }
 
+double RestPitch(const effects::TrialRecord& r, double rest_window_s) {
+  const std::size_t n = std::min(r.t.size(), r.pitch.size());
+  double theta0 = 0.0;
+  std::size_t rest = 0;
+  for (; rest < n && r.t[rest] - r.t.front() <= rest_window_s; ++rest) theta0 += r.pitch[rest];
+  return theta0 / static_cast<double>(std::max<std::size_t>(rest, 1));
+}
+
 namespace {
 
 /// a_i and b_i of every trial for the window `window_s`.
@@ -31,10 +39,7 @@ Sums TrialSums(const std::vector<effects::TrialRecord>& records, double window_s
     if (n < 3) continue;
     const double dt = (r.t[n - 1] - r.t[0]) / static_cast<double>(n - 1);
     if (!(dt > 0.0)) continue;
-    double theta0 = 0.0;
-    std::size_t rest = 0;
-    for (; rest < n && r.t[rest] - r.t[0] <= rest_window_s; ++rest) theta0 += r.pitch[rest];
-    theta0 /= static_cast<double>(std::max<std::size_t>(rest, 1));
+    const double theta0 = RestPitch(r, rest_window_s);
     std::vector<double> x(r.x.begin(), r.x.begin() + static_cast<std::ptrdiff_t>(n)), s(n);
     for (std::size_t k = 0; k < n; ++k) s[k] = -std::sin(r.pitch[k] - theta0);
     const std::size_t samples = 2 * static_cast<std::size_t>(std::lround(0.5 * window_s / dt)) + 1;

@@ -42,6 +42,10 @@ struct LeverHeight {
 std::optional<LeverHeight> LeverHeightFromTrack(const std::vector<effects::TrialRecord>& records,
                                                 const LeverHeightOptions& options = {});
 
+/// θ₀ of a record: its mean pitch over the first `rest_window_s` (the chair at rest, level; at
+/// least the first sample). Shared with TrackUnderMarkerLever (diagnose.h).
+double RestPitch(const effects::TrialRecord& record, double rest_window_s);
+
 /// y − its centred moving average over `samples` (odd; the window shrinks at the ends).
 std::vector<double> MinusMovingAverage(const std::vector<double>& y, std::size_t samples);
 

@@ -8,6 +8,7 @@
 #include "engine/input_error.h"
 #include "sysid/diagnose/diagnose.h"
 #include "sysid/diagnose/format_text.h"
+#include "sysid/diagnose/lever_from_track.h"
 #include "sysid/identify/fitness.h"
 #include "sysid/identify/identify.h"
 
@@ -117,11 +118,7 @@ TrackUnderLever TrackUnderMarkerLever(const effects::TrialRecord& r, double leve
                                       double lever_z_m, double rest_window) {
   // θ centred on the rest window (the chair starts at rest on its start level), then the
   // lever taken out: x = x_m - r_x cos θ + r_z sin θ, Z = Z_m - r_x sin θ - r_z (cos θ - 1).
-  double theta0 = 0.0;
-  std::size_t rest = 0;
-  for (std::size_t k = 0; k < r.t.size() && r.t[k] - r.t.front() <= rest_window; ++k, ++rest)
-    theta0 += r.pitch[k];
-  theta0 /= static_cast<double>(std::max<std::size_t>(rest, 1));
+  const double theta0 = RestPitch(r, rest_window);
   TrackUnderLever out{r.x, r.z};
   for (std::size_t k = 0; k < r.t.size(); ++k) {
     const double th = r.pitch[k] - theta0;
