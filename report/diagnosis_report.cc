@@ -25,7 +25,8 @@ nlohmann::ordered_json NoiseJson(const diagnose::ChannelNoise& n) {
   return {{"sigma", JsonNumber(n.sigma)}, {"sigma_hf", JsonNumber(n.sigma_hf)},
           {"from_rest", n.from_rest}, {"rest_samples", n.rest_samples}, {"acf", acf},
           {"drift_rate", JsonNumber(n.drift_rate)}, {"drift_statistic", JsonNumber(n.drift_statistic)},
-          {"drift_bound", JsonNumber(n.drift_bound)}, {"drift_systematic", n.drift_systematic}, {"slow_scale_s", JsonNumber(n.slow_scale_s)},
+          {"drift_bound", JsonNumber(n.drift_bound)}, {"drift_systematic", n.drift_systematic},
+          {"final_rest_unsettled", n.final_rest_unsettled}, {"slow_scale_s", JsonNumber(n.slow_scale_s)},
           {"drift_left", JsonNumber(n.drift_left)}};
 }
 

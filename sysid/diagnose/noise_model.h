@@ -54,7 +54,11 @@
 // carries the chair's settling after braking and is not used),
 // its mean is not told from 0 by a two-sided t test at 1 % (drift has no sign; a change or
 // tilt all trials share is the model's, e.g. a settling it gets wrong; such a family is left
-// out). The walk-equivalent rate is the larger of the families' moment estimates,
+// out). The level changes are left out too where the final rests tilt more than the initial
+// ones, (Σ b_e²/v_e) / (Σ b_s²/v_s) beyond F_{N−1,N−1}(0.99) over all trials but the one
+// whose final rest tilts most (one trial's step or burst is the data's): the chair still rings
+// there for the model (a cause it lacks keeps it moving after braking), with either sign; drift
+// and noise tilt both rests alike. The walk-equivalent rate is the larger of the families' moment estimates,
 //     q̂_D = Σ max(0, D² − v) / Σ Δt,   q̂_b = Σ max(0, b² − σ² u) / Σ w,
 // the drift judged at least as rough as the roughest scale shows it (a sinusoid of amplitude A
 // and angular frequency ω gives q̂_b ≈ (5 L/6) A² ω²/2 while q̂_D may be ≈ 0). The verdict then
@@ -118,6 +122,9 @@ struct ChannelNoise {
   double drift_statistic{0.0};   ///< Σ D²/v over the trials with both rests
   double drift_bound{0.0};       ///< χ²_N(0.99)
   bool drift_systematic{false};  ///< the changes share a sign (t test): the model's, not drift
+  /// the final rests tilt more than the initial ones (F test): the chair still moves there for
+  /// the model, so the level changes are the model's and not drift evidence
+  bool final_rest_unsettled{false};
 
   /// n² / Σ_{i,j<n} r(|i − j|)² (n for white noise).
   double EffectiveSamples(std::size_t n) const;

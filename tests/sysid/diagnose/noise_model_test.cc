@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <boost/math/distributions/chi_squared.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -384,6 +386,7 @@ TEST(NoiseModelTest, TheDriftRateOfARandomWalkIsFoundFromTheRestLevels) {
   // s_d = budget σ² / (0.2337 q): 0.1 / (0.2337 × 0.25) = 1.71 s, leaving budget σ².
   EXPECT_NEAR(noise.slow_scale_s, 0.1 / (kDriftLeftPerScale * noise.drift_rate), 1e-12);
   EXPECT_NEAR(noise.drift_left, 0.1, 1e-12);
+  EXPECT_FALSE(noise.final_rest_unsettled);  // a walk tilts both rests alike
   // Stationary noise: no drift (the χ² test at 1 %).
   p.drift_per_sqrt_s = 0.0;
   ChannelNoise still = WhiteNoise(1.0);
@@ -541,6 +544,7 @@ TEST(NoiseModelTest, ASlowSinusoidTheTrialsSpanIsFoundFromTheRestsSlopes) {
   ChannelNoise seen = WhiteNoise(1.0);
   EstimateDrift(changes, 0.1, seen);
   ASSERT_GT(seen.slow_scale_s, 0.0) << seen.drift_statistic << " vs " << seen.drift_bound;
+  EXPECT_FALSE(seen.final_rest_unsettled);  // the sinusoid tilts both rests alike
   const double kept = 1.0 - std::exp(-0.5 * std::pow(2.0 * std::numbers::pi * f * seen.slow_scale_s, 2.0));
   EXPECT_LT(amplitude * kept, 0.2);
   // The verdict: structure against stationary noise, noise-like once the drift is modelled.
@@ -549,6 +553,58 @@ TEST(NoiseModelTest, ASlowSinusoidTheTrialsSpanIsFoundFromTheRestsSlopes) {
   AddDrift(records, 0.25, VerdictOptions{}.drift_budget, model);
   const NoiseCheck check = CheckResidual(records, model);
   EXPECT_TRUE(check.NoiseLike()) << check.Evidence();
+}
+
+TEST(NoiseModelTest, AChairStillRingingInTheFinalRestIsNoDrift) {
+  // White σ = 1 and, from braking at 8.5 s, a decaying ring the model lacks (1.5 Hz, τ 1.3 s,
+  // amplitude 5-10 σ of either sign, random phase): the final rest (9-10 s, its later half
+  // used) sits on the ring's tail, so its level changes are far beyond the noise with no shared
+  // sign, as drift's would be; but the final rests tilt far more than the initial ones.
+  std::mt19937_64 rng(41);
+  std::uniform_real_distribution<double> phase(0.0, 2.0 * std::numbers::pi), size(5.0, 10.0);
+  std::bernoulli_distribution sign(0.5);
+  synth::NoiseProcess p;
+  p.sigma = 1.0;
+  std::vector<RestLevelChange> changes;
+  for (int i = 0; i < 12; ++i) {
+    std::vector<double> e = synth::DrawNoise(p, 1000, 100.0, rng);
+    const double phi = phase(rng), amplitude = (sign(rng) ? 1.0 : -1.0) * size(rng);
+    std::vector<double> t, x;
+    for (std::size_t k = 0; k < e.size(); ++k) {
+      t.push_back(0.01 * static_cast<double>(k));
+      x.push_back(0.5 * std::clamp(t.back() - 1.0, 0.0, 8.0));
+      const double s = t.back() - 8.5;
+      if (s > 0.0) e[k] += amplitude * std::exp(-s / 1.3) * std::sin(2.0 * std::numbers::pi * 1.5 * s + phi);
+    }
+    changes.push_back(LevelChangeAtRest(t, x, e, 0.25));
+  }
+  const ChannelNoise white = WhiteNoise(1.0);
+  double level_statistic = 0.0;  // Σ D²/v, by hand: the level changes alone would call it drift
+  for (const RestLevelChange& c : changes)
+    level_statistic += c.change * c.change / (1.0 / white.EffectiveSamples(c.n_start) + 1.0 / white.EffectiveSamples(c.n_end));
+  const boost::math::chi_squared_distribution<double> chi(static_cast<double>(changes.size()));
+  ASSERT_GT(level_statistic, boost::math::quantile(boost::math::complement(chi, 0.01)));
+  ChannelNoise noise = white;
+  EstimateDrift(changes, 0.1, noise);
+  EXPECT_TRUE(noise.final_rest_unsettled);
+  EXPECT_FALSE(noise.drift_systematic);
+  EXPECT_EQ(noise.slow_scale_s, 0.0) << noise.drift_statistic << " vs " << noise.drift_bound;
+  // One trial's final rest alone (a step, a burst there) does not make the model's settling.
+  std::vector<RestLevelChange> one = LevelChanges(p, 12, 1000, 100, 42);
+  one[3].slope_end = changes[3].slope_end + 100.0;
+  ChannelNoise single = white;
+  EstimateDrift(one, 0.1, single);
+  EXPECT_FALSE(single.final_rest_unsettled);
+  // A walk besides the ring is still found, from the initial rests' slopes.
+  synth::NoiseProcess walk;
+  walk.sigma = 1e-6;
+  walk.drift_per_sqrt_s = 3e6;  // 3 σ √t of the test's σ = 1 (the process's own σ is 1e-6)
+  std::vector<RestLevelChange> drifting = changes;
+  std::vector<RestLevelChange> walks = LevelChanges(walk, 12, 1000, 100, 43);
+  for (std::size_t i = 0; i < drifting.size(); ++i) drifting[i].slope_start += walks[i].slope_start;
+  ChannelNoise seen = white;
+  EstimateDrift(drifting, 0.1, seen);
+  EXPECT_GT(seen.slow_scale_s, 0.0) << seen.drift_statistic << " vs " << seen.drift_bound;
 }
 
 }  // namespace
