@@ -32,8 +32,14 @@ function(pwsim_add_test name)
   target_compile_definitions(${name} PRIVATE
       PWSIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}" PWSIM_BINARY_DIR="${PROJECT_BINARY_DIR}")
   pwsim_set_warnings(${name})
+  # Tests labelled slow start first under `ctest -j` (COST) where no timing of an earlier run
+  # exists (a clean clone): a long test started last would run alone at the end.
+  set(cost 1)
+  if("slow" IN_LIST ARG_LABELS)
+    set(cost 100)
+  endif()
   gtest_discover_tests(${name} WORKING_DIRECTORY ${PROJECT_BINARY_DIR} DISCOVERY_TIMEOUT 60
-                       PROPERTIES LABELS "${ARG_LABELS}")
+                       PROPERTIES LABELS "${ARG_LABELS}" COST ${cost})
 endfunction()
 
 # The dependency direction between pwsim's libraries, enforced at configure time:
