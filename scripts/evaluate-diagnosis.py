@@ -138,7 +138,14 @@ def named_first_with_gain(r):
 
 
 def both_found(r):
+    """Both effects among the causes named, confirmed by the report trials or not."""
     found = {c["effect"] for c in r["causes"]}
+    return all(e in found for e in effects_of(r["row"]))
+
+
+def both_confirmed(r):
+    """Both effects among the causes the report trials confirmed."""
+    found = {c["effect"] for c in r["causes"] if c.get("confirmed")}
     return all(e in found for e in effects_of(r["row"]))
 
 
@@ -177,6 +184,7 @@ def goals(results):
     return [("single effects named first with a positive held-out gain", "≥ 90 %",
              rate(sum(map(named_first_with_gain, singles)), len(singles))),
             ("both causes of a pair found", "≥ 80 %", rate(sum(map(both_found, pairs)), len(pairs))),
+            ("both causes of a pair found and confirmed", "–", rate(sum(map(both_confirmed, pairs)), len(pairs))),
             ("no-effect sets `adequate`", "≥ 95 %", rate(sum(r["verdict"] == "adequate" for r in none), len(none))),
             ("outside the catalogue called `adequate`", "never",
              rate(sum(r["verdict"] == "adequate" for r in outside), len(outside)))]

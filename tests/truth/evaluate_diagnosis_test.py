@@ -27,7 +27,7 @@ def args(**kw):
 def result(row, verdict, causes, split="evaluation", seed=1000):
     return {"split": split, "name": f"{seed:05d}_{row}", "seed": seed, "row": row, "trials": 12, "commit": "abc",
             "laws": ["noise white: sigma"], "seconds": 1.0, "rc": 0, "verdict": verdict,
-            "causes": [{"effect": e, "gain_pct": g, "confirmed": None} for e, g in causes]}
+            "causes": [{"effect": c[0], "gain_pct": c[1], "confirmed": c[2] if len(c) > 2 else None} for c in causes]}
 
 
 class Plan(unittest.TestCase):
@@ -66,13 +66,15 @@ class Goals(unittest.TestCase):
         rs = [result("wheel_radius", "explained", [("wheel_radius", 80.0)]),
               result("inertial_pitch", "partly_explained", [("inertial_pitch", -5.0)]),   # negative gain: no
               result("marker_offset", "partly_explained", [("tyre_compliance", 50.0), ("marker_offset", 40.0)]),
-              result("inertial_pitch+marker_offset", "partly_explained", [("marker_offset", 80.0), ("inertial_pitch", 10.0)]),
+              result("inertial_pitch+marker_offset", "partly_explained", [("marker_offset", 80.0, True), ("inertial_pitch", 10.0, False)]),
               result("cushion_compliance+suspension_friction", "partly_explained", [("suspension_friction", 50.0)]),
+              result("tyre_compliance+inertial_pitch", "explained", [("inertial_pitch", 60.0, True), ("tyre_compliance", 5.0, True)]),
               result("none", "adequate", []), result("none", "unexplained", []),
               result("occupant_seat", "adequate", [])]
         figures = {goal: figure for goal, _, figure in ev.goals(rs)}
         self.assertEqual(figures["single effects named first with a positive held-out gain"], "1/3 (33 %)")
-        self.assertEqual(figures["both causes of a pair found"], "1/2 (50 %)")
+        self.assertEqual(figures["both causes of a pair found"], "2/3 (67 %)")
+        self.assertEqual(figures["both causes of a pair found and confirmed"], "1/3 (33 %)")  # an unconfirmed cause counts above only
         self.assertEqual(figures["no-effect sets `adequate`"], "1/2 (50 %)")
         self.assertEqual(figures["outside the catalogue called `adequate`"], "1/1 (100 %)")
 
