@@ -420,10 +420,12 @@ namespace {
 /// variance under stationary noise v_i and under a walk of unit rate w_i.
 struct DriftEvidence {
   std::vector<double> x, v, w;
+  /// x_i²/v_i: each a χ²_1 under stationary noise.
+  double Term(std::size_t i) const { return x[i] * x[i] / v[i]; }
   /// Σ x²/v.
   double Statistic() const {
     double s = 0.0;
-    for (std::size_t i = 0; i < x.size(); ++i) s += x[i] * x[i] / v[i];
+    for (std::size_t i = 0; i < x.size(); ++i) s += Term(i);
     return s;
   }
   /// max(0, Σ (x² − v)) / Σ w: unbiased before the outer max (a max per term would count the
@@ -450,22 +452,22 @@ struct DriftEvidence {
 };
 
 /// The final rests' slopes stand out of the initial rests' by a one-sided F test at 1 %:
-/// (Σ b_e²/v_e) / (Σ b_s²/v_s) beyond F_{N,N}(0.99), over the trials but the one whose final
-/// rest tilts most (a step or a burst in one trial's final rest is the data's, and one trial
-/// alone does not make the model's settling). Under stationary noise and drift the two have
+/// (Σ b_e²/v_e) / (Σ b_s²/v_s) beyond F_{N−1,N−1}(0.99), over the N trials but the one whose
+/// final rest tilts most (a step or a burst in one trial's final rest is the data's, and one
+/// trial alone does not make the model's settling). Under stationary noise and drift the two have
 /// about the same law (a longer initial window tilts less under a walk, so the test errs
 /// towards keeping the level changes).
 bool FinalRestsTiltMore(const DriftEvidence& start, const DriftEvidence& end) {
   const std::size_t n = start.x.size();
   if (n < 4 || end.x.size() != n) return false;
   std::size_t steepest = 0;
+  for (std::size_t i = 1; i < n; ++i)
+    if (end.Term(i) > end.Term(steepest)) steepest = i;
   double s_start = 0.0, s_end = 0.0;
-  for (std::size_t i = 0; i < n; ++i)
-    if (end.x[i] * end.x[i] / end.v[i] > end.x[steepest] * end.x[steepest] / end.v[steepest]) steepest = i;
   for (std::size_t i = 0; i < n; ++i) {
     if (i == steepest) continue;
-    s_start += start.x[i] * start.x[i] / start.v[i];
-    s_end += end.x[i] * end.x[i] / end.v[i];
+    s_start += start.Term(i);
+    s_end += end.Term(i);
   }
   if (!(s_start > 0.0)) return false;
   const double df = static_cast<double>(n - 1);

@@ -58,7 +58,8 @@
 // ones, (Σ b_e²/v_e) / (Σ b_s²/v_s) beyond F_{N−1,N−1}(0.99) over all trials but the one
 // whose final rest tilts most (one trial's step or burst is the data's): the chair still rings
 // there for the model (a cause it lacks keeps it moving after braking), with either sign; drift
-// and noise tilt both rests alike. The walk-equivalent rate is the larger of the families' moment estimates,
+// and noise tilt both rests alike. The walk-equivalent rate is the larger of the families'
+// moment estimates,
 //     q̂_D = Σ max(0, D² − v) / Σ Δt,   q̂_b = Σ max(0, b² − σ² u) / Σ w,
 // the drift judged at least as rough as the roughest scale shows it (a sinusoid of amplitude A
 // and angular frequency ω gives q̂_b ≈ (5 L/6) A² ω²/2 while q̂_D may be ≈ 0). The verdict then
