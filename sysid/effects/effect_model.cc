@@ -374,13 +374,23 @@ struct Body {
   double z{0}, z_rate{0}, pitch{0}, pitch_rate{0};
 };
 
+/// sin θ and cos θ of a pitch angle, taken once per angle: a step's terms (the stops, the
+/// exact kinematics, the friction's deflection) share them, and the end of one step is the
+/// start of the next (the same values as each term's own std::sin and std::cos, bit for bit).
+struct PitchTrig {
+  double sin{0.0}, cos{1.0};
+};
+PitchTrig TrigOf(double pitch) { return PitchTrig{std::sin(pitch), std::cos(pitch)}; }
+
 /// Force on the chassis [N] and torque [N m] from the held (non-linear or coupling) effects
-/// at `body`, with the GM output `gm` and its rate, and the wheels' contact heights `zc`.
+/// at `body` (its pitch's sine and cosine `bt`), with the GM output `gm` (`gt`) and its rate,
+/// and the wheels' contact heights `zc`.
 struct Load {
   double heave{0.0}, pitch{0.0};
 };
-Load HeldForces(const Setup& m, const Body& b, const GeometricOutput& gm, double gm_z_rate,
-                double gm_pitch_rate, const double* zc, const double* friction_state) {
+Load HeldForces(const Setup& m, const Body& b, const PitchTrig& bt, const GeometricOutput& gm,
+                const PitchTrig& gt, double gm_z_rate, double gm_pitch_rate, const double* zc,
+                const double* friction_state) {
   Load f;
   const double dz = b.z - gm.z, dp = b.pitch - gm.pitch;
   const double dz_rate = b.z_rate - gm_z_rate, dp_rate = b.pitch_rate - gm_pitch_rate;
@@ -391,7 +401,7 @@ Load HeldForces(const Setup& m, const Body& b, const GeometricOutput& gm, double
     // Bump stops: F_i = b K_Z α_i max(0, c_i - g)² / δ_ref on each wheel's compression
     // c_i = Z_Oi - (Z + x_i sin θ), pushing the chassis up at x_i; rebound stops the same on
     // its extension -c_i, pulling it down.
-    const double sin_t = std::sin(b.pitch);
+    const double sin_t = bt.sin;
     for (int i = 0; i < m.wheels; ++i) {
       const double compression = zc[i] - (b.z + m.wheel_x[i] * sin_t);
       const double over = compression - m.bump_gap;
@@ -412,10 +422,9 @@ Load HeldForces(const Setup& m, const Body& b, const GeometricOutput& gm, double
   if (m.exact) {
     // Exact kinematics: the pitch torque -cos θ [K_θ (sin θ - sin θ_GM) + C_θ (cos θ θ̇ -
     // cos θ_GM θ̇_GM)] in place of the small-angle one that the propagator applies.
-    const double c = std::cos(b.pitch), c_gm = std::cos(gm.pitch);
+    const double c = bt.cos, c_gm = gt.cos;
     f.pitch += m.k_t * dp + m.c_t * dp_rate -
-               c * (m.k_t * (std::sin(b.pitch) - std::sin(gm.pitch)) +
-                    m.c_t * (c * b.pitch_rate - c_gm * gm_pitch_rate));
+               c * (m.k_t * (bt.sin - gt.sin) + m.c_t * (c * b.pitch_rate - c_gm * gm_pitch_rate));
   }
   return f;
 }
@@ -434,14 +443,13 @@ void OffPlane(const Setup& m, const double* u, double* d) {
 /// One step of the massless hubs (header, TyreLaw::kMassless) from heights `u0` to `u1`, the
 /// ground going from h0 to h1, the chassis at `body` over its GM output `gm` (at u0): the
 /// balance's right-hand side b(u0) with every hub at rest, times MakeHubStep's matrix.
-void AdvanceMasslessHubs(const Setup& m, const Body& body, const GeometricOutput& gm, const double* h0,
-                         const double* h1, const double* u0, const double* off_static, double dt,
-                         double* u1) {
+void AdvanceMasslessHubs(const Setup& m, const Body& body, const PitchTrig& bt, const GeometricOutput& gm,
+                         const PitchTrig& gt, const double* h0, const double* h1, const double* u0,
+                         const double* off_static, double dt, double* u1) {
   const int w = m.wheels;
   // The suspension's force and torque on the chassis with the hubs at rest (u̇ = 0).
   const double dz = body.z - gm.z, dp = body.pitch - gm.pitch;
-  const double pitch_spring = m.exact ? m.k_t * (std::sin(body.pitch) - std::sin(gm.pitch)) +
-                                            m.c_t * std::cos(body.pitch) * body.pitch_rate
+  const double pitch_spring = m.exact ? m.k_t * (bt.sin - gt.sin) + m.c_t * bt.cos * body.pitch_rate
                                       : m.k_t * dp + m.c_t * body.pitch_rate;
   const double force = m.k_z * dz + m.c_z * body.z_rate + m.k_zt * dp + m.c_zt * body.pitch_rate;
   const double torque = pitch_spring + m.k_zt * dz + m.c_zt * body.z_rate;
@@ -512,7 +520,9 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
   const bool gm_cache = wheel_cache && !m.any_tyre && m.gm_unscaled;
   const bool need_contacts = !gm_cache || m.held_forces;
 
-  // Ground contact heights h_i under the wheels at grid point j, the chair pitched by θ.
+  // Ground contact heights h_i under the wheels at grid point j, the chair pitched by θ (each
+  // wheel's breakpoint search starts where its last ended).
+  std::array<std::size_t, kMaxWheels> terrain_hint{};
   auto contacts = [&](std::size_t j, double theta, double* h) {
     if (wheel_cache) {
       const double* c = trial.wheel_cache.data() + j * static_cast<std::size_t>(w);
@@ -525,7 +535,7 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
     for (int i = 0; i < w; ++i) {
       const double xi = m.exact ? x + m.wheel_x[i] * lever : x + m.wheel_x[i];
       const double height = m.radius[i] > 0.0 ? RollingDiscEnvelope(trial.terrain, xi, m.radius[i]).height
-                                              : trial.terrain.HeightAt(xi);
+                                              : trial.terrain.HeightAtNear(xi, terrain_hint[i]);
       h[i] = height * m.height_factor[i];
     }
   };
@@ -545,8 +555,8 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
   };
 
   std::vector<double> z_grid(grid), pitch_grid(grid), z_gm_grid(grid), pitch_gm_grid(grid);
-  auto record = [&](std::size_t j, const Body& b, const GeometricOutput& g) {
-    z_grid[j] = marker ? b.z + m.marker_x * std::sin(b.pitch) + m.marker_z * (std::cos(b.pitch) - 1.0) : b.z;
+  auto record = [&](std::size_t j, const Body& b, const PitchTrig& bt, const GeometricOutput& g) {
+    z_grid[j] = marker ? b.z + m.marker_x * bt.sin + m.marker_z * (bt.cos - 1.0) : b.z;
     pitch_grid[j] = b.pitch;
     z_gm_grid[j] = g.z;
     pitch_gm_grid[j] = g.pitch;
@@ -566,17 +576,23 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
     body.z = g0.z + (det > 0 ? -m.k_zt * torque / det : 0.0);
     body.pitch = g0.pitch + (det > 0 ? m.k_z * torque / det : 0.0);
   }
-  record(0, body, g0);
+  // sin θ and cos θ of the body (where a term uses them: the stops, the friction, the exact
+  // kinematics, the marker) and of the GM (exact kinematics), carried from step to step.
+  const bool body_trig_used = m.exact || m.bump_gain > 0.0 || m.any_friction || marker;
+  const bool predicted_trig_used = m.held_forces && (m.exact || m.bump_gain > 0.0);
+  PitchTrig body_trig = body_trig_used ? TrigOf(body.pitch) : PitchTrig{};
+  PitchTrig g0_trig = m.exact ? TrigOf(g0.pitch) : PitchTrig{};
+  record(0, body, body_trig, g0);
   double gm_z_rate_prev = 0.0, gm_pitch_rate_prev = 0.0;
   // Each wheel's height off the suspension plane through the wheels, from its static value.
   std::array<double, kMaxWheels> off0{}, off{}, off_rate{}, zc_rate{};
   if (m.series) OffPlane(m, zc0.data(), off0.data());
 
-  double sin_body = m.any_friction ? std::sin(body.pitch) : 0.0;  // sin θ at the step's start
   for (std::size_t j = 0; j + 1 < grid; ++j) {
     if (need_contacts) contacts(j + 1, body.pitch + dt * body.pitch_rate, h1.data());
     if (m.massless) {
-      AdvanceMasslessHubs(m, body, g0, h0.data(), h1.data(), zc0.data(), off0.data(), dt, zc1.data());
+      AdvanceMasslessHubs(m, body, body_trig, g0, g0_trig, h0.data(), h1.data(), zc0.data(), off0.data(), dt,
+                          zc1.data());
     } else if (m.any_tyre) {
       // The suspension's force and torque on the chassis at j (spring, damper and coupling,
       // deviations from equilibrium); each unsprung wheel takes its share in reaction.
@@ -584,8 +600,8 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
       const double dz_rate = body.z_rate - gm_z_rate_prev, dp_rate = body.pitch_rate - gm_pitch_rate_prev;
       // The pitch spring and damper (exact kinematics: on sin θ - sin θ_GM and its rate).
       const double pitch_spring =
-          m.exact ? m.k_t * (std::sin(body.pitch) - std::sin(g0.pitch)) +
-                        m.c_t * (std::cos(body.pitch) * body.pitch_rate - std::cos(g0.pitch) * gm_pitch_rate_prev)
+          m.exact ? m.k_t * (body_trig.sin - g0_trig.sin) +
+                        m.c_t * (body_trig.cos * body.pitch_rate - g0_trig.cos * gm_pitch_rate_prev)
                   : m.k_t * dp + m.c_t * dp_rate;
       const double force = m.k_z * dz + m.c_z * dz_rate + m.k_zt * dp + m.c_zt * dp_rate;
       const double torque = pitch_spring + m.k_zt * dz + m.c_zt * dz_rate;
@@ -623,6 +639,7 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
       zc1 = h1;
     }
     const GeometricOutput g1 = geometric(j + 1, zc1.data());
+    const PitchTrig g1_trig = m.exact ? TrigOf(g1.pitch) : PitchTrig{};
     const double gm_z_rate = (g1.z - g0.z) * inv_dt;
     const double gm_pitch_rate = (g1.pitch - g0.pitch) * inv_dt;
     const double torque = m.mass * m.lever * a_grid[j];
@@ -632,20 +649,23 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
       AdvanceAxis(m.pitch, next.pitch, next.pitch_rate, g0.pitch, gm_pitch_rate, torque);
     } else {
       // Heun on the held forces: predict with the start's, correct with the mean of both ends.
-      const Load f0 = HeldForces(m, body, g0, gm_z_rate, gm_pitch_rate, zc0.data(), friction.data());
+      const Load f0 =
+          HeldForces(m, body, body_trig, g0, g0_trig, gm_z_rate, gm_pitch_rate, zc0.data(), friction.data());
       AdvanceAxis(m.heave, next.z, next.z_rate, g0.z, gm_z_rate, f0.heave);
       AdvanceAxis(m.pitch, next.pitch, next.pitch_rate, g0.pitch, gm_pitch_rate, torque + f0.pitch);
-      const Load f1 = HeldForces(m, next, g1, gm_z_rate, gm_pitch_rate, zc1.data(), friction.data());
+      const PitchTrig predicted = predicted_trig_used ? TrigOf(next.pitch) : PitchTrig{};
+      const Load f1 =
+          HeldForces(m, next, predicted, g1, g1_trig, gm_z_rate, gm_pitch_rate, zc1.data(), friction.data());
       next = body;
       AdvanceAxis(m.heave, next.z, next.z_rate, g0.z, gm_z_rate, 0.5 * (f0.heave + f1.heave));
       AdvanceAxis(m.pitch, next.pitch, next.pitch_rate, g0.pitch, gm_pitch_rate,
                   torque + 0.5 * (f0.pitch + f1.pitch));
     }
+    const PitchTrig next_trig = body_trig_used ? TrigOf(next.pitch) : PitchTrig{};
     if (m.any_friction) {
       // Dahl: for the step's deflection rate ṙ_i held, F relaxes exactly towards F_c sgn ṙ_i
       // with rate |ṙ_i| / δ_p.
-      const double s0 = sin_body, s1 = std::sin(next.pitch);
-      sin_body = s1;  // the next step's start
+      const double s0 = body_trig.sin, s1 = next_trig.sin;
       for (int i = 0; i < w; ++i) {
         if (m.friction[i] <= 0.0) continue;
         const double r_rate = ((next.z + m.wheel_x[i] * s1) - (body.z + m.wheel_x[i] * s0) -
@@ -659,12 +679,14 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
       }
     }
     body = next;
+    body_trig = next_trig;
     g0 = g1;
+    g0_trig = g1_trig;
     h0 = h1;
     zc0 = zc1;
     gm_z_rate_prev = gm_z_rate;
     gm_pitch_rate_prev = gm_pitch_rate;
-    record(j + 1, body, g0);
+    record(j + 1, body, body_trig, g0);
   }
 
   const double t0 = trial.t.front();
