@@ -377,10 +377,13 @@ struct Body {
 /// sin θ and cos θ of a pitch angle, taken once per angle: a step's terms (the stops, the
 /// exact kinematics, the friction's deflection) share them, and the end of one step is the
 /// start of the next (the same values as each term's own std::sin and std::cos, bit for bit).
+/// The cosine only `with_cos` (else 1, unread): the stops and the friction need the sine alone.
 struct PitchTrig {
   double sin{0.0}, cos{1.0};
 };
-PitchTrig TrigOf(double pitch) { return PitchTrig{std::sin(pitch), std::cos(pitch)}; }
+PitchTrig TrigOf(double pitch, bool with_cos) {
+  return with_cos ? PitchTrig{std::sin(pitch), std::cos(pitch)} : PitchTrig{std::sin(pitch), 1.0};
+}
 
 /// Force on the chassis [N] and torque [N m] from the held (non-linear or coupling) effects
 /// at `body` (its pitch's sine and cosine `bt`), with the GM output `gm` (`gt`) and its rate,
@@ -579,9 +582,10 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
   // sin θ and cos θ of the body (where a term uses them: the stops, the friction, the exact
   // kinematics, the marker) and of the GM (exact kinematics), carried from step to step.
   const bool body_trig_used = m.exact || m.bump_gain > 0.0 || m.any_friction || marker;
+  const bool body_cos_used = m.exact || marker;
   const bool predicted_trig_used = m.held_forces && (m.exact || m.bump_gain > 0.0);
-  PitchTrig body_trig = body_trig_used ? TrigOf(body.pitch) : PitchTrig{};
-  PitchTrig g0_trig = m.exact ? TrigOf(g0.pitch) : PitchTrig{};
+  PitchTrig body_trig = body_trig_used ? TrigOf(body.pitch, body_cos_used) : PitchTrig{};
+  PitchTrig g0_trig = m.exact ? TrigOf(g0.pitch, true) : PitchTrig{};
   record(0, body, body_trig, g0);
   double gm_z_rate_prev = 0.0, gm_pitch_rate_prev = 0.0;
   // Each wheel's height off the suspension plane through the wheels, from its static value.
@@ -639,7 +643,7 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
       zc1 = h1;
     }
     const GeometricOutput g1 = geometric(j + 1, zc1.data());
-    const PitchTrig g1_trig = m.exact ? TrigOf(g1.pitch) : PitchTrig{};
+    const PitchTrig g1_trig = m.exact ? TrigOf(g1.pitch, true) : PitchTrig{};
     const double gm_z_rate = (g1.z - g0.z) * inv_dt;
     const double gm_pitch_rate = (g1.pitch - g0.pitch) * inv_dt;
     const double torque = m.mass * m.lever * a_grid[j];
@@ -653,7 +657,7 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
           HeldForces(m, body, body_trig, g0, g0_trig, gm_z_rate, gm_pitch_rate, zc0.data(), friction.data());
       AdvanceAxis(m.heave, next.z, next.z_rate, g0.z, gm_z_rate, f0.heave);
       AdvanceAxis(m.pitch, next.pitch, next.pitch_rate, g0.pitch, gm_pitch_rate, torque + f0.pitch);
-      const PitchTrig predicted = predicted_trig_used ? TrigOf(next.pitch) : PitchTrig{};
+      const PitchTrig predicted = predicted_trig_used ? TrigOf(next.pitch, m.exact) : PitchTrig{};
       const Load f1 =
           HeldForces(m, next, predicted, g1, g1_trig, gm_z_rate, gm_pitch_rate, zc1.data(), friction.data());
       next = body;
@@ -661,7 +665,7 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
       AdvanceAxis(m.pitch, next.pitch, next.pitch_rate, g0.pitch, gm_pitch_rate,
                   torque + 0.5 * (f0.pitch + f1.pitch));
     }
-    const PitchTrig next_trig = body_trig_used ? TrigOf(next.pitch) : PitchTrig{};
+    const PitchTrig next_trig = body_trig_used ? TrigOf(next.pitch, body_cos_used) : PitchTrig{};
     if (m.any_friction) {
       // Dahl: for the step's deflection rate ṙ_i held, F relaxes exactly towards F_c sgn ṙ_i
       // with rate |ṙ_i| / δ_p.
