@@ -314,12 +314,13 @@ std::optional<Candidate> BestAlone(const std::vector<RankEntry>& ranking) {
   return best;
 }
 
-/// Rounds ≥ 2: every further extension that improved the training fit alone (ΔBIC below the
-/// threshold) fitted jointly with the causes found, from two starts: where its fit alone ended
-/// (only its own discrete member copied), and its family's multi-start from the current model
-/// (the fit alone ended under the base without the causes, and may start a joint fit far off);
-/// the lower training error kept. `rebased`: the base was identified again since the ranking (a
-/// marker lever's GM, a cushion's base), so the fit alone is no start: the multi-start alone.
+/// Rounds ≥ 2: every further extension fitted jointly with the causes found, from its family's
+/// multi-start from the current model and, where its fit alone improved the training fit (ΔBIC
+/// below the threshold), from where that fit ended (only its own discrete member copied; it
+/// ended under the base without the causes, and may start a joint fit far off); the lower
+/// training error kept (an effect that a larger one hides may gain nothing alone). `rebased`:
+/// the base was identified again since the ranking (a marker lever's GM, a cushion's base), so
+/// the fit alone is no start: the multi-start alone.
 /// Screened after `screen_iterations`, chosen among the earning ones (Choose), the chosen solved
 /// on to the full iterations (kept when it still earns).
 std::optional<Candidate> BestJoint(const Splits& splits, const std::vector<RankEntry>& ranking,
@@ -338,15 +339,13 @@ std::optional<Candidate> BestJoint(const Splits& splits, const std::vector<RankE
   from_family.multi_start = true;
   std::vector<const RankEntry*> tried;
   for (const RankEntry& solo : ranking)
-    if (std::find(found.begin(), found.end(), solo.effect) == found.end() &&
-        solo.delta_bic < options.bic_threshold)
-      tried.push_back(&solo);
+    if (std::find(found.begin(), found.end(), solo.effect) == found.end()) tried.push_back(&solo);
   std::vector<std::optional<Candidate>> joint(tried.size());  // fitted concurrently
   ParallelFor(tried.size(), [&](std::size_t i) {
     std::vector<EffectId> list = found;
     list.push_back(tried[i]->effect);
     FitResult fit = FitModelJoint(splits.training, list, current.params, w, from_family);
-    if (!rebased) {
+    if (!rebased && tried[i]->delta_bic < options.bic_threshold) {
       effects::ExtendedParams from = current.params;
       effects::CopyEffect(tried[i]->effect, tried[i]->fit.params.fx, from.fx);
       FitResult from_alone = FitModelJoint(splits.training, list, from, w, screen);

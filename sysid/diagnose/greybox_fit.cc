@@ -209,9 +209,10 @@ class TrialCost : public ceres::CostFunction {
   std::size_t trial_;
 };
 
-/// LM log multipliers (u[0..3]) for a tyre start. The start's LM is the base model's, which
-/// saw tyres and suspension in series: the suspension is started stiffer so that with the
-/// start's tyres in series it keeps the stiffness the data showed. Tyre j under wheel share
+/// LM log multipliers (u[0..3]) for a tyre start. The start's LM is the base model's, or that
+/// of the causes found before (a joint fit), which saw tyres and suspension in series alike:
+/// the suspension is started stiffer so that with the start's tyres in series it keeps the
+/// stiffness the data showed. Tyre j under wheel share
 /// a_j (heave) and pitch share p_j (the GM's plane) adds compliance c_j a_j² to heave and
 /// c_j p_j² to pitch: 1/K_s = 1/K - Σ c_j a_j², 1/K_θs = 1/K_θ - Σ c_j p_j²; the dampers are
 /// raised in the same ratio. Unchanged where the tyres alone are softer than the start.
@@ -227,9 +228,10 @@ std::vector<double> SeriesStiffnessStart(const effects::PreparedTrial& trial, co
   }
   const effects::WheelPlane share = effects::WeightedPlane(alpha, x, n);  // the GM's plane
   double heave = 0.0, pitch = 0.0;  // added compliances [m/N], [1/(N m)]
+  const effects::WheelArray compliance = effects::TyreCompliances(p.fx, trial);
   for (int i = 0; i < n; ++i) {
     const auto k = static_cast<std::size_t>(i);
-    const double c = trial.is_caster[k] ? p.fx.caster_tyre_compliance : p.fx.drive_tyre_compliance;
+    const double c = compliance[k];
     const double period = trial.is_caster[k] ? p.fx.caster_tyre_period : p.fx.drive_tyre_period;
     if (c <= 0.0 || period <= 0.0) continue;
     heave += c * share.z[k] * share.z[k];
@@ -458,7 +460,6 @@ std::vector<Start> ChooseStarts(const std::vector<FitTrial>& training, Mapper ma
                                 const effects::EffectFamily& family, std::vector<double> u, int col,
                                 const ChannelWeights& weights, const FitOptions& options) {
   const std::vector<double> lm_start(u.begin(), u.begin() + 4);
-  const bool alone = map.effects.size() == 1;
   std::vector<std::vector<Start>> rankings;  // one per member, or per members ranked together
   std::vector<const effects::FamilyMember*> rule;
   for (const effects::FamilyMember& member : family.members) {
@@ -474,7 +475,7 @@ std::vector<Start> ChooseStarts(const std::vector<FitTrial>& training, Mapper ma
         u[static_cast<std::size_t>(col) + j] = StartWithin(values[j], family.params[j], options) / family.params[j].scale;
       std::copy(lm_start.begin(), lm_start.end(), u.begin());
       const std::vector<double> raised =
-          member.series_start && alone ? SeriesStiffnessStart(training.front().prepared, map, u) : lm_start;
+          member.series_start ? SeriesStiffnessStart(training.front().prepared, map, u) : lm_start;
       for (int lm = 0; lm < (raised != lm_start ? 2 : 1); ++lm) {
         std::copy(lm == 0 ? lm_start.begin() : raised.begin(), lm == 0 ? lm_start.end() : raised.end(), u.begin());
         const double sse = WeightedSse(training, map.Params(u.data()), weights);

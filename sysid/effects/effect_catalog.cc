@@ -84,7 +84,8 @@ std::vector<ParamSpec> Parameters(EffectId id) {
               {"tyre_damping_ratio", 0.3, 0.05, 1.0, {0.3}},
               {"caster_tyre_compliance_m_per_n", 5e-5, 0.0, 5e-4, {0.0, 5e-5, 2.5e-4}},
               {"drive_tyre_compliance_m_per_n", 1e-5, 0.0, 2e-4, {0.0, 1e-5, 6e-5}},
-              {"tyre_time_constant_s", 0.005, 1e-4, 0.05, {0.005}}};
+              {"tyre_time_constant_s", 0.005, 1e-4, 0.05, {0.005}},
+              {"rear_caster_compliance_ratio", 0.5, 0.2, 5.0, {1.0}}};
     case EffectId::kCushionCompliance:
       return {{"cushion_loss_per_kn", 0.2, 0.0, 1.2, {0.1, 0.4}},
               {"cushion_height_gain", 0.2, 0.5, 1.5, {1.0}},
@@ -149,13 +150,14 @@ EffectFamily MakeFamily(EffectId id) {
       // each caster-compliance rung: a start's error favours the stiff rungs, whose fits stay
       // near the base model, over a soft tyre's basin).
       // Massless tyres in series (no unsprung mass: the periods and ζ held, the dampers' time
-      // constant fitted), the best start of each caster-compliance rung as well.
+      // constant and the rear casters' compliance ratio fitted), the best start of each
+      // caster-compliance rung as well.
       auto compliant_tyre = [](const std::vector<double>& s) { return s[3] > 0.0 || s[4] > 0.0; };
       FamilyMember stiff = Member("stiff", StartGrid(p, {{}, {}, {}, {0.0}, {0.0}}));
-      stiff.held = {3, 4, 5};
+      stiff.held = {3, 4, 5, 6};
       stiff.solved = 2;
       FamilyMember compliant = Member("compliant", StartGrid(p, {}, compliant_tyre));
-      compliant.held = {5};
+      compliant.held = {5, 6};
       compliant.rung = 3;
       compliant.series_start = true;
       FamilyMember massless =
@@ -253,6 +255,7 @@ void SetEffectValues(EffectId id, std::span<const double> v, EffectParams& fx) {
       fx.caster_tyre_compliance = v[3];
       fx.drive_tyre_compliance = v[4];
       fx.tyre_time_constant = v[5];
+      fx.rear_caster_compliance_ratio = v[6];
       break;
     case EffectId::kCushionCompliance:
       fx.cushion_loss_per_kn = v[0];
@@ -293,7 +296,7 @@ std::vector<double> GetEffectValues(EffectId id, const EffectParams& fx) {
       return {fx.caster_radius, fx.drive_radius};
     case EffectId::kTyreCompliance:
       return {fx.caster_tyre_period, fx.drive_tyre_period, fx.tyre_damping, fx.caster_tyre_compliance,
-              fx.drive_tyre_compliance, fx.tyre_time_constant};
+              fx.drive_tyre_compliance, fx.tyre_time_constant, fx.rear_caster_compliance_ratio};
     case EffectId::kCushionCompliance:
       return {fx.cushion_loss_per_kn, fx.cushion_height_gain, fx.cushion_exponent, fx.cushion_pitch_gain};
     case EffectId::kHeavePitchCoupling:

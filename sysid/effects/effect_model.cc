@@ -151,6 +151,23 @@ WheelPlane WeightedPlane(const WheelArray& w, const WheelArray& x, int wheels) {
   return p;
 }
 
+WheelArray TyreCompliances(const EffectParams& fx, const PreparedTrial& trial) {
+  const int n = trial.chair.wheel_count();
+  bool front = false, rear = false;
+  for (int i = 0; i < n; ++i) {
+    if (!trial.is_caster[i]) continue;
+    front = front || trial.chair.wheels[i].x > 0.0;
+    rear = rear || trial.chair.wheels[i].x < 0.0;
+  }
+  const double rear_ratio = front && rear ? fx.rear_caster_compliance_ratio : 1.0;
+  WheelArray c{};
+  for (int i = 0; i < n; ++i) {
+    if (!trial.is_caster[i]) c[i] = fx.drive_tyre_compliance;
+    else c[i] = trial.chair.wheels[i].x < 0.0 ? rear_ratio * fx.caster_tyre_compliance : fx.caster_tyre_compliance;
+  }
+  return c;
+}
+
 namespace {
 
 /// Suspension shares s_i of wheels whose tyres (compliance c_i, 0 = rigid) are in series with
@@ -281,6 +298,7 @@ Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
     m.tyre_omega2[t] = omega * omega;
     m.tyre_2zw[t] = 2.0 * fx.tyre_damping * omega;
   }
+  const WheelArray tyre_compliance = TyreCompliances(fx, trial);
   std::array<double, kMaxWheels> compliance{};
   for (int i = 0; i < m.wheels; ++i) {
     const bool caster = trial.is_caster[i];
@@ -290,7 +308,7 @@ Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
     m.any_radius = m.any_radius || m.radius[i] > 0.0;
     const double period = caster ? fx.caster_tyre_period : fx.drive_tyre_period;
     if (fx.member.tyre == TyreLaw::kMassless) {
-      compliance[i] = std::max(0.0, caster ? fx.caster_tyre_compliance : fx.drive_tyre_compliance);
+      compliance[i] = std::max(0.0, tyre_compliance[i]);
       m.tyre[i] = compliance[i] > 0.0 ? (caster ? 1 : 2) : 0;
       m.k_tyre[i] = m.tyre[i] != 0 ? 1.0 / compliance[i] : 0.0;
       m.c_tyre[i] = std::max(0.0, fx.tyre_time_constant) * m.k_tyre[i];
@@ -299,7 +317,7 @@ Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
       m.tyre[i] = period > 1e-6 ? (caster ? 1 : 2) : 0;
       const double omega = m.tyre[i] != 0 ? 2.0 * std::numbers::pi / period : 0.0;
       if (m.tyre[i] != 0)
-        compliance[i] = std::max(0.0, caster ? fx.caster_tyre_compliance : fx.drive_tyre_compliance);
+        compliance[i] = std::max(0.0, tyre_compliance[i]);
       m.inv_unsprung[i] = omega * omega * compliance[i];
     }
     m.any_tyre = m.any_tyre || m.tyre[i] != 0;

@@ -112,6 +112,10 @@ struct EffectParams {
   double caster_tyre_compliance{0.0};  ///< c_t [m/N] per caster (0 = reaction neglected)
   double drive_tyre_compliance{0.0};   ///< c_t [m/N] per drive wheel
   double tyre_time_constant{0.005};    ///< τ_t [s] of the massless tyres' dampers
+  // The casters behind O_V (x_i < 0: anti-tip or rear casters, often smaller wheels on other
+  // tyres than the front ones) have the compliance ρ c_t of the front casters' c_t
+  // (TyreCompliances).
+  double rear_caster_compliance_ratio{1.0};  ///< ρ [-]
   // cushion_compliance: the obstacle height falls with the load on it, W = the static wheel
   // load α_i M g (per wheel) or the whole chair's weight M g (member.cushion_load), by a power
   // law the data choose:
@@ -211,6 +215,11 @@ std::vector<bool> CasterWheels(const Chair& chair);
 
 /// One value per wheel (the first `wheels` used).
 using WheelArray = std::array<double, kMaxWheels>;
+
+/// Each wheel's tyre compliance c_t [m/N]: the drive wheels' c_t; the casters' c_t, and ρ c_t
+/// (EffectParams::rear_caster_compliance_ratio) for the casters behind O_V where there are
+/// casters in front of it too (with casters on one side only, ρ would only rescale c_t).
+WheelArray TyreCompliances(const EffectParams& fx, const PreparedTrial& trial);
 
 /// Weighted least-squares plane through the wheel heights u_i at x_i, weights w_i:
 /// [Σw Σwx; Σwx Σwx²] [Z; θ] = [Σ w u; Σ w x u], written Z = Σ z_i u_i, θ = Σ pitch_i u_i. The

@@ -269,16 +269,18 @@ TEST(EffectFamilyTest, MembersStartWithinBoundsAndHoldWhatTheySay) {
   }
   const effects::EffectFamily& tyre = effects::Family(EffectId::kTyreCompliance);
   ASSERT_EQ(tyre.members.size(), 3u);
-  EXPECT_EQ(tyre.members[0].held, (std::vector<std::size_t>{3, 4, 5}));
+  EXPECT_EQ(tyre.members[0].held, (std::vector<std::size_t>{3, 4, 5, 6}));
+  EXPECT_EQ(tyre.members[1].held, (std::vector<std::size_t>{5, 6}));  // one c_t for every caster
   EXPECT_EQ(tyre.members[0].starts.size(), 6u);  // 3 caster x 2 drive periods x 1 damping
   for (const auto& s : tyre.members[0].starts) EXPECT_TRUE(s[3] == 0.0 && s[4] == 0.0);
   EXPECT_EQ(tyre.members[1].starts.size(), 6u * 8u);  // the 9 compliance pairs but (0, 0)
   for (const auto& s : tyre.members[1].starts) EXPECT_TRUE(s[3] > 0.0 || s[4] > 0.0);
-  // Massless: the periods and ζ held (unused), the 8 compliance pairs x 2 time constants.
+  // Massless: the periods and ζ held (unused), the 8 compliance pairs x 2 time constants; the
+  // rear casters' ratio fitted from 1 (the front casters' compliance).
   EXPECT_EQ(tyre.members[2].setting.tyre, effects::TyreLaw::kMassless);
   EXPECT_EQ(tyre.members[2].held, (std::vector<std::size_t>{0, 1, 2}));
   EXPECT_EQ(tyre.members[2].starts.size(), 8u * 2u);
-  for (const auto& s : tyre.members[2].starts) EXPECT_TRUE(s[3] > 0.0 || s[4] > 0.0);
+  for (const auto& s : tyre.members[2].starts) EXPECT_TRUE((s[3] > 0.0 || s[4] > 0.0) && s[6] == 1.0);
   const effects::EffectFamily& stops = effects::Family(EffectId::kNonlinearStiffness);
   ASSERT_EQ(stops.members.size(), 3u);
   for (std::size_t m = 1; m < 3; ++m)
