@@ -112,7 +112,9 @@ TEST(EffectModelVsTruthTest, MasslessTyresFollowTheTruthsHubBalanceWithTheRearCa
     EXPECT_LT(ours.pitch_rad, 2e-3) << speed;
     EXPECT_GT(rigid.z_m, 5.0 * ours.z_m) << speed;  // the tyres matter: the test can tell
     EXPECT_GT(rigid.pitch_rad, 5.0 * ours.pitch_rad) << speed;
-    if (speed > 1.0) EXPECT_GT(shared.z_m, 5.0 * ours.z_m) << speed;  // mm: a fit would see it
+    if (speed > 1.0) {
+      EXPECT_GT(shared.z_m, 5.0 * ours.z_m) << speed;  // mm: a fit would see it
+    }
   }
 }
 
