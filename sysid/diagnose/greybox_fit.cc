@@ -212,10 +212,10 @@ class TrialCost : public ceres::CostFunction {
 /// LM log multipliers (u[0..3]) for a tyre start. The start's LM is the base model's, or that
 /// of the causes found before (a joint fit), which saw tyres and suspension in series alike:
 /// the suspension is started stiffer so that with the start's tyres in series it keeps the
-/// stiffness the data showed. Tyre j under wheel share
-/// a_j (heave) and pitch share p_j (the GM's plane) adds compliance c_j a_j² to heave and
-/// c_j p_j² to pitch: 1/K_s = 1/K - Σ c_j a_j², 1/K_θs = 1/K_θ - Σ c_j p_j²; the dampers are
-/// raised in the same ratio. Unchanged where the tyres alone are softer than the start.
+/// stiffness the data showed. Tyre j under wheel share a_j (heave) and pitch share p_j (the
+/// GM's plane) adds compliance c_j a_j² to heave and c_j p_j² to pitch: 1/K_s = 1/K - Σ c_j a_j²,
+/// 1/K_θs = 1/K_θ - Σ c_j p_j²; the dampers are raised in the same ratio. Unchanged where the
+/// tyres alone are softer than the start.
 std::vector<double> SeriesStiffnessStart(const effects::PreparedTrial& trial, const Mapper& map,
                                          const std::vector<double>& u) {
   const effects::ExtendedParams p = map.Params(u.data());

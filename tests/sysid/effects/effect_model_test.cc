@@ -255,6 +255,26 @@ TEST(EffectModelTest, CompliantTyresKeepTheStaticResponseTheGmSaw) {
   EXPECT_GT(MaxAbsDiff(fa.z, fb.z), 0.05 * rise);
 }
 
+TEST(EffectModelTest, RearCastersTakeTheirRatioOnlyWhereCastersStandOnBothSides) {
+  // ρ scales the casters behind O_V where there are casters in front too; with casters on one
+  // side only it would merely rescale c_t, and is not applied.
+  PreparedTrial trial;
+  trial.chair.wheels = {{"front_caster", 0.4, 0.1}, {"drive", 0.0, 0.16}, {"rear_caster", -0.3, 0.08}};
+  trial.is_caster = {true, false, true};
+  EffectParams fx;
+  fx.caster_tyre_compliance = 4e-5;
+  fx.drive_tyre_compliance = 1e-5;
+  fx.rear_caster_compliance_ratio = 1.5;
+  const WheelArray both = TyreCompliances(fx, trial);
+  EXPECT_EQ(both[0], 4e-5);
+  EXPECT_EQ(both[1], 1e-5);
+  EXPECT_DOUBLE_EQ(both[2], 6e-5);
+  trial.chair.wheels[0].x = -0.5;  // a front-wheel-drive-like layout: every caster behind O_V
+  const WheelArray behind = TyreCompliances(fx, trial);
+  EXPECT_EQ(behind[0], 4e-5);
+  EXPECT_EQ(behind[2], 4e-5);
+}
+
 TEST(EffectModelTest, MasslessTyresKeepTheStaticResponseAndFadeAsTheyStiffen) {
   // Massless tyres in series: each hub balances k_t (h - u) + τ_t k_t (ḣ - u̇) against its
   // suspension's reaction, solved implicitly. Crawling (quasi-static), the chassis follows the
