@@ -52,6 +52,21 @@ DofLimits ParseDof(YamlMap& map, Dof dof) {
 
 }  // namespace
 
+Mechanism MechanismFromAxisBoxes(const std::array<DofLimits, kDofCount>& dofs, double pivot_height_m) {
+  std::vector<Actuator> actuators;
+  for (Dof dof : kAllDofs) {
+    const DofLimits& box = dofs[static_cast<std::size_t>(Index(dof))];
+    if (!box.present) continue;
+    Actuator a;
+    a.name = std::string(DofName(dof));
+    a.kind = IsRotational(dof) ? ActuatorKind::kRotary : ActuatorKind::kRail;
+    a.dof = dof;
+    a.limits = {.min = -box.travel, .max = box.travel, .speed = box.speed, .accel = box.accel, .force = kUnlimited};
+    actuators.push_back(std::move(a));
+  }
+  return Mechanism(pivot_height_m, std::move(actuators), DofMask{});
+}
+
 std::string_view DofName(Dof dof) {
   switch (dof) {
     case Dof::kSurge: return "surge";
@@ -92,6 +107,7 @@ PlatformSpec MakePw4DofPlatform() {
   p.dofs[Index(Dof::kPitch)] = RotationDeg(15.0, 40.0, 300.0);
   p.dofs[Index(Dof::kYaw)] = RotationDeg(25.0, 40.0, 300.0);
   p.head_from_pivot = {0.05, 0.0, 0.95};
+  p.mechanism = MechanismFromAxisBoxes(p.dofs);
   return p;
 }
 
@@ -107,6 +123,7 @@ PlatformSpec MakeCar2DofPlatform() {
   yaw.steady_accel = 3.971 * kDegToRad;
   p.dofs[Index(Dof::kYaw)] = yaw;
   p.head_from_pivot = {0.0, 0.0, 0.8};
+  p.mechanism = MechanismFromAxisBoxes(p.dofs);
   return p;
 }
 
@@ -131,6 +148,7 @@ PlatformSpec ParsePlatform(YamlMap& map) {
   if (const std::string problem = p.Validate(); !problem.empty()) {
     map.Fail("dofs", "a consistent platform (" + problem + ")", "an inconsistent one");
   }
+  p.mechanism = MechanismFromAxisBoxes(p.dofs);
   return p;
 }
 

@@ -16,6 +16,7 @@
 
 #include "engine/yaml_reader.h"
 #include "mca/dof.h"
+#include "mca/mechanism.h"
 
 namespace pwsim::mca {
 
@@ -44,12 +45,20 @@ struct PlatformSpec {
   std::array<DofLimits, kDofCount> dofs{};
   /// p_PH: the occupant's head from the centre of rotation, in the platform frame at neutral [m].
   std::array<double, 3> head_from_pivot{0.0, 0.0, 1.0};
+  /// The actuators (mca/mechanism.h): from the file's `actuators:` list, or, for a file with axis
+  /// boxes only, one rail per present translation and one rotary stage per present rotation
+  /// (MechanismFromAxisBoxes). Always valid for a spec from ReadPlatformFile / Make*Platform.
+  Mechanism mechanism;
 
   bool Has(Dof dof) const { return dofs[static_cast<std::size_t>(Index(dof))].present; }
   const DofLimits& limits(Dof dof) const { return dofs[static_cast<std::size_t>(Index(dof))]; }
   /// Empty when consistent, else which field is wrong and why.
   std::string Validate() const;
 };
+
+/// One rail per present translation and one rotary stage per present rotation, each with the
+/// box's travel as stroke (a free axis: ±inf), its speed and peak acceleration; force +inf.
+Mechanism MechanismFromAxisBoxes(const std::array<DofLimits, kDofCount>& dofs, double pivot_height_m = 0.0);
 
 /// The 4-DoF PW simulator platform of seed 000 (heave, pitch, roll, yaw); the paper gives no
 /// limits, so these are the defaults documented in scenes/platforms/pw4dof.yaml.
