@@ -2,6 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <optional>
+#include <tuple>
+#include <vector>
 
 #include "engine/check.h"
 #include "engine/input_error.h"
@@ -50,9 +54,192 @@ DofLimits ParseDof(YamlMap& map, Dof dof) {
   return limits;
 }
 
+std::optional<Dof> DofFromName(const std::string& name) {
+  for (Dof dof : kAllDofs) {
+    if (DofName(dof) == name) return dof;
+  }
+  return std::nullopt;
+}
+
+/// Six significant digits (a figure in a message, not a round trip).
+std::string Short(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.6g", value);
+  return buffer;
+}
+
+std::string Pair(double a, double b, const char* unit) { return "[" + Short(a) + ", " + Short(b) + "] " + unit; }
+
+/// One entry of `actuators:`, with where it came from (for errors found after parsing).
+struct ParsedActuator {
+  Actuator actuator;
+  int line{0};
+  std::string field;
+  std::string stroke_key;
+};
+
+ParsedActuator ParseActuator(const YAML::Node& node, const std::filesystem::path& file, const std::string& field,
+                             int parent_line) {
+  YamlMap e(node, file, field, parent_line);
+  ParsedActuator parsed;
+  parsed.line = e.line();
+  parsed.field = field;
+  Actuator& a = parsed.actuator;
+  a.name = e.String("name");
+  const std::string kind = e.Choice("kind", {"leg", "rail", "rotary"});
+  a.kind = kind == "leg" ? ActuatorKind::kLeg : kind == "rail" ? ActuatorKind::kRail : ActuatorKind::kRotary;
+  const bool rotary = a.kind == ActuatorKind::kRotary;
+  if (a.kind == ActuatorKind::kLeg) {
+    const std::vector<double> base = e.Numbers("base_m", Range::Closed(-10.0, 10.0, "m"), 3, 3);
+    const std::vector<double> plate = e.Numbers("plate_m", Range::Closed(-10.0, 10.0, "m"), 3, 3);
+    a.base_anchor = Eigen::Vector3d(base[0], base[1], base[2]);
+    a.plate_anchor = Eigen::Vector3d(plate[0], plate[1], plate[2]);
+  } else {
+    const std::string axis = rotary ? e.Choice("dof", {"roll", "pitch", "yaw"})
+                                    : e.Choice("dof", {"surge", "sway", "heave"});
+    a.dof = *DofFromName(axis);
+  }
+  // stroke: a leg's length range, a rail's position range, a stage's angle range (absent: free)
+  parsed.stroke_key = rotary ? "stroke_deg" : "stroke_m";
+  const double to_si = rotary ? kDegToRad : 1.0;
+  if (rotary && !e.Has("stroke_deg")) {
+    a.limits.min = -kUnlimited;
+    a.limits.max = kUnlimited;
+  } else {
+    const Range range = a.kind == ActuatorKind::kLeg ? Range::Positive(20.0, "m")
+                        : rotary                      ? Range::Closed(-3600.0, 3600.0, "deg")
+                                                      : Range::Closed(-20.0, 20.0, "m");
+    const std::vector<double> stroke = e.Numbers(parsed.stroke_key, range, 2, 2);
+    if (!(stroke[0] < stroke[1])) {
+      e.Fail(parsed.stroke_key, "[min, max] with min < max", Pair(stroke[0], stroke[1], rotary ? "deg" : "m"));
+    }
+    a.limits.min = to_si * stroke[0];
+    a.limits.max = to_si * stroke[1];
+  }
+  a.limits.speed = to_si * (rotary ? e.Number("speed_degps", Range::Positive(3600.0, "deg/s"))
+                                   : e.Number("speed_mps", Range::Positive(50.0, "m/s")));
+  a.limits.accel = to_si * (rotary ? e.Number("accel_degps2", Range::Positive(1e5, "deg/s^2"))
+                                   : e.Number("accel_mps2", Range::Positive(1e3, "m/s^2")));
+  a.limits.force = rotary ? e.Number("torque_Nm", Range::Positive(1e7, "N m"))
+                          : e.Number("force_N", Range::Positive(1e7, "N"));
+  e.Finish();
+  return parsed;
+}
+
+/// The mechanism keys of a platform mapping; `p.dofs` already read.
+Mechanism ParseMechanism(YamlMap& map, const PlatformSpec& p) {
+  const double pivot_height = map.NumberOr("pivot_height_m", 0.0, Range::Closed(-5.0, 5.0, "m"));
+  Payload payload;
+  if (map.Has("payload")) {
+    YamlMap load = map.Map("payload");
+    payload.mass = load.Number("mass_kg", Range::Closed(0.0, 1e5, "kg"));
+    const std::vector<double> com = load.Numbers("com_from_pivot_m", Range::Closed(-10.0, 10.0, "m"), 3, 3);
+    payload.com_from_pivot = Eigen::Vector3d(com[0], com[1], com[2]);
+    load.Finish();
+  }
+  if (!map.Has("actuators")) {
+    if (map.Has("leg_dofs")) map.Fail("leg_dofs", "leg_dofs only beside an actuators: list", "leg_dofs alone");
+    return MechanismFromAxisBoxes(p.dofs, pivot_height, payload);
+  }
+
+  const YAML::Node list = map.Sequence("actuators");
+  const std::string list_field = map.FieldName("actuators");
+  const int list_line = map.LineOfKey("actuators");
+  if (list.size() < 1 || list.size() > static_cast<std::size_t>(kMaxActuators)) {
+    throw InputError(map.file().string(), list_line, list_field,
+                     "1.." + std::to_string(kMaxActuators) + " actuators", std::to_string(list.size()));
+  }
+  std::vector<ParsedActuator> parsed;
+  DofMask stage_axes{};
+  bool any_leg = false;
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    ParsedActuator entry = ParseActuator(list[i], map.file(), list_field + "[" + std::to_string(i) + "]", list_line);
+    const Actuator& a = entry.actuator;
+    for (const ParsedActuator& before : parsed) {
+      if (before.actuator.name == a.name) {
+        throw InputError(map.file().string(), entry.line, entry.field + ".name", "a name no other actuator has",
+                         "\"" + a.name + "\" again (also " + before.field + ")");
+      }
+    }
+    if (a.kind == ActuatorKind::kLeg) {
+      any_leg = true;
+    } else {
+      if (stage_axes[static_cast<std::size_t>(Index(a.dof))]) {
+        throw InputError(map.file().string(), entry.line, entry.field + ".dof", "an axis no other stage drives",
+                         std::string(DofName(a.dof)) + " again");
+      }
+      stage_axes[static_cast<std::size_t>(Index(a.dof))] = true;
+    }
+    parsed.push_back(std::move(entry));
+  }
+
+  // the axes the legs move relative to the stages (the rest held by a passive guide)
+  DofMask leg_axes{};
+  if (map.Has("leg_dofs")) {
+    if (!any_leg) map.Fail("leg_dofs", "leg_dofs only when there are legs", "leg_dofs without a leg");
+    const YAML::Node axes = map.Sequence("leg_dofs");
+    const std::string field = map.FieldName("leg_dofs");
+    for (std::size_t i = 0; i < axes.size(); ++i) {
+      const std::string item = field + "[" + std::to_string(i) + "]";
+      const int line = LineOf(axes[i]) > 0 ? LineOf(axes[i]) : map.LineOfKey("leg_dofs");
+      const std::optional<Dof> dof = axes[i].IsScalar() ? DofFromName(axes[i].Scalar()) : std::nullopt;
+      if (!dof) {
+        throw InputError(map.file().string(), line, item, "one of surge, sway, heave, roll, pitch, yaw",
+                         axes[i].IsScalar() ? "\"" + axes[i].Scalar() + "\"" : "not a name");
+      }
+      const std::size_t k = static_cast<std::size_t>(Index(*dof));
+      if (leg_axes[k]) throw InputError(map.file().string(), line, item, "each axis once", axes[i].Scalar() + " again");
+      if (stage_axes[k]) {
+        throw InputError(map.file().string(), line, item, "an axis no stage drives (legs move the plate above the stages)",
+                         axes[i].Scalar() + ", which a stage drives");
+      }
+      leg_axes[k] = true;
+    }
+  } else if (any_leg) {
+    for (std::size_t k = 0; k < leg_axes.size(); ++k) leg_axes[k] = !stage_axes[k];
+  }
+
+  std::vector<Actuator> actuators;
+  for (const ParsedActuator& entry : parsed) actuators.push_back(entry.actuator);
+  Mechanism mechanism(pivot_height, std::move(actuators), leg_axes, payload);
+  // every stroke contains the neutral position (named at the actuator's own line)
+  ActuatorVector neutral;
+  if (!mechanism.Inverse(DofArray{}, &neutral)) {
+    map.Fail("actuators", "legs of positive length at the neutral pose", "a leg of zero length");
+  }
+  for (std::size_t i = 0; i < parsed.size(); ++i) {
+    const Actuator& a = parsed[i].actuator;
+    const double q = neutral[static_cast<Eigen::Index>(i)];
+    if (q > a.limits.min && q < a.limits.max) continue;
+    const bool rotary = a.kind == ActuatorKind::kRotary;
+    const double scale = rotary ? 1.0 / kDegToRad : 1.0;
+    const char* unit = rotary ? "deg" : "m";
+    const std::string what = a.kind == ActuatorKind::kLeg ? "the leg's neutral length " : "the neutral position ";
+    throw InputError(map.file().string(), parsed[i].line, parsed[i].field + "." + parsed[i].stroke_key,
+                     "a stroke containing " + what + Short(q * scale) + " " + unit +
+                         (a.kind == ActuatorKind::kLeg ? " (|plate anchor at pivot_height_m − base anchor|)" : ""),
+                     Pair(a.limits.min * scale, a.limits.max * scale, unit));
+  }
+  if (const std::string problem = mechanism.Validate(); !problem.empty()) {
+    map.Fail("actuators", "a consistent mechanism", problem);
+  }
+  // the axis boxes and the mechanism agree on which axes exist
+  for (Dof dof : kAllDofs) {
+    const std::string axis(DofName(dof));
+    if (p.Has(dof) && !mechanism.Moves(dof)) {
+      map.Fail("dofs", "boxes only on axes the actuators move", axis + " has a box but no actuator moves it");
+    }
+    if (!p.Has(dof) && mechanism.Moves(dof)) {
+      map.Fail("dofs", "a box on every axis the actuators move", "the actuators move " + axis + " but dofs: has no " + axis);
+    }
+  }
+  return mechanism;
+}
+
 }  // namespace
 
-Mechanism MechanismFromAxisBoxes(const std::array<DofLimits, kDofCount>& dofs, double pivot_height_m) {
+Mechanism MechanismFromAxisBoxes(const std::array<DofLimits, kDofCount>& dofs, double pivot_height_m,
+                                 Payload payload) {
   std::vector<Actuator> actuators;
   for (Dof dof : kAllDofs) {
     const DofLimits& box = dofs[static_cast<std::size_t>(Index(dof))];
@@ -64,7 +251,7 @@ Mechanism MechanismFromAxisBoxes(const std::array<DofLimits, kDofCount>& dofs, d
     a.limits = {.min = -box.travel, .max = box.travel, .speed = box.speed, .accel = box.accel, .force = kUnlimited};
     actuators.push_back(std::move(a));
   }
-  return Mechanism(pivot_height_m, std::move(actuators), DofMask{});
+  return Mechanism(pivot_height_m, std::move(actuators), DofMask{}, payload);
 }
 
 std::string_view DofName(Dof dof) {
@@ -107,7 +294,29 @@ PlatformSpec MakePw4DofPlatform() {
   p.dofs[Index(Dof::kPitch)] = RotationDeg(15.0, 40.0, 300.0);
   p.dofs[Index(Dof::kYaw)] = RotationDeg(25.0, 40.0, 300.0);
   p.head_from_pivot = {0.05, 0.0, 0.95};
-  p.mechanism = MechanismFromAxisBoxes(p.dofs);
+  // the mechanism of scenes/platforms/pw4dof.yaml (every number assumed, docs/platforms.md)
+  std::vector<Actuator> actuators;
+  Actuator yaw;
+  yaw.name = "yaw";
+  yaw.kind = ActuatorKind::kRotary;
+  yaw.dof = Dof::kYaw;
+  yaw.limits = {.min = -28.0 * kDegToRad, .max = 28.0 * kDegToRad, .speed = 45.0 * kDegToRad,
+                .accel = 320.0 * kDegToRad, .force = 400.0};
+  actuators.push_back(yaw);
+  for (const auto& [name, x, y] : {std::tuple{"leg_front_left", 1.0, 1.0}, std::tuple{"leg_front_right", 1.0, -1.0},
+                                   std::tuple{"leg_rear_left", -1.0, 1.0}, std::tuple{"leg_rear_right", -1.0, -1.0}}) {
+    Actuator leg;
+    leg.name = name;
+    leg.kind = ActuatorKind::kLeg;
+    leg.base_anchor = Eigen::Vector3d(0.32 * x, 0.27 * y, 0.05);
+    leg.plate_anchor = Eigen::Vector3d(0.30 * x, 0.25 * y, -0.05);
+    leg.limits = {.min = 0.37, .max = 0.63, .speed = 0.45, .accel = 10.0, .force = 2000.0};
+    actuators.push_back(leg);
+  }
+  DofMask legs{};
+  legs[Index(Dof::kHeave)] = legs[Index(Dof::kRoll)] = legs[Index(Dof::kPitch)] = true;
+  p.mechanism = Mechanism(0.60, std::move(actuators), legs,
+                          Payload{.mass = 180.0, .com_from_pivot = Eigen::Vector3d(0.0, 0.0, 0.45)});
   return p;
 }
 
@@ -123,7 +332,19 @@ PlatformSpec MakeCar2DofPlatform() {
   yaw.steady_accel = 3.971 * kDegToRad;
   p.dofs[Index(Dof::kYaw)] = yaw;
   p.head_from_pivot = {0.0, 0.0, 0.8};
-  p.mechanism = MechanismFromAxisBoxes(p.dofs);
+  // the mechanism of scenes/platforms/car2dof.yaml: the rail on the turntable
+  Actuator rail_stage;
+  rail_stage.name = "rail";
+  rail_stage.kind = ActuatorKind::kRail;
+  rail_stage.dof = Dof::kSurge;
+  rail_stage.limits = {.min = -0.6, .max = 0.6, .speed = 2.45, .accel = rail.accel, .force = 5161.0};
+  Actuator yaw_stage;
+  yaw_stage.name = "yaw";
+  yaw_stage.kind = ActuatorKind::kRotary;
+  yaw_stage.dof = Dof::kYaw;
+  yaw_stage.limits = {.min = -kUnlimited, .max = kUnlimited, .speed = yaw.speed, .accel = yaw.accel, .force = 1252.8};
+  p.mechanism = Mechanism(0.5, {rail_stage, yaw_stage}, DofMask{},
+                          Payload{.mass = 430.0, .com_from_pivot = Eigen::Vector3d(0.0, 0.0, 0.3)});
   return p;
 }
 
@@ -148,7 +369,7 @@ PlatformSpec ParsePlatform(YamlMap& map) {
   if (const std::string problem = p.Validate(); !problem.empty()) {
     map.Fail("dofs", "a consistent platform (" + problem + ")", "an inconsistent one");
   }
-  p.mechanism = MechanismFromAxisBoxes(p.dofs);
+  p.mechanism = ParseMechanism(map, p);
   return p;
 }
 

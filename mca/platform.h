@@ -58,7 +58,8 @@ struct PlatformSpec {
 
 /// One rail per present translation and one rotary stage per present rotation, each with the
 /// box's travel as stroke (a free axis: ±inf), its speed and peak acceleration; force +inf.
-Mechanism MechanismFromAxisBoxes(const std::array<DofLimits, kDofCount>& dofs, double pivot_height_m = 0.0);
+Mechanism MechanismFromAxisBoxes(const std::array<DofLimits, kDofCount>& dofs, double pivot_height_m = 0.0,
+                                 Payload payload = {});
 
 /// The 4-DoF PW simulator platform of seed 000 (heave, pitch, roll, yaw); the paper gives no
 /// limits, so these are the defaults documented in scenes/platforms/pw4dof.yaml.
@@ -67,7 +68,11 @@ PlatformSpec MakePw4DofPlatform();
 /// yaw unlimited travel, 29.075 deg/s, 58.151 deg/s² peak, 3.971 deg/s² steady.
 PlatformSpec MakeCar2DofPlatform();
 
-/// Reads the fields of a platform (everything but `format`) from an open mapping.
+/// Reads the fields of a platform (everything but `format`) from an open mapping: the axis boxes
+/// (`dofs:`) and, optionally, the mechanism (`pivot_height_m`, `payload`, `leg_dofs`,
+/// `actuators:`; docs/platforms.md). With actuators, the axes they move must be exactly the
+/// boxes' axes, every stroke must contain the actuator's neutral position and the mechanism must
+/// move every axis independently at neutral; each violation names the line and field.
 PlatformSpec ParsePlatform(YamlMap& map);
 /// Reads a `pwsim-platform/1` file. @throws InputError.
 PlatformSpec ReadPlatformFile(const std::filesystem::path& file);
