@@ -14,7 +14,10 @@ build: deps
 	cmake -S . -B $(BUILD_DIR) $(CMAKE_FLAGS)
 	cmake --build $(BUILD_DIR) -j $(JOBS)
 
-demo: build
+# demo builds only the pwsim command (tests and benchmarks are built by `make test` / `make bench`)
+demo: deps
+	cmake -S . -B $(BUILD_DIR) $(CMAKE_FLAGS)
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target pwsim
 	./$(BUILD_DIR)/pwsim run --out out/demo
 
 test: build
