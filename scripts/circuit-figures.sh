@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The circuit figures of README.md and docs/render.md, made through pwsim itself: each shipped
+# The circuit figures of docs/measurements.md and docs/render.md, made through pwsim itself: each shipped
 # circuit (scenes/circuit_*.yaml) driven to its end by `pwsim run` with video; its top view and
 # summary.json go to docs/images/circuit/, and for circuit_course also one frame of the
 # occupant's view, the lateral MCA figure and the caster/wheel-load figure. Data: same-model simulation of the shipped scenes (no measured drive).

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates the MCA and render figures of README.md and docs/ (mca.md, render.md) with the
+# Regenerates the MCA and render figures of docs/measurements.md and docs/ (mca.md, render.md) with the
 # built pwsim. Data: the default scene (simulated, scenes/speed_cushion.yaml), the OMCT of both
 # shipped platforms (simulated test signals), and mca-validate on trials generated in-process by
 # synth/ (the same chair model as the MCA's model input: a consistency check, not real data).

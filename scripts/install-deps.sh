@@ -8,7 +8,7 @@ packages=(
   libgtest-dev libgmock-dev googletest libbenchmark-dev
   python3 python3-numpy python3-scipy python3-yaml
   can-utils iproute2 clang libclang-rt-14-dev
-  gnuplot-nox libmatio-dev r-base-core r-cran-sandwich libsdl2-dev stress-ng libboost-dev libalglib-dev
+  gnuplot-nox libmatio-dev r-base-core r-cran-sandwich libsdl2-dev stress-ng libboost-dev libalglib-dev libsodium-dev r-cran-quadprog
   slurmctld slurmd slurm-client munge
 )
 missing=()

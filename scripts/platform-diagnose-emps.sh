@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The EMPS diagnosis figures of README.md and docs/platform.md (real data, DATA_EMPS.mat):
+# The EMPS diagnosis figures of docs/measurements.md and docs/platform.md (real data, DATA_EMPS.mat):
 # `pwsim platform diagnose` with its default three-way split (blocks of 1 s: training fits,
 # selection decides, report rows only report), printed as Markdown.
 # usage: scripts/platform-diagnose-emps.sh [BUILD_DIR]   (PWSIM_EMPS_DIR or ../shared/data/emps)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Runs every benchmark of a build folder and prints the figures quoted in README.md:
+# Runs every benchmark of a build folder and prints the figures quoted in docs/measurements.md:
 # the Google Benchmark targets, the identification benchmark against scipy, and the time to
 # diagnose 30 trials (the full confusion matrix is scripts/confusion-matrix.sh).
 set -euo pipefail
