@@ -1,14 +1,22 @@
 // pwsim platform identify|diagnose|frequency-response: identification, diagnosis and frequency
-// response of platform axes from recordings (shared/spec/platform-data.md). Wiring only: the
-// methods are in sysid/platform/, the reports in report/platform_report.*.
+// response of platform axes from recordings (shared/spec/platform-data.md); describe: a platform
+// file's mechanism (mca/mechanism.h). Wiring only: the methods are in sysid/platform/ and
+// mca/platform.*, the reports in report/platform_report.*.
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <Eigen/Geometry>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
 #include "app/commands.h"
+#include "engine/number_format.h"
+#include "mca/platform.h"
 #include "report/platform_report.h"
 #include "sysid/platform/axis_diagnose.h"
 #include "sysid/platform/axis_recording.h"
@@ -62,15 +70,124 @@ sp::AxisDiagnoseOptions DiagnoseFromArgs(const ParsedArgs& args) {
   return o;
 }
 
+/// `pwsim platform describe FILE [--pose ...] [--margin F] [--out DIR]`: the mechanism of a
+/// platform file (mca::DescribePlatform), a pose checked against it, and drawing data.
+int Describe(const ParsedArgs& args, const std::vector<std::string>& files) {
+  if (files.size() != 1) throw UsageError("describe: expected one platform FILE (pwsim-platform/1)");
+  const mca::PlatformSpec p = mca::ReadPlatformFile(files[0]);
+  const mca::Mechanism& m = p.mechanism;
+  const double margin = args.GetDouble("margin", 0.0, 0.45);
+  std::cout << mca::DescribePlatform(p, margin);
+  mca::DofArray pose{};
+  if (args.Has("pose")) {
+    std::vector<double> values;
+    for (const std::string& item : SplitList(args.Get("pose"))) {
+      const std::optional<double> v = ParseFiniteNumber(item);
+      if (!v) throw UsageError("option --pose: expected 6 numbers, got '" + item + "'");
+      values.push_back(*v);
+    }
+    if (values.size() != 6) {
+      throw UsageError("option --pose: expected 6 comma-separated numbers SURGE_M,SWAY_M,HEAVE_M,ROLL_DEG,PITCH_DEG,YAW_DEG");
+    }
+    for (int k = 0; k < 6; ++k) pose[static_cast<std::size_t>(k)] = values[static_cast<std::size_t>(k)] * (k >= 3 ? mca::kDegToRad : 1.0);
+    const std::string why = m.Reachability(pose, margin);
+    if (!why.empty()) {
+      throw std::runtime_error("pose " + args.Get("pose") + " (m, m, m, deg, deg, deg) is not reachable on " + p.name +
+                               " with a " + std::to_string(static_cast<int>(100.0 * margin + 0.5)) + " % stroke margin: " + why);
+    }
+    mca::ActuatorVector q, use, f;
+    m.Inverse(pose, &q);
+    m.StrokeUse(q, &use);
+    const bool forces = m.ActuatorForces(pose, m.PayloadWrench(pose), &f);
+    std::cout << "pose " << args.Get("pose") << " (m, m, m, deg, deg, deg): reachable\n";
+    char line[160];
+    for (int i = 0; i < m.actuator_count(); ++i) {
+      const bool rotary = m.actuator(i).kind == mca::ActuatorKind::kRotary;
+      std::snprintf(line, sizeof line, "  %-17s %9.4f %-3s  stroke use %5.1f %%", m.actuator(i).name.c_str(),
+                    q[i] * (rotary ? 1.0 / mca::kDegToRad : 1.0), rotary ? "deg" : "m", 100.0 * use[i]);
+      std::cout << line;
+      if (forces) {
+        std::snprintf(line, sizeof line, "  static force %8.1f %s", std::abs(f[i]) < 0.05 ? 0.0 : f[i], rotary ? "N m" : "N");
+        std::cout << line;
+      }
+      std::cout << "\n";
+    }
+  }
+  if (!args.Has("out")) return 0;
+  // drawing data (scripts/platform-drawings.sh): one gnuplot block per item
+  const std::filesystem::path out = args.Get("out");
+  std::filesystem::create_directories(out);
+  const std::filesystem::path geometry = out / ("platform_" + p.name + "_geometry.dat");
+  std::ofstream g(geometry);
+  g << "# " << p.name << ": actuators in B [m], block 0 at neutral, block 1 at --pose\n";
+  for (const mca::DofArray& x : {mca::DofArray{}, pose}) {
+    for (int i = 0; i < m.actuator_count(); ++i) {
+      const mca::Actuator& a = m.actuator(i);
+      Eigen::Vector3d base, plate;
+      if (m.LegEndpoints(i, x, &base, &plate)) {
+        g << base.x() << " " << base.y() << " " << base.z() << " " << i << "\n"
+          << plate.x() << " " << plate.y() << " " << plate.z() << " " << i << "\n\n";
+      } else if (a.kind == mca::ActuatorKind::kRail) {  // the rail's whole stroke, in the yawed frame
+        const double yaw = x[static_cast<std::size_t>(mca::Index(mca::Dof::kYaw))];
+        const Eigen::Vector3d axis = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+                                     Eigen::Vector3d::Unit(mca::Index(a.dof));
+        for (double end : {a.limits.min, a.limits.max}) {
+          const Eigen::Vector3d e = end * axis;
+          g << e.x() << " " << e.y() << " " << e.z() << " " << i << "\n";
+        }
+        g << "\n";
+      }
+    }
+    // the pivot and the head (head_from_pivot turned with the plate)
+    Eigen::Isometry3d plate_frame = Eigen::Isometry3d::Identity();
+    plate_frame.rotate(Eigen::AngleAxisd(x[5], Eigen::Vector3d::UnitZ()));
+    plate_frame.translate(Eigen::Vector3d(x[0], x[1], m.pivot_height() + x[2]));
+    plate_frame.rotate(Eigen::AngleAxisd(-x[4], Eigen::Vector3d::UnitY()));
+    plate_frame.rotate(Eigen::AngleAxisd(x[3], Eigen::Vector3d::UnitX()));
+    const Eigen::Vector3d head = plate_frame * Eigen::Vector3d(p.head_from_pivot[0], p.head_from_pivot[1], p.head_from_pivot[2]);
+    const Eigen::Vector3d pivot = plate_frame.translation();
+    g << pivot.x() << " " << pivot.y() << " " << pivot.z() << " -1\n"
+      << head.x() << " " << head.y() << " " << head.z() << " -1\n\n\n";
+  }
+  std::cout << "pwsim platform describe: wrote " << geometry.string() << "\n";
+  if (m.Moves(mca::Dof::kRoll) && m.Moves(mca::Dof::kPitch) && p.Has(mca::Dof::kRoll) && p.Has(mca::Dof::kPitch)) {
+    const std::filesystem::path slice = out / ("platform_" + p.name + "_slice.dat");
+    std::ofstream w(slice);
+    w << "# " << p.name << ": roll [deg], pitch [deg], reachable with a " << 100.0 * margin
+      << " % margin (0/1), largest stroke use; one block per heave [m]\n";
+    const double heave_travel = p.Has(mca::Dof::kHeave) ? p.limits(mca::Dof::kHeave).travel : 0.0;
+    for (double heave : {0.0, 0.5 * heave_travel, -0.5 * heave_travel}) {
+      mca::DofArray base{};
+      base[static_cast<std::size_t>(mca::Index(mca::Dof::kHeave))] = heave;
+      w << "# heave " << heave << "\n";
+      int row = 0;
+      for (const mca::WorkspacePoint& pt : mca::WorkspaceSlice(p, mca::Dof::kRoll, mca::Dof::kPitch, base, 1.5, 121, margin)) {
+        w << pt.pose[3] / mca::kDegToRad << " " << pt.pose[4] / mca::kDegToRad << " " << (pt.reachable ? 1 : 0) << " "
+          << pt.stroke_use << "\n";
+        if (++row % 121 == 0) w << "\n";
+      }
+      w << "\n";
+    }
+    std::cout << "pwsim platform describe: wrote " << slice.string() << "\n";
+  }
+  return 0;
+}
+
 }  // namespace
 
 const CommandSpec& PlatformSpec() {
   static const CommandSpec spec{
       "platform",
-      "pwsim platform identify|diagnose|frequency-response RECORDING... --out DIR [options]",
-      "Identify, diagnose or measure the frequency response of platform axes from recordings.",
+      "pwsim platform identify|diagnose|frequency-response RECORDING... --out DIR [options]\n"
+      "       pwsim platform describe PLATFORM.yaml [--pose S,W,H,R,P,Y] [--margin F] [--out DIR]",
+      "Identify, diagnose or measure the frequency response of platform axes from recordings; "
+      "describe a platform file's mechanism (actuators, workspace, leg forces) and check a pose.",
       {
-          {"out", "DIR", "-", "", "output folder (required)"},
+          {"out", "DIR", "-", "", "output folder (required; describe: optional, drawing data)"},
+          {"pose", "S,W,H,R,P,Y", "m,deg", "",
+           "describe: a pose to check (surge, sway, heave m; roll, pitch, yaw deg): refused with the "
+           "actuator and its numbers when unreachable"},
+          {"margin", "F", "-", "0.05", "describe: stroke margin, share of each stroke kept free at both ends"},
           {"validate", "FILE[,FILE...]", "-", "",
            "recordings held out for the cross-test / diagnosis (comma-separated)"},
           {"model", "NAME", "-", "",
@@ -92,16 +209,17 @@ const CommandSpec& PlatformSpec() {
            "that ends in fast motion)"},
       },
       "identify|diagnose|frequency-response, then recordings: pwsim-axis-trial/1 .yaml files "
-      "or EMPS .mat files"};
+      "or EMPS .mat files; or describe, then one platform file"};
   return spec;
 }
 
 int PlatformCommand(const ParsedArgs& args) {
   const auto& pos = args.positional();
   if (pos.empty())
-    throw UsageError("expected a sub-command: identify, diagnose or frequency-response");
+    throw UsageError("expected a sub-command: identify, diagnose, frequency-response or describe");
   const std::string verb = pos[0];
   const std::vector<std::string> files(pos.begin() + 1, pos.end());
+  if (verb == "describe") return Describe(args, files);
   if (files.empty()) throw UsageError(verb + ": expected at least one RECORDING");
   if (args.Get("out").empty()) throw UsageError("option --out DIR is required");
   const std::filesystem::path out = args.Get("out");
@@ -161,7 +279,7 @@ int PlatformCommand(const ParsedArgs& args) {
     return 0;
   }
   throw UsageError("unknown sub-command '" + verb +
-                              "' (expected identify, diagnose or frequency-response)");
+                              "' (expected identify, diagnose, frequency-response or describe)");
 }
 
 }  // namespace pwsim::app

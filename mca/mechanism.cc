@@ -86,6 +86,10 @@ Mechanism::Mechanism(double pivot_height_m, std::vector<Actuator> actuators, Dof
   bool any_leg = false;
   for (const Actuator& a : actuators_) any_leg = any_leg || a.kind == ActuatorKind::kLeg;
   if (!any_leg) leg_axes_ = DofMask{};
+  if (actuators_.size() <= static_cast<std::size_t>(kMaxActuators)) {
+    neutral_.setZero(actuator_count());
+    Inverse(DofArray{}, &neutral_);
+  }
 }
 
 int Mechanism::actuator_count() const { return static_cast<int>(actuators_.size()); }
@@ -414,11 +418,17 @@ bool Mechanism::ActuatorForces(const DofArray& pose, const Eigen::Matrix<double,
   return true;
 }
 
-ActuatorVector Mechanism::Neutral() const {
-  ActuatorVector q(actuator_count());
-  q.setZero();
-  Inverse(DofArray{}, &q);
-  return q;
+ActuatorVector Mechanism::Neutral() const { return neutral_; }
+
+void Mechanism::StrokeUse(const ActuatorVector& q, ActuatorVector* use) const {
+  use->resize(actuator_count());
+  for (int i = 0; i < actuator_count(); ++i) {
+    const ActuatorLimits& l = actuators_[static_cast<std::size_t>(i)].limits;
+    const double q0 = neutral_.size() == actuator_count() ? neutral_[i] : 0.0;
+    const double d = q[i] - q0;
+    const double room = d >= 0.0 ? l.max - q0 : q0 - l.min;
+    (*use)[i] = std::isfinite(room) && room > 0.0 ? std::abs(d) / room : 0.0;
+  }
 }
 
 std::string Mechanism::Validate() const {

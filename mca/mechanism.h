@@ -159,6 +159,10 @@ class Mechanism {                  // value type; built from a platform file or 
   std::string Validate() const;
   /// q at the neutral pose (all zeros).
   ActuatorVector Neutral() const;
+  /// Stroke use of each actuator at positions q: (q − q₀)/(max − q₀) above neutral q₀,
+  /// (q₀ − q)/(q₀ − min) below; 0 at neutral, 1 at the end of the stroke, > 1 beyond; 0 on a
+  /// free (infinite) side. No allocation.
+  void StrokeUse(const ActuatorVector& q, ActuatorVector* use) const;
   /// Smallest singular value of J restricted to the moved axes (0 when nothing moves).
   double SmallestSingularValue(const DofArray& pose) const;
   /// Index of the actuator named `name`, −1 if none.
@@ -181,6 +185,7 @@ class Mechanism {                  // value type; built from a platform file or 
   DofMask stage_axes_{};          ///< axes a rail or rotary stage drives
   std::array<int, kDofCount> stage_of_axis_{-1, -1, -1, -1, -1, -1};
   Payload payload_;
+  ActuatorVector neutral_;        ///< q at the neutral pose (0 for a leg of zero length)
 };
 
 }  // namespace pwsim::mca

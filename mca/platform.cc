@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <optional>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "engine/check.h"
@@ -343,7 +344,8 @@ PlatformSpec MakeCar2DofPlatform() {
   yaw_stage.kind = ActuatorKind::kRotary;
   yaw_stage.dof = Dof::kYaw;
   yaw_stage.limits = {.min = -kUnlimited, .max = kUnlimited, .speed = yaw.speed, .accel = yaw.accel, .force = 1252.8};
-  p.mechanism = Mechanism(0.5, {rail_stage, yaw_stage}, DofMask{},
+  // yaw first, then the rail: the drives' nodes follow this order (node 1 = yaw, node 2 = rail)
+  p.mechanism = Mechanism(0.5, {yaw_stage, rail_stage}, DofMask{},
                           Payload{.mass = 430.0, .com_from_pivot = Eigen::Vector3d(0.0, 0.0, 0.3)});
   return p;
 }
@@ -371,6 +373,192 @@ PlatformSpec ParsePlatform(YamlMap& map) {
   }
   p.mechanism = ParseMechanism(map, p);
   return p;
+}
+
+namespace {
+
+/// A pose entry in display units: m, or deg for a rotation.
+double Display(Dof dof, double value) { return IsRotational(dof) ? value / kDegToRad : value; }
+const char* DisplayUnit(Dof dof) { return IsRotational(dof) ? "deg" : "m"; }
+
+std::string Fixed(double value, int digits) {
+  if (std::abs(value) < 0.5 * std::pow(10.0, -digits)) value = 0.0;  // no "-0.0"
+  char buffer[48];
+  std::snprintf(buffer, sizeof buffer, "%.*f", digits, value);
+  return buffer;
+}
+
+std::string Padded(std::string text, std::size_t width) {
+  if (text.size() < width) text.append(width - text.size(), ' ');
+  return text;
+}
+
+/// The largest stroke use at q and its actuator.
+std::pair<double, int> LargestUse(const Mechanism& m, const ActuatorVector& q) {
+  ActuatorVector use;
+  m.StrokeUse(q, &use);
+  int worst = -1;
+  double largest = 0.0;
+  for (int i = 0; i < m.actuator_count(); ++i) {
+    if (use[i] > largest) {
+      largest = use[i];
+      worst = i;
+    }
+  }
+  return {largest, worst};
+}
+
+std::string PoseText(const DofArray& x) {
+  std::string text;
+  for (Dof dof : kAllDofs) {
+    const double v = x[static_cast<std::size_t>(Index(dof))];
+    if (v == 0.0) continue;
+    text += (text.empty() ? "" : ", ") + std::string(DofName(dof)) + " " + (v > 0 ? "+" : "") +
+            Short(Display(dof, v)) + " " + DisplayUnit(dof);
+  }
+  return text.empty() ? "neutral" : text;
+}
+
+}  // namespace
+
+double BoxShareReachable(const PlatformSpec& p, double margin_fraction, int points_per_axis) {
+  std::vector<Dof> axes;
+  for (Dof dof : kAllDofs) {
+    if (p.Has(dof) && p.mechanism.Moves(dof) && std::isfinite(p.limits(dof).travel)) axes.push_back(dof);
+  }
+  const int n = std::max(2, points_per_axis);
+  std::vector<int> index(axes.size(), 0);
+  long total = 0, reached = 0;
+  while (true) {
+    DofArray x{};
+    for (std::size_t k = 0; k < axes.size(); ++k) {
+      const double travel = p.limits(axes[k]).travel;
+      x[static_cast<std::size_t>(Index(axes[k]))] = -travel + 2.0 * travel * index[k] / (n - 1);
+    }
+    ++total;
+    if (p.mechanism.Reachability(x, margin_fraction).empty()) ++reached;
+    std::size_t k = 0;
+    while (k < axes.size() && ++index[k] == n) index[k++] = 0;
+    if (k == axes.size()) break;
+  }
+  return static_cast<double>(reached) / static_cast<double>(total);
+}
+
+std::vector<WorkspacePoint> WorkspaceSlice(const PlatformSpec& p, Dof a, Dof b, const DofArray& base,
+                                           double extent, int points, double margin_fraction) {
+  std::vector<WorkspacePoint> out;
+  const int n = std::max(2, points);
+  const double ta = extent * p.limits(a).travel, tb = extent * p.limits(b).travel;
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      WorkspacePoint w;
+      w.pose = base;
+      w.pose[static_cast<std::size_t>(Index(a))] = -ta + 2.0 * ta * i / (n - 1);
+      w.pose[static_cast<std::size_t>(Index(b))] = -tb + 2.0 * tb * j / (n - 1);
+      w.reachable = p.mechanism.Reachability(w.pose, margin_fraction).empty();
+      ActuatorVector q;
+      if (p.mechanism.Inverse(w.pose, &q)) std::tie(w.stroke_use, w.actuator) = LargestUse(p.mechanism, q);
+      out.push_back(w);
+    }
+  }
+  return out;
+}
+
+std::string DescribePlatform(const PlatformSpec& p, double margin_fraction) {
+  const Mechanism& m = p.mechanism;
+  std::string moved;
+  for (Dof dof : kAllDofs) {
+    if (m.Moves(dof)) moved += (moved.empty() ? "" : ", ") + std::string(DofName(dof));
+  }
+  std::string out = "platform " + p.name + ": " + std::to_string(m.actuator_count()) + " actuators move " + moved +
+                    " (" + std::to_string(m.moved_axis_count()) + " axes";
+  out += m.redundancy() > 0 ? "; redundant by " + std::to_string(m.redundancy()) +
+                                  ": static forces are the minimum-norm choice)\n"
+                            : ")\n";
+  out += "pivot " + Short(m.pivot_height()) + " m above the base; payload " + Short(m.payload().mass) +
+         " kg at (" + Short(m.payload().com_from_pivot.x()) + ", " + Short(m.payload().com_from_pivot.y()) + ", " +
+         Short(m.payload().com_from_pivot.z()) + ") m from the pivot\n";
+  out += "actuators (stroke, neutral position, speed, acceleration, force limits):\n";
+  const ActuatorVector q0 = m.Neutral();
+  for (int i = 0; i < m.actuator_count(); ++i) {
+    const Actuator& a = m.actuator(i);
+    const bool rotary = a.kind == ActuatorKind::kRotary;
+    const double k = rotary ? 1.0 / kDegToRad : 1.0;
+    const std::string u = rotary ? "deg" : "m";
+    std::string drives = a.kind == ActuatorKind::kLeg ? "legs' axes" : std::string(DofName(a.dof));
+    out += "  " + Padded(a.name, 17) + Padded(ActuatorKindName(a.kind), 7) + Padded(drives, 11);
+    out += Padded(std::isfinite(a.limits.min) ? "[" + Short(a.limits.min * k) + ", " + Short(a.limits.max * k) + "] " + u
+                                              : std::string("free"),
+                  20);
+    out += Padded("neutral " + Short(q0[i] * k) + " " + u, 20);
+    out += Padded(Short(a.limits.speed * k) + " " + u + "/s", 13) + Padded(Short(a.limits.accel * k) + " " + u + "/s^2", 15);
+    out += std::isfinite(a.limits.force) ? Short(a.limits.force) + (rotary ? " N m" : " N") : std::string("force unlimited");
+    out += "\n";
+  }
+
+  out += "axis boxes one axis at a time (largest stroke use: share of the half-stroke from neutral):\n";
+  for (Dof dof : kAllDofs) {
+    if (!p.Has(dof)) continue;
+    const double travel = p.limits(dof).travel;
+    if (!std::isfinite(travel)) {
+      out += "  " + Padded(std::string(DofName(dof)), 6) + " free\n";
+      continue;
+    }
+    out += "  " + Padded(std::string(DofName(dof)), 6);
+    for (double sign : {1.0, -1.0}) {
+      DofArray x{};
+      x[static_cast<std::size_t>(Index(dof))] = sign * travel;
+      ActuatorVector q;
+      std::string cell = (sign > 0 ? "+" : "-") + Short(Display(dof, travel)) + " " + DisplayUnit(dof) + ": ";
+      if (m.Inverse(x, &q)) {
+        const auto [use, who] = LargestUse(m, q);
+        cell += Fixed(100.0 * use, 1) + " % (" + (who >= 0 ? m.actuator(who).name : std::string("-")) + ")";
+        if (!m.Reachability(x, margin_fraction).empty()) cell += " beyond the margin";
+      } else {
+        cell += "not computable";
+      }
+      out += Padded(cell, 44);
+    }
+    out += "\n";
+  }
+  std::string axes;
+  int count = 0;
+  for (Dof dof : kAllDofs) {
+    if (p.Has(dof) && m.Moves(dof) && std::isfinite(p.limits(dof).travel)) {
+      axes += (axes.empty() ? "" : " x ") + std::string(DofName(dof));
+      ++count;
+    }
+  }
+  const int points = count <= 4 ? 11 : 7;
+  out += "workspace: " + Fixed(100.0 * BoxShareReachable(p, margin_fraction, points), 1) + " % of the axis box (" +
+         axes + ", " + std::to_string(points) + " points per axis) is reachable with a " +
+         Short(100.0 * margin_fraction) + " % stroke margin\n";
+
+  if (m.payload().mass > 0.0) {
+    out += "static actuator forces holding the payload (share of the force limit):\n";
+    std::vector<DofArray> poses{DofArray{}};
+    for (Dof dof : kAllDofs) {
+      if (!m.leg_axes()[static_cast<std::size_t>(Index(dof))] || !p.Has(dof)) continue;
+      DofArray x{};
+      x[static_cast<std::size_t>(Index(dof))] = p.limits(dof).travel;
+      poses.push_back(x);
+    }
+    for (const DofArray& x : poses) {
+      ActuatorVector f;
+      out += "  " + Padded(PoseText(x) + ":", 22);
+      if (!m.ActuatorForces(x, m.PayloadWrench(x), &f)) {
+        out += " singular\n";
+        continue;
+      }
+      for (int i = 0; i < m.actuator_count(); ++i) {
+        const Actuator& a = m.actuator(i);
+        out += " " + a.name + " " + Fixed(f[i], 1) + (a.kind == ActuatorKind::kRotary ? " N m" : " N");
+        if (std::isfinite(a.limits.force)) out += " (" + Fixed(100.0 * std::abs(f[i]) / a.limits.force, 0) + " %)";
+      }
+      out += "\n";
+    }
+  }
+  return out;
 }
 
 PlatformSpec ReadPlatformFile(const std::filesystem::path& file) {

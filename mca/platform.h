@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "engine/yaml_reader.h"
 #include "mca/dof.h"
@@ -76,6 +77,29 @@ PlatformSpec MakeCar2DofPlatform();
 PlatformSpec ParsePlatform(YamlMap& map);
 /// Reads a `pwsim-platform/1` file. @throws InputError.
 PlatformSpec ReadPlatformFile(const std::filesystem::path& file);
+
+/// Share of the axis box reached by the mechanism: a regular grid of `points_per_axis` values
+/// (ends included) on every moved axis with a finite travel, the share of grid poses for which
+/// Reachability(pose, margin_fraction) is empty. 1 for an axis-box mechanism.
+double BoxShareReachable(const PlatformSpec& p, double margin_fraction, int points_per_axis);
+
+/// One pose of a workspace slice: reachable with the margin asked for, and the largest stroke
+/// use over the actuators (Mechanism::StrokeUse) with the actuator it belongs to.
+struct WorkspacePoint {
+  DofArray pose{};
+  bool reachable{false};
+  double stroke_use{0.0};
+  int actuator{-1};
+};
+/// The grid `a` × `b` (each over ±`extent`·travel of its box, `points` values, ends included)
+/// with every other axis at `base`.
+std::vector<WorkspacePoint> WorkspaceSlice(const PlatformSpec& p, Dof a, Dof b, const DofArray& base,
+                                           double extent, int points, double margin_fraction);
+
+/// A text report of the mechanism: actuators (kind, axis, stroke, neutral position, limits),
+/// the stroke use at each axis box's ends one axis at a time, the share of the box reachable
+/// with `margin_fraction`, and the static actuator forces holding the payload at a few poses.
+std::string DescribePlatform(const PlatformSpec& p, double margin_fraction);
 
 /// One axis of the command stream: the discrete pose sequence p_k and its differences.
 struct LimiterState {

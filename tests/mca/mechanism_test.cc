@@ -331,6 +331,28 @@ TEST(MechanismTest, PwLegForcesSplitTheWeight) {
   }
 }
 
+// Tests the workspace figures: stroke use in closed form for a stage (25 of 28 deg) and a leg
+// at pure heave; the PW box is not all reachable (heave, roll and pitch share the legs) while
+// an axis-box mechanism reaches its whole box.
+TEST(MechanismTest, WorkspaceShareAndStrokeUse) {
+  const PlatformSpec pw = ReadPlatformFile(kPlatforms / "pw4dof.yaml");
+  const Mechanism& m = pw.mechanism;
+  ActuatorVector q, use;
+  ASSERT_TRUE(m.Inverse({0, 0, 0.1, 0, 0, 0.4}, &q));
+  m.StrokeUse(q, &use);
+  EXPECT_NEAR(use[0], 0.4 / (28.0 * kDegToRad), 1e-12);
+  // pure heave: every leg's plate end rises by 0.1 m, length sqrt(0.02² + 0.02² + 0.6²)
+  const double neutral = std::hypot(0.02, 0.02, 0.5), up = std::hypot(0.02, 0.02, 0.6);
+  EXPECT_NEAR(use[1], (up - neutral) / (0.63 - neutral), 1e-12);
+  const double share = BoxShareReachable(pw, 0.0, 7);
+  EXPECT_GT(share, 0.1);
+  EXPECT_LT(share, 0.9);
+  EXPECT_DOUBLE_EQ(BoxShareReachable(MakeCar2DofPlatform(), 0.0, 7), 1.0);
+  const std::string text = DescribePlatform(pw, 0.05);
+  EXPECT_NE(text.find("redundant by 1"), std::string::npos) << text;
+  EXPECT_NE(text.find("leg_rear_right"), std::string::npos) << text;
+}
+
 // --- parsing ---
 
 PlatformSpec ParseText(const std::string& text) {
