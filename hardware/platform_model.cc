@@ -58,7 +58,8 @@ void PlatformPlant::ResetTarget(const std::array<double, 2>& target) {
   state_.integral = {0.0, 0.0};
 }
 
-void PlatformPlant::Advance(double duration, const std::array<double, 2>& target, bool enabled) {
+void PlatformPlant::Advance(double duration, const std::array<double, 2>& target, bool enabled,
+                            std::array<AxisEnvelope, 2>* envelope) {
   const int steps = std::max(1, static_cast<int>(std::lround(duration / substep_)));
   const double h = duration / steps;
   const std::array<double, 2> limit{params_.tau1_max, params_.tau2_max};
@@ -86,6 +87,9 @@ void PlatformPlant::Advance(double duration, const std::array<double, 2>& target
     }
     state_.qdd = acc;
     state_.tau = tau;
+    if (envelope) {
+      for (std::size_t i = 0; i < 2; ++i) (*envelope)[i].Add(state_.q[i], state_.qd[i], acc[i], tau[i]);
+    }
   }
   previous_target_ = target;
 }

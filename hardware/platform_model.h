@@ -13,6 +13,8 @@
 #include <array>
 #include <cstdint>
 
+#include "hardware/actuator_servo.h"
+
 namespace pwsim::hw {
 
 struct PlatformParams {
@@ -66,8 +68,10 @@ class PlatformPlant {
  public:
   explicit PlatformPlant(PlatformParams params = {}, double substep = 0.0005);
   /// Advances `duration` [s] tracking a target that moves linearly from the previous target to
-  /// `target` with velocity feed-forward; `enabled` false = no torque (coasting).
-  void Advance(double duration, const std::array<double, 2>& target, bool enabled);
+  /// `target` with velocity feed-forward; `enabled` false = no torque (coasting). Each substep's
+  /// state goes to `envelope` when given (observation only: the motion is the same).
+  void Advance(double duration, const std::array<double, 2>& target, bool enabled,
+               std::array<AxisEnvelope, 2>* envelope = nullptr);
   /// Sets the target without motion (used when a drive becomes enabled).
   void ResetTarget(const std::array<double, 2>& target);
 
