@@ -1,8 +1,10 @@
 // pwsim platform-sim: the platform's two CiA 402 servo drives, simulated (seed 001's 2-DoF
 // Lagrange model with dry + viscous friction and joint PID), behind CAN over UDP in cannelloni
 // framing. A session connects with --can udp:HOST:PORT. The drives take frames from one peer
-// only: the session's CAN address given with --peer, or (tests, demos) the first sender when
-// --adopt-first-peer says so; frames from anyone else are counted and dropped (udp_can_bus.h).
+// only: the session's CAN address given with --peer, or (tests, demos) with --adopt-first-peer
+// the sender that runs a CANopen master's start-up (NMT to the drives' nodes, then SYNC; with
+// --link-key: an authenticated sender); frames from anyone else are counted and dropped
+// (udp_can_bus.h).
 // Wiring only: see hardware/.
 
 #include <csignal>
@@ -11,6 +13,7 @@
 #include <sstream>
 
 #include "app/commands.h"
+#include "app/link_key_option.h"
 #include "app/stop_signal.h"
 #include "engine/atomic_file.h"
 #include "engine/number_format.h"
@@ -29,7 +32,8 @@ const CommandSpec& PlatformSimSpec() {
       {
           {"listen", "HOST:PORT", "-", "127.0.0.1:29536", "UDP address to serve the CAN link on (port 0: any free port; the line 'listening on HOST:PORT' names it)"},
           {"peer", "udp:HOST:PORT", "-", "", "the session's CAN address (pwsim session --can-local): the only sender whose frames are taken"},
-          {"adopt-first-peer", "", "-", "", "instead of --peer: the first sender of a well-formed frame becomes the only peer (tests and demos on one machine)"},
+          {"adopt-first-peer", "", "-", "", "instead of --peer: the sender that starts the drives as a CANopen master does (NMT to their nodes, then SYNC) becomes the only peer (tests and demos on one machine); a first datagram alone adopts no one"},
+          LinkKeyOptionSpec(),
           {"cycle-ms", "MS", "ms", "4", "SYNC period the drives interpolate over"},
           {"duration", "S", "s", "0", "exit after this long (0 = until idle or signal)"},
           {"idle-exit", "S", "s", "2", "exit when no frame arrived for this long after a master was seen"},
@@ -117,8 +121,12 @@ int PlatformSimCommand(const ParsedArgs& args) {
       throw UsageError("option --peer: expected udp:HOST:PORT, got '" + peer + "'");
     peer = peer.substr(4);
   }
-  hw::BusOpenResult opened = hw::UdpCanBus::Open(
-      args.Get("listen"), peer, adopt ? hw::UdpCanBus::PeerPolicy::kAdoptFirst : hw::UdpCanBus::PeerPolicy::kConfigured);
+  hw::UdpCanBus::Options link;  // adoption needs a master's start-up to the drives' nodes
+  link.policy = adopt ? hw::UdpCanBus::PeerPolicy::kAdoptConfirmed : hw::UdpCanBus::PeerPolicy::kConfigured;
+  if (adopt) link.confirm = hw::MasterStartsNodes({1, 2});  // the drives' node ids
+  link.key = LinkKeyOption(args, "platform-sim");
+  link.role = hw::LinkRole::kPeer;
+  hw::BusOpenResult opened = hw::UdpCanBus::Open(args.Get("listen"), peer, link);
   if (!opened.bus) {
     std::cerr << "pwsim platform-sim: " << opened.message << "\n";
     return 1;
@@ -137,7 +145,7 @@ int PlatformSimCommand(const ParsedArgs& args) {
   hw::UdpAddress bound = *hw::ParseUdpAddress(args.Get("listen"));  // Open parsed it already
   bound.port = bus.local_port();
   std::cout << "pwsim platform-sim: drives 1 (yaw) and 2 (rail) on " << bus.name() << ", frames taken from "
-            << (adopt ? "the first sender" : peer) << " only\n"
+            << (adopt ? "the master that starts them" : peer) << " only\n"
             << "pwsim platform-sim: listening on " << bound.ToString() << "\n"
             << std::flush;
 

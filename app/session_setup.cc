@@ -4,6 +4,7 @@
 #include <cmath>
 #include <iostream>
 
+#include "app/link_key_option.h"
 #include "app/stop_signal.h"
 #include "engine/atomic_file.h"
 #include "hardware/udp_can_bus.h"
@@ -44,6 +45,7 @@ std::vector<OptionSpec> SessionLinkOptions() {
           {"max-stop-s", "S", "s", "30", "give up waiting for the platform to park after this"},
           {"rt-priority", "N", "-", "0", "run the loop SCHED_FIFO at this priority (0 = normal)"},
           {"drive-wait-ms", "MS", "ms", "0", "lockstep for hosts without real-time scheduling: each SYNC waits up to MS for the drives' answer to the last one (0 = strict real time)"},
+          LinkKeyOptionSpec(),
   };
 }
 
@@ -66,6 +68,8 @@ std::string SetUpSession(const ParsedArgs& args, const Clock& clock, double dura
   const std::string bad = config.Validate();
   if (!bad.empty()) throw UsageError("session configuration: " + bad);
 
+  // --link-key: both UDP links authenticated (hardware/link_auth.h).
+  const std::optional<hw::LinkKey> key = LinkKeyOption(args, "session");
   // The CAN link: frames are taken from the peer only (address and port); others are counted.
   const std::string can_spec = args.Get("can");
   if (can_spec.rfind("udp:", 0) == 0) {
@@ -76,7 +80,9 @@ std::string SetUpSession(const ParsedArgs& args, const Clock& clock, double dura
     } else if (!hw::ParseUdpAddress(local)) {
       throw UsageError("option --can-local: expected HOST:PORT, got '" + local + "'");
     }
-    setup->bus = hw::UdpCanBus::Open(local, can_spec.substr(4));
+    hw::UdpCanBus::Options link;
+    link.key = key;
+    setup->bus = hw::UdpCanBus::Open(local, can_spec.substr(4), link);
   } else if (can_spec.rfind("socketcan:", 0) == 0) {
     setup->bus = hw::OpenSocketCan(can_spec.substr(10));
   } else {
@@ -93,6 +99,10 @@ std::string SetUpSession(const ParsedArgs& args, const Clock& clock, double dura
     const std::string error = setup->hmd.Bind(*hw::ParseUdpAddress(local));
     if (!error.empty()) return "HMD link: " + error;
     setup->hmd.AcceptOnlyFrom(setup->hmd_peer);
+    if (key) {
+      setup->hmd.EnableAuth(*key, hw::LinkKind::kHmd, hw::LinkRole::kSession);
+      (void)setup->hmd.SendHello(setup->hmd_peer);  // the headset learns our epoch at once
+    }
   }
   return "";
 }

@@ -1,6 +1,10 @@
 #include "hardware/hmd_protocol.h"
 
+#include <sys/random.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -56,6 +60,7 @@ std::size_t BodySize(HmdType type) {
     case HmdType::kPing: return 8;
     case HmdType::kPong: return 24;
     case HmdType::kBye: return 0;
+    case HmdType::kHello: return 8;
   }
   return 0;
 }
@@ -96,6 +101,9 @@ std::size_t EncodeHmd(const HmdMessage& m, std::span<std::uint8_t> out) {
     w.Put(q->t0);
     w.Put(q->t1);
     w.Put(q->t2);
+  } else if (const auto* hello = std::get_if<HelloMsg>(&m.body)) {
+    w.Put(hello->stream);
+    w.Put(hello->echo);
   }
   return w.size();
 }
@@ -106,7 +114,7 @@ CodecError DecodeHmd(std::span<const std::uint8_t> in, HmdMessage* message) {
   if (r.Get<std::uint32_t>() != kHmdMagic) return CodecError::kBadSyntax;
   if (r.Get<std::uint16_t>() != kHmdVersion) return CodecError::kBadVersion;
   const std::uint16_t type = r.Get<std::uint16_t>();
-  if (type < 1 || type > 5) return CodecError::kBadOpcode;
+  if (type < 1 || type > 6) return CodecError::kBadOpcode;
   HmdMessage m;
   m.header.type = static_cast<HmdType>(type);
   const std::size_t size = kHmdHeaderSize + BodySize(m.header.type);
@@ -147,6 +155,14 @@ CodecError DecodeHmd(std::span<const std::uint8_t> in, HmdMessage* message) {
       break;
     }
     case HmdType::kBye: m.body = ByeMsg{}; break;
+    case HmdType::kHello: {
+      HelloMsg h;
+      h.stream = r.Get<std::uint32_t>();
+      h.echo = r.Get<std::uint32_t>();
+      if (h.stream == 0) return CodecError::kBadSyntax;
+      m.body = h;
+      break;
+    }
   }
   *message = m;
   return CodecError::kOk;
@@ -202,11 +218,51 @@ std::int64_t ClockOffsetEstimator::rtt_ns() const {
   return best == nullptr ? 0 : best->rtt;
 }
 
+std::uint32_t NewHmdStreamId() {
+  std::uint32_t id = 0;
+  while (id == 0) {
+    if (::getrandom(&id, sizeof(id), 0) != static_cast<ssize_t>(sizeof(id))) {
+      id = static_cast<std::uint32_t>(std::chrono::steady_clock::now().time_since_epoch().count()) ^
+           (static_cast<std::uint32_t>(::getpid()) << 16);  // no entropy source: still new per start
+    }
+  }
+  return id;
+}
+
+bool HmdReceiveFilter::TakeHelloWanted() {
+  const bool wanted = hello_wanted_;
+  hello_wanted_ = false;
+  return wanted;
+}
+
 bool HmdReceiveFilter::Accept(const HmdMessage& m, std::int64_t rx_ns,
                               const ClockOffsetEstimator& offset) {
   const auto t = static_cast<std::size_t>(m.header.type);
   if (t >= last_seq_.size()) {
     ++counters_.malformed;
+    return false;
+  }
+  if (const auto* hello = std::get_if<HelloMsg>(&m.body)) {
+    if (own_stream_ == 0 || hello->stream == 0) return false;  // this end runs no streams
+    heard_stream_ = hello->stream;
+    if (hello->echo != own_stream_) return true;  // it does not know us (yet): tell it
+    if (hello->stream == peer_stream_) return false;  // confirmed already: the exchange ends
+    if (peer_stream_ != 0) ++counters_.restarts;
+    peer_stream_ = hello->stream;
+    last_seq_.fill(-1);  // a new stream counts from 0
+    last_seq_[t] = m.header.seq;
+    hello_wanted_ = false;
+    ++counters_.accepted;
+    return true;
+  }
+  if (own_stream_ != 0 && m.header.session != 0) heard_stream_ = m.header.session;
+  if (peer_stream_ != 0 && m.header.session != peer_stream_) {
+    ++counters_.other_stream;  // a restarted (or another) sender that has not said hello
+    if (!wanted_before_ || rx_ns - last_wanted_ns_ >= 100'000'000 || rx_ns < last_wanted_ns_) {
+      hello_wanted_ = true;
+      wanted_before_ = true;
+      last_wanted_ns_ = rx_ns;
+    }
     return false;
   }
   if (last_seq_[t] >= 0 && static_cast<std::int64_t>(m.header.seq) <= last_seq_[t]) {

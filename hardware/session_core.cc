@@ -9,7 +9,7 @@
 namespace pwsim::hw {
 SessionCore::SessionCore(SessionConfig config)
     : config_(config), supervisor_(config.safety), master_(config.master),
-      hmd_filter_(config.hmd_timeout_ns) {
+      hmd_filter_(config.hmd_timeout_ns, config.session_id) {
   measured_ns_.reserve(8192);
   measured_q_.reserve(8192);
   // The longest session: motion until run_ticks, then at most max_stop_ticks to park and 10
@@ -57,8 +57,14 @@ void SessionCore::HandleHmd(std::int64_t tick, const RxDatagram& d, SessionOutpu
     hmd_filter_.CountMalformed();
     return;
   }
-  if (!hmd_filter_.Accept(m, d.rx_ns, offset_)) return;
-  if (const auto* pong = std::get_if<PongMsg>(&m.body)) {
+  if (!hmd_filter_.Accept(m, d.rx_ns, offset_)) {
+    // A headset that restarted names a stream of its own: run the start-up (hmd_protocol.h).
+    if (hmd_filter_.TakeHelloWanted()) SendHmd(hmd_filter_.HelloAnswer(), d.rx_ns, out);
+    return;
+  }
+  if (std::holds_alternative<HelloMsg>(m.body)) {
+    SendHmd(hmd_filter_.HelloAnswer(), d.rx_ns, out);  // a HELLO that asks for an answer
+  } else if (const auto* pong = std::get_if<PongMsg>(&m.body)) {
     offset_.AddSample(pong->t0, pong->t1, pong->t2, d.rx_ns);
   } else if (const auto* head = std::get_if<HeadPoseMsg>(&m.body)) {
     hmd_seen_ = true;

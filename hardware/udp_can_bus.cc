@@ -1,11 +1,14 @@
 #include "hardware/udp_can_bus.h"
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 
+#include "hardware/canopen.h"
+
 namespace pwsim::hw {
 
-BusOpenResult UdpCanBus::Open(const std::string& local, const std::string& remote, PeerPolicy policy) {
+BusOpenResult UdpCanBus::Open(const std::string& local, const std::string& remote, const Options& options) {
   BusOpenResult result;
   const auto local_addr = ParseUdpAddress(local);
   if (!local_addr) {
@@ -14,13 +17,19 @@ BusOpenResult UdpCanBus::Open(const std::string& local, const std::string& remot
     return result;
   }
   std::unique_ptr<UdpCanBus> bus(new UdpCanBus());
-  if (policy == PeerPolicy::kAdoptFirst) {
+  if (options.policy == PeerPolicy::kAdoptConfirmed) {
     if (!remote.empty()) {
       result.error = EINVAL;
-      result.message = "a bus that adopts its first sender takes no remote address (got '" + remote + "')";
+      result.message = "a bus that adopts its peer takes no remote address (got '" + remote + "')";
       return result;
     }
-    bus->learn_peer_ = true;
+    if (!options.confirm && !options.key) {
+      result.error = EINVAL;
+      result.message = "a plain bus that adopts its peer needs a confirmation (a sender's first datagram is not one)";
+      return result;
+    }
+    bus->adopting_ = true;
+    bus->confirm_ = options.confirm;
   } else {
     bus->remote_ = ParseUdpAddress(remote);
     if (!bus->remote_) {
@@ -36,13 +45,18 @@ BusOpenResult UdpCanBus::Open(const std::string& local, const std::string& remot
     result.message = error;
     return result;
   }
+  if (options.key) {
+    bus->socket_.EnableAuth(*options.key, LinkKind::kCan, options.role);
+    if (bus->remote_) (void)bus->socket_.SendHello(*bus->remote_);
+  }
   bus->pending_.reserve(64);
   result.bus = std::move(bus);
   return result;
 }
 
 std::string UdpCanBus::name() const {
-  return "udp:" + std::to_string(local_port()) + "->" + (remote_ ? remote_->ToString() : "?");
+  return std::string(authenticated() ? "udp+auth:" : "udp:") + std::to_string(local_port()) + "->" +
+         (remote_ ? remote_->ToString() : "?");
 }
 
 BusStatus UdpCanBus::Send(const CanFrame& frame) {
@@ -65,6 +79,54 @@ BusStatus UdpCanBus::Send(const CanFrame& frame) {
   return BusStatus::kOk;
 }
 
+void UdpCanBus::Consider(const UdpAddress& from) {
+  // The candidate's slot: its own, else a free one, else the one heard from longest ago.
+  Candidate* slot = nullptr;
+  for (Candidate& c : candidates_)
+    if (c.used && c.from == from) slot = &c;
+  if (slot == nullptr) {
+    for (Candidate& c : candidates_)
+      if (!c.used) {
+        slot = &c;
+        break;
+      }
+  }
+  if (slot == nullptr) {
+    slot = &*std::min_element(candidates_.begin(), candidates_.end(),
+                              [](const Candidate& a, const Candidate& b) { return a.last_heard < b.last_heard; });
+    candidates_refused_ += slot->datagrams;  // evicted: what it sent is dropped
+  }
+  if (!slot->used || slot->from != from) *slot = Candidate{from, {}, 0, 0, 0, true};
+  slot->last_heard = ++heard_;
+  ++slot->datagrams;
+  for (const CanFrame& f : pending_) {  // keep the newest kCandidateFrames
+    if (slot->count == slot->frames.size()) {
+      std::move(slot->frames.begin() + 1, slot->frames.end(), slot->frames.begin());
+      --slot->count;
+    }
+    slot->frames[slot->count++] = f;
+  }
+  pending_.clear();
+  const std::span<const CanFrame> held(slot->frames.data(), slot->count);
+  const bool confirmed = confirm_ ? confirm_(held) : socket_.authenticated();
+  if (!confirmed) return;
+  remote_ = from;
+  socket_.AcceptOnlyFrom(from);
+  adopting_ = false;
+  pending_.assign(held.begin(), held.end());  // within the reserved capacity (64 >= 16)
+  for (Candidate& c : candidates_) {
+    if (c.used && &c != slot) candidates_refused_ += c.datagrams;
+    c.used = false;
+  }
+}
+
+std::uint64_t UdpCanBus::held_datagrams() const {
+  std::uint64_t n = 0;
+  for (const Candidate& c : candidates_)
+    if (c.used) n += c.datagrams;
+  return n;
+}
+
 BusStatus UdpCanBus::Receive(CanFrame* frame) {
   for (;;) {
     if (pending_pos_ < pending_.size()) {
@@ -78,7 +140,7 @@ BusStatus UdpCanBus::Receive(CanFrame* frame) {
     std::array<std::uint8_t, 1500> buffer{};
     UdpAddress from;
     const long n = socket_.Receive(buffer, &from);  // drops (and counts) other senders
-    stats_.rx_refused = socket_.refused();
+    stats_.rx_refused = socket_.refused() + candidates_refused_;
     if (n < 0) return BusStatus::kWouldBlock;
     if (static_cast<std::size_t>(n) > buffer.size()) {
       ++stats_.rx_malformed;
@@ -91,17 +153,34 @@ BusStatus UdpCanBus::Receive(CanFrame* frame) {
       pending_.clear();
       continue;
     }
+    if (adopting_) {
+      Consider(from);
+      stats_.rx_refused = socket_.refused() + candidates_refused_;
+      if (adopting_) continue;  // held, not handed on
+    }
     if (rx_seq_) {
       const auto gap = static_cast<std::uint8_t>(seq - static_cast<std::uint8_t>(*rx_seq_ + 1));
       if (gap != 0 && gap < 128) stats_.rx_lost += gap;
     }
     rx_seq_ = seq;
-    if (learn_peer_) {  // adopted once, on the first well-formed datagram; fixed from then on
-      remote_ = from;
-      socket_.AcceptOnlyFrom(from);
-      learn_peer_ = false;
-    }
   }
+}
+
+UdpCanBus::PeerConfirmation MasterStartsNodes(std::vector<std::uint8_t> nodes) {
+  return [nodes = std::move(nodes)](std::span<const CanFrame> frames) {
+    bool nmt_to_us = false;
+    for (const CanFrame& f : frames) {
+      canopen::NmtCommand command{};
+      std::uint8_t node = 0;
+      std::uint8_t counter = 0;
+      if (canopen::DecodeNmt(f, &command, &node)) {
+        if (node == 0 || std::find(nodes.begin(), nodes.end(), node) != nodes.end()) nmt_to_us = true;
+      } else if (nmt_to_us && canopen::DecodeSync(f, &counter)) {
+        return true;
+      }
+    }
+    return false;
+  };
 }
 
 }  // namespace pwsim::hw

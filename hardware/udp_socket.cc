@@ -7,6 +7,8 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cstring>
 
@@ -43,11 +45,20 @@ std::int64_t MonotonicNs() {
   return static_cast<std::int64_t>(ts.tv_sec) * 1000000000LL + ts.tv_nsec;
 }
 
+/// The authenticated mode's state and its two datagram buffers (allocated once, by EnableAuth).
+struct UdpSocket::Auth {
+  Auth(const LinkKey& key, LinkKind kind, LinkRole role) : link(key, kind, role, NewLinkEpoch()) {}
+  LinkAuth link;
+  std::array<std::uint8_t, kLinkAuthOverhead + kLinkMaxPayload> rx{};
+  std::array<std::uint8_t, kLinkAuthOverhead + kLinkMaxPayload> tx{};
+};
+
+UdpSocket::UdpSocket() = default;
 UdpSocket::~UdpSocket() {
   if (fd_ >= 0) ::close(fd_);
 }
 UdpSocket::UdpSocket(UdpSocket&& other) noexcept
-    : fd_(other.fd_), peer_(other.peer_), refused_(other.refused_) {
+    : fd_(other.fd_), peer_(other.peer_), refused_(other.refused_), auth_(std::move(other.auth_)) {
   other.fd_ = -1;
 }
 UdpSocket& UdpSocket::operator=(UdpSocket&& other) noexcept {
@@ -56,9 +67,24 @@ UdpSocket& UdpSocket::operator=(UdpSocket&& other) noexcept {
     fd_ = other.fd_;
     peer_ = other.peer_;
     refused_ = other.refused_;
+    auth_ = std::move(other.auth_);
     other.fd_ = -1;
   }
   return *this;
+}
+
+void UdpSocket::EnableAuth(const LinkKey& key, LinkKind kind, LinkRole role) {
+  auth_ = std::make_unique<Auth>(key, kind, role);
+}
+
+const LinkAuthCounters* UdpSocket::auth_counters() const {
+  return auth_ ? &auth_->link.counters() : nullptr;
+}
+
+bool UdpSocket::SendHello(const UdpAddress& to) {
+  if (!auth_) return false;
+  const std::size_t n = auth_->link.SealHello(auth_->tx);
+  return n > 0 && SendRaw(to, std::span<const std::uint8_t>(auth_->tx.data(), n));
 }
 
 std::string UdpSocket::Bind(const UdpAddress& local) {
@@ -86,6 +112,12 @@ std::uint16_t UdpSocket::local_port() const {
 }
 
 bool UdpSocket::SendTo(const UdpAddress& to, std::span<const std::uint8_t> bytes) {
+  if (!auth_) return SendRaw(to, bytes);
+  const std::size_t n = auth_->link.Seal(bytes, auth_->tx);
+  return n > 0 && SendRaw(to, std::span<const std::uint8_t>(auth_->tx.data(), n));
+}
+
+bool UdpSocket::SendRaw(const UdpAddress& to, std::span<const std::uint8_t> bytes) {
   if (fd_ < 0) return false;
   sockaddr_in addr{};
   addr.sin_family = AF_INET;
@@ -101,7 +133,8 @@ long UdpSocket::Receive(std::span<std::uint8_t> buffer, UdpAddress* from) {
   for (;;) {
     sockaddr_in addr{};
     socklen_t len = sizeof(addr);
-    const ssize_t n = ::recvfrom(fd_, buffer.data(), buffer.size(), MSG_DONTWAIT | MSG_TRUNC,
+    const std::span<std::uint8_t> into = auth_ ? std::span<std::uint8_t>(auth_->rx) : buffer;
+    const ssize_t n = ::recvfrom(fd_, into.data(), into.size(), MSG_DONTWAIT | MSG_TRUNC,
                                  reinterpret_cast<sockaddr*>(&addr), &len);
     if (n < 0) {
       if (errno == EINTR) continue;
@@ -112,9 +145,31 @@ long UdpSocket::Receive(std::span<std::uint8_t> buffer, UdpAddress* from) {
       ++refused_;  // not our peer: read, counted and dropped
       continue;
     }
+    if (!auth_) {
+      if (from != nullptr) *from = sender;
+      if (static_cast<std::size_t>(n) > buffer.size()) return static_cast<long>(buffer.size()) + 1;
+      return static_cast<long>(n);
+    }
+    // Authenticated mode. A datagram larger than the buffer is no datagram of ours: it is
+    // handed to Open as empty, which counts it malformed.
+    const std::span<const std::uint8_t> datagram =
+        static_cast<std::size_t>(n) > into.size() ? std::span<const std::uint8_t>()
+                                                   : std::span<const std::uint8_t>(into.data(), static_cast<std::size_t>(n));
+    std::span<const std::uint8_t> payload;
+    bool answer = false;
+    const std::uint64_t unconfirmed = auth_->link.counters().unconfirmed;
+    const LinkAuth::Verdict verdict = auth_->link.Open(datagram, MonotonicNs(), &payload, &answer);
+    if (answer) (void)SendHello(sender);
+    if (verdict == LinkAuth::Verdict::kHello) continue;
+    if (verdict != LinkAuth::Verdict::kData) {
+      if (auth_->link.counters().unconfirmed == unconfirmed) ++refused_;  // not the peer's
+      continue;
+    }
     if (from != nullptr) *from = sender;
-    if (static_cast<std::size_t>(n) > buffer.size()) return static_cast<long>(buffer.size()) + 1;
-    return static_cast<long>(n);
+    const std::size_t copy = std::min(payload.size(), buffer.size());
+    std::memcpy(buffer.data(), payload.data(), copy);
+    if (payload.size() > buffer.size()) return static_cast<long>(buffer.size()) + 1;
+    return static_cast<long>(payload.size());
   }
 }
 

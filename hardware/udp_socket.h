@@ -8,11 +8,20 @@
 // UDP source addresses can be forged by anyone on the same network, so this is a guard against
 // stray and misdirected traffic, not authentication: docs/hardware.md says how to put the
 // links on a network of their own.
+//
+// Authenticated mode (EnableAuth, link_auth.h): SendTo wraps every datagram with a tag under
+// the pre-shared key, Receive hands back only datagrams whose tag verifies and that are fresh
+// and not replayed (their payload, unwrapped); the link's HELLOs are answered inside Receive.
+// Datagrams that fail the tag or the replay check are counted in refused() as well, since
+// they are not the peer's whatever their source address says. Neither path allocates or throws.
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
+
+#include "hardware/link_auth.h"
 
 namespace pwsim::hw {
 
@@ -31,7 +40,7 @@ std::int64_t MonotonicNs();
 
 class UdpSocket {
  public:
-  UdpSocket() = default;
+  UdpSocket();
   ~UdpSocket();
   UdpSocket(UdpSocket&& other) noexcept;
   UdpSocket& operator=(UdpSocket&& other) noexcept;
@@ -55,13 +64,27 @@ class UdpSocket {
   /// From now on Receive hands back only datagrams from `peer` (address and port).
   void AcceptOnlyFrom(const UdpAddress& peer) { peer_ = peer; }
   const std::optional<UdpAddress>& peer() const { return peer_; }
-  /// Datagrams read and dropped because another sender sent them.
+  /// Datagrams read and dropped because another sender sent them (in authenticated mode also
+  /// those whose tag did not verify, that were replayed or that were not authenticated datagrams).
   std::uint64_t refused() const { return refused_; }
 
+  /// Authenticated mode from now on, this end being `role` of a `kind` link with a new epoch
+  /// (NewLinkEpoch). Allocates its state and buffers here, once.
+  void EnableAuth(const LinkKey& key, LinkKind kind, LinkRole role);
+  bool authenticated() const { return auth_ != nullptr; }
+  /// The authenticated mode's counters; null in plain mode.
+  const LinkAuthCounters* auth_counters() const;
+  /// Authenticated mode: tells `to` this end's epoch now (a HELLO), so that its first datagrams
+  /// are fresh. False in plain mode or when the kernel refused it.
+  bool SendHello(const UdpAddress& to);
+
  private:
+  struct Auth;
+  bool SendRaw(const UdpAddress& to, std::span<const std::uint8_t> bytes);
   int fd_{-1};
   std::optional<UdpAddress> peer_;
   std::uint64_t refused_{0};
+  std::unique_ptr<Auth> auth_;
 };
 
 }  // namespace pwsim::hw

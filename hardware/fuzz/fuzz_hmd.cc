@@ -12,9 +12,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::array<std::uint8_t, kHmdMaxSize> out{};
   const std::size_t n = EncodeHmd(m, out);
   if (n != size || std::memcmp(out.data(), data, n) != 0) std::abort();
-  HmdReceiveFilter filter;
+  HmdReceiveFilter filter(100'000'000, 5);  // runs the stream start-up (HELLO)
   ClockOffsetEstimator offset;
-  (void)filter.Accept(m, 0, offset);
+  if (filter.Accept(m, 0, offset) && std::holds_alternative<HelloMsg>(m.body) && filter.HelloAnswer().stream != 5)
+    std::abort();
+  (void)filter.Accept(m, 1, offset);  // the same again: a duplicate, or the HELLO that ends the exchange
   if (const auto* p = std::get_if<PongMsg>(&m.body)) offset.AddSample(p->t0, p->t1, p->t2, p->t2);
   return 0;
 }

@@ -9,13 +9,13 @@ if ! command -v "$CXX" >/dev/null 2>&1; then
   echo "SKIP: $CXX not found (libFuzzer targets need clang)"; exit 77
 fi
 mkdir -p "$work/obj" "$work/corpus/$name"
-flags="-std=c++20 -O1 -g -fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined -I$src"
+flags="-std=c++20 -O1 -g -fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined -I$src $(pkg-config --cflags eigen3 2>/dev/null)"
 # Shared library code, compiled once (guarded against parallel ctest runs).
 (
   flock 9
   rm -f "$work/obj/session.o"  # hardware/session.cc was split into session_*.cc
   for unit in can_frame candump_log canopen cia402_master safety_supervisor hmd_protocol \
-      session_config session_core session_replay session_report session_text; do
+      session_config session_core session_replay session_report session_text link_auth; do
     o="$work/obj/$unit.o"
     # Any newer header recompiles (a unit includes more than its own header).
     if [ ! -f "$o" ] || [ "$src/hardware/$unit.cc" -nt "$o" ] ||
@@ -23,18 +23,20 @@ flags="-std=c++20 -O1 -g -fsanitize=fuzzer-no-link,address,undefined -fno-saniti
       $CXX $flags -c "$src/hardware/$unit.cc" -o "$o"
     fi
   done
-  # The one engine unit the session core uses (linear interpolation).
-  o="$work/obj/engine_interpolate.o"
-  if [ ! -f "$o" ] || [ "$src/engine/interpolate.cc" -nt "$o" ] || [ "$src/engine/interpolate.h" -nt "$o" ]; then
-    $CXX $flags -c "$src/engine/interpolate.cc" -o "$o"
-  fi
+  # The engine units the parsers use (linear interpolation; the key file's InputError).
+  for unit in interpolate input_error; do
+    o="$work/obj/engine_$unit.o"
+    if [ ! -f "$o" ] || [ "$src/engine/$unit.cc" -nt "$o" ] || [ "$src/engine/$unit.h" -nt "$o" ]; then
+      $CXX $flags -c "$src/engine/$unit.cc" -o "$o"
+    fi
+  done
   exe="$work/$name"
   if [ ! -x "$exe" ] || [ "$src/hardware/fuzz/$name.cc" -nt "$exe" ] || [ -n "$(find "$work/obj" -newer "$exe" -name '*.o')" ]; then
     if ! echo 'extern "C" int LLVMFuzzerTestOneInput(const char*, unsigned long){return 0;}' |
          $CXX -fsanitize=fuzzer -x c++ - -o "$work/.probe" 2>/dev/null; then
       echo "SKIP: $CXX cannot link -fsanitize=fuzzer (install libclang-rt-14-dev)"; exit 77
     fi
-    $CXX $flags -fsanitize=fuzzer "$src/hardware/fuzz/$name.cc" "$work"/obj/*.o -o "$exe"
+    $CXX $flags -fsanitize=fuzzer "$src/hardware/fuzz/$name.cc" "$work"/obj/*.o -lsodium -o "$exe"
   fi
 ) 9>"$work/.lock"
 # Seeds from the checked-in corpus, findings written under WORK_DIR.

@@ -133,15 +133,26 @@ TEST(InProcessBus, RandomDropsAreDeterministicForASeed) {
 }
 
 TEST(UdpCanBus, JoinsTwoEndsOnLoopbackInCannelloniFraming) {
-  BusOpenResult server = UdpCanBus::Open("127.0.0.1:0", "", UdpCanBus::PeerPolicy::kAdoptFirst);
+  UdpCanBus::Options adopt;
+  adopt.policy = UdpCanBus::PeerPolicy::kAdoptConfirmed;
+  adopt.confirm = MasterStartsNodes({1, 2});
+  BusOpenResult server = UdpCanBus::Open("127.0.0.1:0", "", adopt);
   ASSERT_TRUE(server.bus) << server.message;
   const auto port = static_cast<UdpCanBus*>(server.bus.get())->local_port();
   BusOpenResult client = UdpCanBus::Open("127.0.0.1:0", "127.0.0.1:" + std::to_string(port));
   ASSERT_TRUE(client.bus) << client.message;
-  // The server learns its peer from the first datagram.
+  // The server adopts its peer once it starts the nodes as a CANopen master (NMT, SYNC).
   EXPECT_EQ(server.bus->Send(MakeFrame(1, {})), BusStatus::kWouldBlock);
+  const CanFrame nmt = MakeFrame(0x000, {0x01, 0x00}), sync = MakeFrame(0x080, {});
+  ASSERT_EQ(client.bus->Send(nmt), BusStatus::kOk);
+  ASSERT_EQ(client.bus->Send(sync), BusStatus::kOk);
   for (std::uint8_t i = 0; i < 5; ++i) ASSERT_EQ(client.bus->Send(MakeFrame(0x200U + i, {i, i})), BusStatus::kOk);
   CanFrame f;
+  for (const CanFrame& expected : {nmt, sync}) {
+    ASSERT_TRUE(WaitReadable(*server.bus, 1000));
+    ASSERT_EQ(server.bus->Receive(&f), BusStatus::kOk);
+    EXPECT_EQ(f, expected);
+  }
   for (std::uint8_t i = 0; i < 5; ++i) {
     ASSERT_TRUE(WaitReadable(*server.bus, 1000));
     ASSERT_EQ(server.bus->Receive(&f), BusStatus::kOk);
@@ -161,7 +172,10 @@ TEST(UdpCanBus, RejectsBadAddresses) {
   const BusOpenResult none = UdpCanBus::Open("127.0.0.1:0", "");
   EXPECT_FALSE(none.bus);
   EXPECT_NE(none.message.find("peer"), std::string::npos) << none.message;
-  EXPECT_FALSE(UdpCanBus::Open("127.0.0.1:0", "127.0.0.1:1", UdpCanBus::PeerPolicy::kAdoptFirst).bus);
+  UdpCanBus::Options adopt;
+  adopt.policy = UdpCanBus::PeerPolicy::kAdoptConfirmed;
+  adopt.confirm = MasterStartsNodes({1});
+  EXPECT_FALSE(UdpCanBus::Open("127.0.0.1:0", "127.0.0.1:1", adopt).bus);
 }
 
 /// A well-formed cannelloni datagram carrying `frame`, as any process could send it.
@@ -207,29 +221,34 @@ TEST(UdpCanBus, TakesFramesFromItsConfiguredPeerOnlyAddressAndPort) {
   EXPECT_EQ(bus.peer(), "127.0.0.1:" + std::to_string(peer.local_port()));
 }
 
-TEST(UdpCanBus, AdoptsTheFirstWellFormedSenderOnlyWhenAskedAndKeepsIt) {
-  BusOpenResult opened = UdpCanBus::Open("127.0.0.1:0", "", UdpCanBus::PeerPolicy::kAdoptFirst);
+TEST(UdpCanBus, AdoptsOnlyASenderThatConfirmsAndKeepsIt) {
+  UdpCanBus::Options adopt;
+  adopt.policy = UdpCanBus::PeerPolicy::kAdoptConfirmed;
+  adopt.confirm = MasterStartsNodes({1, 2});
+  BusOpenResult opened = UdpCanBus::Open("127.0.0.1:0", "", adopt);
   ASSERT_TRUE(opened.bus) << opened.message;
   auto& bus = static_cast<UdpCanBus&>(*opened.bus);
   const UdpAddress bus_at = Loopback(bus.local_port());
   UdpSocket first, second;
   ASSERT_EQ(first.Bind(*ParseUdpAddress("127.0.0.1:0")), "");
   ASSERT_EQ(second.Bind(*ParseUdpAddress("127.0.0.1:0")), "");
-  // garbage from `second` adopts nothing; `first`'s well-formed frame adopts `first`
+  // garbage and a lone SYNC from `second` adopt nothing; `first`'s NMT start then SYNC adopt
+  // `first`, whose held frames come out in order
   const std::uint8_t junk[3] = {1, 2, 3};
   ASSERT_TRUE(second.SendTo(bus_at, junk));
-  ASSERT_TRUE(first.SendTo(bus_at, Datagram(MakeFrame(0x080, {1}), 0)));
   ASSERT_TRUE(second.SendTo(bus_at, Datagram(MakeFrame(0x080, {2}), 0)));
+  ASSERT_TRUE(first.SendTo(bus_at, Datagram(MakeFrame(0x000, {0x01, 0x02}), 0)));
   ASSERT_TRUE(first.SendTo(bus_at, Datagram(MakeFrame(0x080, {3}), 1)));
+  ASSERT_TRUE(first.SendTo(bus_at, Datagram(MakeFrame(0x080, {4}), 2)));
   std::vector<std::uint8_t> got;
   CanFrame f;
-  while (got.size() < 2 || bus.stats().rx_refused < 1) {
+  while (got.size() < 3 || bus.stats().rx_refused < 1) {
     ASSERT_TRUE(WaitReadable(bus, 1000));
     while (bus.Receive(&f) == BusStatus::kOk) got.push_back(f.data[0]);
   }
-  EXPECT_EQ(got, (std::vector<std::uint8_t>{1, 3}));
+  EXPECT_EQ(got, (std::vector<std::uint8_t>{0x01, 3, 4}));
   EXPECT_EQ(bus.stats().rx_malformed, 1U);
-  EXPECT_EQ(bus.stats().rx_refused, 1U);
+  EXPECT_EQ(bus.stats().rx_refused, 1U);  // second's SYNC, held, dropped at the adoption
   EXPECT_EQ(bus.peer(), "127.0.0.1:" + std::to_string(first.local_port()));
   // it answers the adopted peer
   ASSERT_EQ(bus.Send(MakeFrame(0x181, {7})), BusStatus::kOk);

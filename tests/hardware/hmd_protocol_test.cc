@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <variant>
+#include <vector>
 
 namespace pwsim::hw {
 namespace {
@@ -35,6 +37,7 @@ TEST(HmdProtocol, EveryMessageRoundTripsWithItsDocumentedSize) {
       {Msg(PingMsg{42}, 3, 3000), 32},
       {Msg(PongMsg{1, 2, 3}, 4, 4000), 48},
       {Msg(ByeMsg{}, 5, 5000), 24},
+      {Msg(HelloMsg{0xDEADBEEF, 77}, 6, 6000), 32},
   };
   for (const auto& [m, size] : cases) {
     const auto bytes = Encode(m);
@@ -72,6 +75,9 @@ TEST(HmdProtocol, RejectsMalformedDatagrams) {
   auto longer = good;
   longer.push_back(0);
   cases.push_back({"trailing", longer, CodecError::kTrailing});
+  auto hello_stream_zero = Encode(Msg(HelloMsg{1, 2}, 1, 1));
+  hello_stream_zero[24] = 0;  // stream = 0: no stream at all
+  cases.push_back({"HELLO stream 0", hello_stream_zero, CodecError::kBadSyntax});
   Pose nan_pose;
   nan_pose.p[0] = std::numeric_limits<double>::quiet_NaN();
   cases.push_back({"NaN pose", Encode(Msg(HeadPoseMsg{5, nan_pose, 1, 2}, 1, 1)), CodecError::kBadSyntax});
@@ -119,6 +125,127 @@ TEST(ClockOffsetEstimator, RecoversAnInjectedOffsetUnderAsymmetricJitter) {
   EXPECT_NEAR(static_cast<double>(est.offset_ns()), static_cast<double>(offset), 100'000.0);
   EXPECT_LT(est.rtt_ns(), 400'000);
   EXPECT_EQ(est.samples(), 50U);
+}
+
+// One end of the HMD link as the session core and hmd-peer run it: a filter with a stream of
+// its own, answering a HELLO that asks for it and a wanted HELLO (hmd_protocol.h).
+struct End {
+  explicit End(std::uint32_t own) : filter(1'000'000'000, own), stream(own) {}
+  HmdReceiveFilter filter;
+  ClockOffsetEstimator offset;
+  std::uint32_t stream;
+  std::uint32_t seq{0};
+  std::vector<HmdMessage> outbox;
+  HmdMessage Make(HmdBody body) {
+    HmdMessage m = Msg(std::move(body), seq++, 0);
+    m.header.session = stream;
+    return m;
+  }
+  /// Receives `m`; returns whether it was used (a HELLO: answered).
+  bool Receive(const HmdMessage& m) {
+    if (!filter.Accept(m, 0, offset)) {
+      if (filter.TakeHelloWanted()) outbox.push_back(Make(filter.HelloAnswer()));
+      return false;
+    }
+    if (std::holds_alternative<HelloMsg>(m.body)) outbox.push_back(Make(filter.HelloAnswer()));
+    return true;
+  }
+};
+
+/// Delivers each end's outbox to the other until both are empty; returns the messages moved.
+int Exchange(End& a, End& b) {
+  int moved = 0;
+  while (!a.outbox.empty() || !b.outbox.empty()) {
+    for (End* from : {&a, &b}) {
+      End& to = from == &a ? b : a;
+      std::vector<HmdMessage> out;
+      out.swap(from->outbox);
+      for (const HmdMessage& m : out) {
+        to.Receive(m);
+        ++moved;
+      }
+    }
+  }
+  return moved;
+}
+
+HeadPoseMsg Head() { return HeadPoseMsg{0, Pose{}, -1, 0}; }
+
+TEST(HmdStreams, AHelloHandshakeConfirmsBothStreamsInFourMessages) {
+  End session(0x5E55), headset(0x4EAD);
+  headset.outbox.push_back(headset.Make(HelloMsg{headset.stream, 0}));
+  EXPECT_EQ(Exchange(session, headset), 4);
+  EXPECT_EQ(session.filter.peer_stream(), headset.stream);
+  EXPECT_EQ(headset.filter.peer_stream(), session.stream);
+  EXPECT_EQ(session.filter.counters().restarts, 0U);
+}
+
+TEST(HmdStreams, ARestartedHeadsetIsReadmittedWhereItUsedToBeLockedOut) {
+  End session(0x5E55), headset(0x4EAD);
+  headset.outbox.push_back(headset.Make(HelloMsg{headset.stream, 0}));
+  Exchange(session, headset);
+  for (int i = 0; i < 10; ++i) EXPECT_TRUE(session.Receive(headset.Make(Head())));
+  // The headset restarts: a new stream, seq from 0 again.
+  End reborn(0x4EAE);
+  EXPECT_FALSE(session.Receive(reborn.Make(Head())));  // another stream: dropped, HELLO wanted
+  EXPECT_EQ(session.filter.counters().other_stream, 1U);
+  ASSERT_EQ(session.outbox.size(), 1U);
+  EXPECT_EQ(std::get<HelloMsg>(session.outbox[0].body), (HelloMsg{session.stream, reborn.stream}));
+  EXPECT_EQ(Exchange(session, reborn), 3);
+  EXPECT_EQ(session.filter.peer_stream(), reborn.stream);
+  EXPECT_EQ(session.filter.counters().restarts, 1U);
+  EXPECT_TRUE(session.Receive(reborn.Make(Head())));  // seq 3 < the old stream's 10: taken
+  // The old stream's late datagrams are not.
+  EXPECT_FALSE(session.Receive(headset.Make(Head())));
+  // Without streams (the protocol as it was) the same restart stays locked out.
+  End old_session(0), old_headset(0);
+  for (int i = 0; i < 10; ++i) EXPECT_TRUE(old_session.Receive(old_headset.Make(Head())));
+  End old_reborn(0);
+  for (int i = 0; i < 5; ++i) EXPECT_FALSE(old_session.Receive(old_reborn.Make(Head())));
+  EXPECT_EQ(old_session.filter.counters().out_of_order, 5U);
+}
+
+TEST(HmdStreams, ARestartedSessionIsReadmittedByTheHeadset) {
+  End session(0x5E55), headset(0x4EAD);
+  headset.outbox.push_back(headset.Make(HelloMsg{headset.stream, 0}));
+  Exchange(session, headset);
+  for (int i = 0; i < 10; ++i) EXPECT_TRUE(headset.Receive(session.Make(CameraPoseMsg{})));
+  End session2(0x5E56);
+  EXPECT_FALSE(headset.Receive(session2.Make(CameraPoseMsg{})));
+  EXPECT_EQ(Exchange(session2, headset), 3);
+  EXPECT_EQ(headset.filter.peer_stream(), session2.stream);
+  EXPECT_TRUE(headset.Receive(session2.Make(CameraPoseMsg{})));
+}
+
+TEST(HmdStreams, AHelloThatDoesNotEchoOurStreamChangesNothing) {
+  End session(0x5E55), headset(0x4EAD);
+  headset.outbox.push_back(headset.Make(HelloMsg{headset.stream, 0}));
+  Exchange(session, headset);
+  for (int i = 0; i < 5; ++i) EXPECT_TRUE(session.Receive(headset.Make(Head())));
+  const HmdMessage replay = headset.Make(Head());
+  EXPECT_TRUE(session.Receive(replay));
+  // A spoofer that cannot read our datagrams guesses the stream wrong: answered, not taken.
+  HmdMessage forged = Msg(HelloMsg{0xBAD, session.stream ^ 1}, 0, 0);
+  forged.header.session = 0xBAD;
+  EXPECT_TRUE(session.Receive(forged));  // answered (tells it nothing it could not see)
+  EXPECT_EQ(session.filter.peer_stream(), headset.stream);
+  EXPECT_FALSE(session.Receive(replay));  // sequences not reset
+  EXPECT_EQ(session.filter.counters().restarts, 0U);
+}
+
+TEST(HmdStreams, AnOldHeadsetWithoutHellosIsTakenAsBefore) {
+  End session(0x5E55);
+  End old_headset(0);
+  for (int i = 0; i < 10; ++i) {
+    HmdMessage m = old_headset.Make(Head());
+    m.header.session = session.stream;  // old headsets echo the session's id
+    EXPECT_TRUE(session.Receive(m));
+  }
+  EXPECT_TRUE(session.outbox.empty());
+  EXPECT_EQ(session.filter.peer_stream(), 0U);
+  // An end without a stream ignores HELLOs.
+  EXPECT_FALSE(old_headset.Receive(session.Make(HelloMsg{session.stream, 0})));
+  EXPECT_TRUE(old_headset.outbox.empty());
 }
 
 TEST(MotionCompensation, RemovesThePlatformPoseFromTheTrackedHead) {
