@@ -119,7 +119,8 @@ int Describe(const ParsedArgs& args, const std::vector<std::string>& files) {
   std::filesystem::create_directories(out);
   const std::filesystem::path geometry = out / ("platform_" + p.name + "_geometry.dat");
   std::ofstream g(geometry);
-  g << "# " << p.name << ": actuators in B [m], block 0 at neutral, block 1 at --pose\n";
+  g << "# " << p.name << ": x y z [m] in B, id (actuator index; -1 pivot to head, -2 plate outline, -3 base\n"
+       "# outline, -4 turntable rim and heading); index 0 at neutral, index 1 at --pose\n";
   for (const mca::DofArray& x : {mca::DofArray{}, pose}) {
     for (int i = 0; i < m.actuator_count(); ++i) {
       const mca::Actuator& a = m.actuator(i);
@@ -137,6 +138,39 @@ int Describe(const ParsedArgs& args, const std::vector<std::string>& files) {
         }
         g << "\n";
       }
+    }
+    // outlines: the plate anchors (id −2) and base anchors (id −3) in angular order, closed
+    for (const bool plate_side : {true, false}) {
+      std::vector<std::pair<double, Eigen::Vector3d>> ring;
+      for (int i = 0; i < m.actuator_count(); ++i) {
+        Eigen::Vector3d base, plate;
+        if (!m.LegEndpoints(i, x, &base, &plate)) continue;
+        const Eigen::Vector3d& local = plate_side ? m.actuator(i).plate_anchor : m.actuator(i).base_anchor;
+        ring.emplace_back(std::atan2(local.y(), local.x()), plate_side ? plate : base);
+      }
+      if (ring.size() < 3) continue;
+      std::sort(ring.begin(), ring.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+      ring.push_back(ring.front());
+      for (const auto& [angle, point] : ring) {
+        g << point.x() << " " << point.y() << " " << point.z() << " " << (plate_side ? -2 : -3) << "\n";
+      }
+      g << "\n";
+    }
+    // a rotary stage about z: its turntable rim (id −4), radius just outside the base anchors
+    if (m.Moves(mca::Dof::kYaw) && !m.leg_axes()[static_cast<std::size_t>(mca::Index(mca::Dof::kYaw))]) {
+      double radius = 0.5;
+      for (int i = 0; i < m.actuator_count(); ++i) {
+        if (m.actuator(i).kind == mca::ActuatorKind::kLeg) {
+          radius = std::max(radius, m.actuator(i).base_anchor.head<2>().norm() + 0.08);
+        }
+      }
+      const double yaw = x[static_cast<std::size_t>(mca::Index(mca::Dof::kYaw))];
+      for (int k = 0; k <= 72; ++k) {
+        const double a = 2.0 * mca::kPi * k / 72.0;
+        g << radius * std::cos(a) << " " << radius * std::sin(a) << " 0 -4\n";
+      }
+      g << "\n" << 0.0 << " " << 0.0 << " 0 -4\n"  // the turntable's heading mark
+        << radius * std::cos(yaw) << " " << radius * std::sin(yaw) << " 0 -4\n\n";
     }
     // the pivot and the head (head_from_pivot turned with the plate)
     Eigen::Isometry3d plate_frame = Eigen::Isometry3d::Identity();
@@ -156,6 +190,8 @@ int Describe(const ParsedArgs& args, const std::vector<std::string>& files) {
     w << "# " << p.name << ": roll [deg], pitch [deg], reachable with a " << 100.0 * margin
       << " % margin (0/1), largest stroke use; one block per heave [m]\n";
     const double heave_travel = p.Has(mca::Dof::kHeave) ? p.limits(mca::Dof::kHeave).travel : 0.0;
+    w << "# box: roll_deg " << p.limits(mca::Dof::kRoll).travel / mca::kDegToRad << " pitch_deg "
+      << p.limits(mca::Dof::kPitch).travel / mca::kDegToRad << " heave_m " << heave_travel << "\n";
     for (double heave : {0.0, 0.5 * heave_travel, -0.5 * heave_travel}) {
       mca::DofArray base{};
       base[static_cast<std::size_t>(mca::Index(mca::Dof::kHeave))] = heave;
