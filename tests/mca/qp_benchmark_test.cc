@@ -3,7 +3,8 @@
 // WHLIPBAL 50×100; docs/qp.md). The reference is R's quadprog (Goldfarb–Idnani, Turlach's
 // Fortran), run as a subprocess on the same numbers (scripts/qp-quadprog.R); where R or its
 // quadprog package is absent, scipy's NNLS on the least-distance form (scripts/qp-scipy.py);
-// where neither runs, only the KKT certificate below (the test says which one it used).
+// where neither runs, only the KKT certificate below (the test says which one it used). The
+// scipy path is also run on its own, so that the fallback is known to work where R is present.
 //
 // Tolerances (u = 1.1e-16; both solvers stop at a vertex of the same active set, so they
 // differ by rounding only; P positive definite, so the minimiser is unique):
@@ -99,9 +100,9 @@ class QpBenchmarkTest : public ::testing::Test {
     if (!tmp_.empty()) fs::remove_all(tmp_);
   }
 
-  /// Runs the reference on every problem; fills reference_ and names it in used_. Empty when
-  /// neither R's quadprog nor scipy runs here.
-  void RunReference() {
+  /// Runs the reference on every problem; fills reference_ and names it in used_. R's quadprog
+  /// first unless `scipy_only`; empty when neither runs here.
+  void RunReference(bool scipy_only = false) {
     const fs::path in = tmp_ / "problems.txt", out = tmp_ / "reference.txt";
     {
       std::ofstream text(in);
@@ -109,18 +110,63 @@ class QpBenchmarkTest : public ::testing::Test {
       for (const QpProblem& p : problems_) WriteQpProblemText(p, text);
     }
     const fs::path scripts = fs::path(PWSIM_SOURCE_DIR) / "scripts";
-    if (RunShell("Rscript -e 'suppressPackageStartupMessages(library(quadprog))' > /dev/null 2>&1") == 0) {
+    if (!scipy_only &&
+        RunShell("Rscript -e 'suppressPackageStartupMessages(library(quadprog))' > /dev/null 2>&1") == 0) {
       ASSERT_EQ(RunShell("Rscript " + Quote(scripts / "qp-quadprog.R") + " " + Quote(in) + " " + Quote(out)), 0);
       used_ = "R quadprog (scripts/qp-quadprog.R)";
     } else {
       for (const char* python : {"/usr/bin/python3", "python3"}) {
         if (RunShell(std::string(python) + " -c 'import scipy.optimize' > /dev/null 2>&1") != 0) continue;
         ASSERT_EQ(RunShell(std::string(python) + " " + Quote(scripts / "qp-scipy.py") + " " + Quote(in) + " " + Quote(out)), 0);
-        used_ = "scipy NNLS least-distance form (scripts/qp-scipy.py; R's quadprog not found)";
+        used_ = scipy_only ? "scipy NNLS least-distance form (scripts/qp-scipy.py)"
+                           : "scipy NNLS least-distance form (scripts/qp-scipy.py; R's quadprog not found)";
         break;
       }
     }
     if (!used_.empty()) reference_ = ReadReference(out);
+  }
+
+  /// Checks every problem against reference_ (when there is one) and by its KKT certificate.
+  void CheckAll() {
+    std::cout << "QP benchmark: " << problems_.size() << " problems from " << DataDir().string() << "; reference: "
+              << (used_.empty() ? "none (neither Rscript with quadprog nor python3 with scipy): KKT certificate only"
+                                : used_)
+              << "\n";
+    if (!used_.empty()) RecordProperty("reference", used_);
+    double worst_objective = 0.0, worst_x = 0.0, worst_stationarity = 0.0;
+    for (const QpProblem& p : problems_) {
+      SCOPED_TRACE(p.name);
+      const QpSolution s = SolveQpProblem(p);
+      ASSERT_TRUE(s.status.ok) << "termination " << s.status.termination;
+      const QpResiduals kkt = KktResiduals(p, s.x, s.multipliers);
+      EXPECT_LE(kkt.dual, 1e-12 * s.multipliers.maxCoeff());
+      EXPECT_LE(kkt.stationarity_relative, 1e-9);
+      EXPECT_LE(kkt.primal, ViolationAllowance(p, s.x));
+      const Eigen::VectorXd gap = p.g * s.x - p.h, row_scale = p.h.cwiseAbs() + p.g.cwiseAbs() * s.x.cwiseAbs();
+      for (int i = 0; i < p.constraints(); ++i) {
+        if (s.multipliers(i) > 0.0) {
+          EXPECT_LE(std::abs(gap(i)), 1e-9 * row_scale(i)) << "complementarity of row " << i;
+        }
+      }
+      worst_stationarity = std::max(worst_stationarity, kkt.stationarity_relative);
+      if (used_.empty()) continue;
+      const auto it = reference_.find(p.name);
+      ASSERT_NE(it, reference_.end()) << "the reference wrote no line for it";
+      const Reference& r = it->second;
+      ASSERT_EQ(r.status, "optimal");
+      ASSERT_EQ(r.x.size(), p.variables());
+      const double f = p.Objective(s.x), f_ref = p.Objective(r.x);
+      const double objective_error = std::abs(f - f_ref) / std::max(1.0, std::abs(f_ref));
+      const double x_error = (s.x - r.x).lpNorm<Eigen::Infinity>() / (1.0 + r.x.lpNorm<Eigen::Infinity>());
+      EXPECT_LE(objective_error, 1e-9) << "f " << f << " reference " << f_ref;
+      EXPECT_LE(x_error, 1e-7);
+      EXPECT_LE(kkt.primal, ConstraintViolation(p, r.x) + ViolationAllowance(p, s.x));
+      worst_objective = std::max(worst_objective, objective_error);
+      worst_x = std::max(worst_x, x_error);
+    }
+    std::cout << "QP benchmark: worst relative objective difference " << worst_objective
+              << ", worst relative x difference " << worst_x << ", worst relative stationarity " << worst_stationarity
+              << "\n";
   }
 
   /// 1e-9 of the problem's scale: the largest |h_i| + Σ_j |G_ij x_j|.
@@ -135,46 +181,18 @@ class QpBenchmarkTest : public ::testing::Test {
 };
 
 // Tests that every problem is solved, with a KKT certificate, to the reference's objective,
-// solution and constraint violation.
+// solution and constraint violation (R's quadprog where it runs).
 TEST_F(QpBenchmarkTest, SolvesEveryProblemAsTheReferenceDoes) {
   RunReference();
-  std::cout << "QP benchmark: " << problems_.size() << " problems from " << DataDir().string() << "; reference: "
-            << (used_.empty() ? "none (neither Rscript with quadprog nor python3 with scipy): KKT certificate only" : used_)
-            << "\n";
-  if (!used_.empty()) RecordProperty("reference", used_);
-  double worst_objective = 0.0, worst_x = 0.0, worst_stationarity = 0.0;
-  for (const QpProblem& p : problems_) {
-    SCOPED_TRACE(p.name);
-    const QpSolution s = SolveQpProblem(p);
-    ASSERT_TRUE(s.status.ok) << "termination " << s.status.termination;
-    const QpResiduals kkt = KktResiduals(p, s.x, s.multipliers);
-    EXPECT_LE(kkt.dual, 1e-12 * s.multipliers.maxCoeff());
-    EXPECT_LE(kkt.stationarity_relative, 1e-9);
-    EXPECT_LE(kkt.primal, ViolationAllowance(p, s.x));
-    const Eigen::VectorXd gap = p.g * s.x - p.h, row_scale = p.h.cwiseAbs() + p.g.cwiseAbs() * s.x.cwiseAbs();
-    for (int i = 0; i < p.constraints(); ++i) {
-      if (s.multipliers(i) > 0.0) {
-        EXPECT_LE(std::abs(gap(i)), 1e-9 * row_scale(i)) << "complementarity of row " << i;
-      }
-    }
-    worst_stationarity = std::max(worst_stationarity, kkt.stationarity_relative);
-    if (used_.empty()) continue;
-    const auto it = reference_.find(p.name);
-    ASSERT_NE(it, reference_.end()) << "the reference wrote no line for it";
-    const Reference& r = it->second;
-    ASSERT_EQ(r.status, "optimal");
-    ASSERT_EQ(r.x.size(), p.variables());
-    const double f = p.Objective(s.x), f_ref = p.Objective(r.x);
-    const double objective_error = std::abs(f - f_ref) / std::max(1.0, std::abs(f_ref));
-    const double x_error = (s.x - r.x).lpNorm<Eigen::Infinity>() / (1.0 + r.x.lpNorm<Eigen::Infinity>());
-    EXPECT_LE(objective_error, 1e-9) << "f " << f << " reference " << f_ref;
-    EXPECT_LE(x_error, 1e-7);
-    EXPECT_LE(kkt.primal, ConstraintViolation(p, r.x) + ViolationAllowance(p, s.x));
-    worst_objective = std::max(worst_objective, objective_error);
-    worst_x = std::max(worst_x, x_error);
-  }
-  std::cout << "QP benchmark: worst relative objective difference " << worst_objective << ", worst relative x difference "
-            << worst_x << ", worst relative stationarity " << worst_stationarity << "\n";
+  CheckAll();
+}
+
+// Tests the same against the fallback reference, scipy's NNLS on the least-distance form, so
+// that the path taken where R is absent is known to work (skipped only without scipy).
+TEST_F(QpBenchmarkTest, SolvesEveryProblemAsScipyDoes) {
+  RunReference(/*scipy_only=*/true);
+  if (used_.empty()) GTEST_SKIP() << "python3 with scipy not found (Debian python3-scipy)";
+  CheckAll();
 }
 
 // Tests that the result does not depend on the units: P, q scaled by 1e8 (the same minimiser)
