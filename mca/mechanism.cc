@@ -148,6 +148,9 @@ bool Mechanism::LegGeometry(int i, const DofArray& pose, Eigen::Vector3d* u, Eig
 
 bool Mechanism::Inverse(const DofArray& pose, ActuatorVector* q) const {
   const DofArray x = Masked(pose, moved_axes());
+  for (double v : x) {
+    if (!std::isfinite(v)) return false;
+  }
   const DofArray xs = Masked(x, stage_axes_);
   ActuatorVector out(actuator_count());
   for (int i = 0; i < actuator_count(); ++i) {
@@ -334,7 +337,7 @@ std::string Mechanism::Reachability(const DofArray& pose, double margin_fraction
     }
   }
   ActuatorVector q;
-  if (!Inverse(pose, &q)) return "not computable: a leg would have zero or non-finite length";
+  if (!Inverse(pose, &q)) return "not computable: a pose entry is not finite or a leg would have zero length";
   for (int i = 0; i < actuator_count(); ++i) {
     const Actuator& a = actuators_[static_cast<std::size_t>(i)];
     const double lo = a.limits.min, hi = a.limits.max;

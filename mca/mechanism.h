@@ -129,6 +129,8 @@ class Mechanism {                  // value type; built from a platform file or 
   bool Moves(Dof dof) const;                     // the pose axes this mechanism can move (others stay 0)
   double pivot_height() const;
   // IK: pose -> actuator positions. false (q untouched) when not computable. No allocation.
+  // (Entries of axes the mechanism does not move are read as 0; a non-finite moved entry or a leg
+  // of zero length is not computable.)
   bool Inverse(const DofArray& pose, ActuatorVector* q) const;
   // FK: actuator positions -> pose, Newton/Gauss-Newton from `guess` (the last pose). No allocation.
   KinematicsStatus Forward(const ActuatorVector& q, const DofArray& guess, DofArray* pose) const;

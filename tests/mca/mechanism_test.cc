@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <string>
 
@@ -236,6 +237,10 @@ TEST(MechanismTest, UnreachablePosesAreRefusedWithNumbers) {
   EXPECT_NE(yaw.find("5 % margin, i.e. [-25.2000, 25.2000] deg"), std::string::npos) << yaw;
   const std::string surge = m.Reachability({0.01, 0, 0, 0, 0, 0}, 0.0);
   EXPECT_NE(surge.find("does not move surge"), std::string::npos) << surge;
+  const DofArray nan{0, 0, 0, 0, 0, std::numeric_limits<double>::quiet_NaN()};
+  EXPECT_NE(m.Reachability(nan, 0.0).find("not finite"), std::string::npos);
+  ActuatorVector q;
+  EXPECT_FALSE(m.Inverse(nan, &q));
 }
 
 // Tests that a singular pose is refused: one leg on heave whose direction turns horizontal,
