@@ -124,6 +124,7 @@ class ChildProcess {
     std::lock_guard<std::mutex> lock(mutex_);
     return output_;
   }
+  pid_t pid() const { return pid_; }
 
  private:
   static constexpr int kRunning = -100;

@@ -10,6 +10,7 @@
 // Synchronised on events only: lines the headset prints, datagrams arriving, exits.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -18,13 +19,16 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iostream>
 #include <map>
 #include <string>
 
+#include "hardware/canopen.h"
 #include "hardware/hmd_protocol.h"
 #include "hardware/link_auth.h"
 #include "hardware/udp_socket.h"
 #include "tests/hardware/child_process.h"
+#include "tests/hardware/forged_udp.h"
 
 namespace pwsim::hw {
 namespace {
@@ -227,6 +231,81 @@ TEST(HmdPeerLink, InAuthenticatedModeAStrangerWithoutTheKeyGetsNothingBack) {
   EXPECT_TRUE(stranger.heads.empty());
   session.Send(at->address, ByeMsg{});
   EXPECT_EQ(headset.Wait(), 0) << headset.Output();
+}
+
+/// A free loopback port: bound by the kernel's choice and released for a process to bind.
+std::string FreePort() {
+  UdpSocket probe;
+  if (!probe.Bind(*ParseUdpAddress("127.0.0.1:0")).empty()) return "";
+  return "127.0.0.1:" + std::to_string(probe.local_port());
+}
+
+// The whole system: `pwsim session` with platform-sim and a headset that is killed mid-session
+// and started again on its port. The session core answers the new headset's HELLO (the
+// headset prints that it confirmed the session's stream only after a HELLO echoing its own new
+// stream), takes its head poses, stops cleanly on SIGINT and its log replays bit for bit.
+// Authenticated: the same with --link-key everywhere, and a quick stop for the rail forged
+// with the session's own CAN address (a raw socket) is refused by the drives: the session
+// parks as if nothing happened (in issue 39 one such datagram quick-stopped the drives).
+void SessionReadmitsARestartedHeadset(bool authenticated) {
+  if (!fs::exists(kPwsim)) GTEST_SKIP() << kPwsim << " not built";
+  TempDir tmp;
+  std::vector<std::string> key;
+  if (authenticated) key = {"--link-key", tmp.Key().first};
+  auto with_key = [&](std::vector<std::string> args) {
+    args.insert(args.end(), key.begin(), key.end());
+    return args;
+  };
+  const std::string can_local = FreePort(), hmd_local = FreePort(), hmd_at = FreePort();
+  // The car scene on platform-sim's default platform (the car's yaw + rail drives).
+  ChildProcess platform(with_key({kPwsim, "platform-sim", "--listen", "127.0.0.1:0", "--peer", "udp:" + can_local,
+                                  "--idle-exit", "0"}));
+  const auto can_at = platform.WaitForLine("pwsim platform-sim: listening on ");
+  ASSERT_TRUE(can_at) << platform.Output();
+  auto headset = [&] {
+    return std::make_unique<ChildProcess>(with_key({kPwsim, "hmd-peer", "--listen", hmd_at, "--peer", "udp:" + hmd_local}));
+  };
+  auto first = headset();
+  ASSERT_TRUE(first->WaitForLine("pwsim hmd-peer: listening on ")) << first->Output();
+  const fs::path out = tmp.dir / "session";
+  ChildProcess session(with_key({kPwsim, "session", std::string(PWSIM_SOURCE_DIR) + "/scenes/car_lane_change.yaml",
+                                 "--can", "udp:" + *can_at, "--can-local", can_local, "--hmd", "udp:" + hmd_at,
+                                 "--hmd-local", hmd_local, "--hmd-timeout-ms", "60000", "--drive-wait-ms", "50",
+                                 "--duration", "14", "--out", out.string()}));
+  ASSERT_TRUE(first->WaitForLine("pwsim hmd-peer: 100 frames")) << first->Output() << session.Output();
+  const auto stream = first->WaitForLine("pwsim hmd-peer: session stream ");
+  ASSERT_TRUE(stream) << first->Output();
+  first->Kill();
+  auto second = headset();
+  ASSERT_TRUE(second->WaitForLine("pwsim hmd-peer: session stream " + *stream)) << second->Output() << session.Output();
+  ASSERT_TRUE(second->WaitForLine("pwsim hmd-peer: 100 frames")) << second->Output();
+  if (authenticated) {
+    std::vector<std::uint8_t> quick_stop(kCannelloniHeaderSize + 13);
+    const CanFrame frame = canopen::EncodeCspCommand(2, {canopen::controlword::kQuickStop, 0});
+    quick_stop.resize(EncodeCannelloni(0, std::span<const CanFrame>(&frame, 1), quick_stop));
+    const std::optional<bool> sent = test::SendForgedUdp(*ParseUdpAddress(can_local), *ParseUdpAddress(*can_at), quick_stop);
+    if (sent) {
+      ASSERT_TRUE(*sent);
+      ASSERT_TRUE(platform.WaitForLine("pwsim platform-sim: refused 1 datagrams")) << platform.Output();
+    } else {
+      std::cout << "no raw socket here (CAP_NET_RAW): the forged quick stop is not sent\n";
+    }
+  }
+  ::kill(session.pid(), SIGINT);
+  EXPECT_EQ(session.Wait(), 0) << session.Output();
+  EXPECT_EQ(second->Wait(), 0) << second->Output();  // the session said bye
+  ChildProcess replay({kPwsim, "replay", (out / "session.log").string()});
+  EXPECT_EQ(replay.Wait(), 0) << replay.Output();
+  std::ifstream in(out / "report.json");
+  const auto r = nlohmann::json::parse(in, nullptr, false);
+  ASSERT_FALSE(r.is_discarded());
+  EXPECT_EQ(r["hmd_rx"]["malformed"].get<int>(), 0);
+  EXPECT_GT(r["hmd_rx"]["accepted"].get<int>(), 200);
+}
+
+TEST(HmdPeerLink, ASessionReadmitsARestartedHeadset) { SessionReadmitsARestartedHeadset(false); }
+TEST(HmdPeerLink, AnAuthenticatedSessionReadmitsARestartedHeadsetAndIgnoresAForgedQuickStop) {
+  SessionReadmitsARestartedHeadset(true);
 }
 
 }  // namespace

@@ -12,8 +12,6 @@
 #include <gtest/gtest.h>
 #include <arpa/inet.h>
 #include <netinet/in.h>
-#include <netinet/ip.h>
-#include <netinet/udp.h>
 #include <poll.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -31,6 +29,7 @@
 #include "hardware/link_auth.h"
 #include "hardware/udp_can_bus.h"
 #include "hardware/udp_socket.h"
+#include "tests/hardware/forged_udp.h"
 
 namespace pwsim::hw {
 namespace {
@@ -159,38 +158,6 @@ TEST(UdpLinkAdoption, APlainAdoptingBusWithoutAConfirmationIsRefused) {
 
 // --- forged source address ------------------------------------------------------------------------
 
-/// Sends `payload` to `to` as UDP from `from` (forged) through a raw IPv4 socket. nullopt when
-/// this process may not open one (no CAP_NET_RAW), else whether the kernel took it.
-std::optional<bool> SendForged(const UdpAddress& from, const UdpAddress& to, const Bytes& payload) {
-  const int fd = ::socket(AF_INET, SOCK_RAW, IPPROTO_RAW);
-  if (fd < 0) return std::nullopt;
-  const int on = 1;
-  ::setsockopt(fd, IPPROTO_IP, IP_HDRINCL, &on, sizeof(on));
-  Bytes packet(sizeof(iphdr) + sizeof(udphdr) + payload.size());
-  iphdr ip{};
-  ip.version = 4;
-  ip.ihl = 5;
-  ip.ttl = 64;
-  ip.protocol = IPPROTO_UDP;
-  ip.tot_len = htons(static_cast<std::uint16_t>(packet.size()));
-  ip.saddr = from.ip;
-  ip.daddr = to.ip;  // the kernel fills in the id and the header checksum
-  udphdr udp{};
-  udp.source = htons(from.port);
-  udp.dest = htons(to.port);
-  udp.len = htons(static_cast<std::uint16_t>(sizeof(udphdr) + payload.size()));
-  udp.check = 0;  // no checksum (allowed on IPv4)
-  std::memcpy(packet.data(), &ip, sizeof(ip));
-  std::memcpy(packet.data() + sizeof(ip), &udp, sizeof(udp));
-  std::memcpy(packet.data() + sizeof(ip) + sizeof(udp), payload.data(), payload.size());
-  sockaddr_in dst{};
-  dst.sin_family = AF_INET;
-  dst.sin_addr.s_addr = to.ip;
-  const ssize_t n = ::sendto(fd, packet.data(), packet.size(), 0, reinterpret_cast<sockaddr*>(&dst), sizeof(dst));
-  ::close(fd);
-  return n == static_cast<ssize_t>(packet.size());
-}
-
 TEST(UdpLinkForgedSource, PassesThePlainPeerCheckAndIsDroppedInAuthenticatedMode) {
   // A quick stop for the rail: what one forged datagram did in issue 39.
   const CanFrame quick_stop = canopen::EncodeCspCommand(2, {canopen::controlword::kQuickStop, 0});
@@ -223,7 +190,7 @@ TEST(UdpLinkForgedSource, PassesThePlainPeerCheckAndIsDroppedInAuthenticatedMode
     // A forged datagram: the session's address and port as its source.
     const UdpAddress session_at = Loopback(session_port);
     const UdpAddress bus_at = Loopback(bus.local_port());
-    std::optional<bool> forged = SendForged(session_at, bus_at, Datagram(quick_stop, 0));
+    std::optional<bool> forged = test::SendForgedUdp(session_at, bus_at, Datagram(quick_stop, 0));
     if (!forged) {
       // No raw sockets here: a second socket bound to the peer's port after it closed.
       session.bus.reset();
@@ -243,7 +210,7 @@ TEST(UdpLinkForgedSource, PassesThePlainPeerCheckAndIsDroppedInAuthenticatedMode
       const Bytes head = {'P', 'W', 'L', 'A', 1, 1, 1, 1};
       std::copy(head.begin(), head.end(), fake.begin());
       if (session.bus) {
-        ASSERT_EQ(SendForged(session_at, bus_at, fake), std::optional<bool>(true));
+        ASSERT_EQ(test::SendForgedUdp(session_at, bus_at, fake), std::optional<bool>(true));
       }
       const std::uint64_t expected = session.bus ? 2 : 1;
       ASSERT_TRUE(Until([&] { return bus.stats().rx_refused == refused_before + expected; }, {bus.fd()},
