@@ -59,17 +59,22 @@ TEST(MakeTruthSet, DrawBySeedRegeneratesTheSetBitForBit) {
 }
 
 TEST(MakeTruthSet, BadOptionsNameTheOptionAndTheExpectedForm) {
-  const fs::path log = fs::temp_directory_path() / ("pwsim_truth_cli_" + std::to_string(::getpid()) + ".log");
-  EXPECT_EQ(RunTool("--out /tmp/never --seed 12x", log), 2);
+  // Everything in this test's own folder; the refused runs must not create their --out.
+  const fs::path dir = fs::temp_directory_path() / ("pwsim_truth_cli_bad_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path log = dir / "log.txt";
+  const std::string out = "--out " + (dir / "never").string();
+  EXPECT_EQ(RunTool(out + " --seed 12x", log), 2);
   EXPECT_NE(Slurp(log).find("--seed: expected a number, got '12x'"), std::string::npos) << Slurp(log);
-  EXPECT_EQ(RunTool("--out /tmp/never --speeds 0.5,fast", log), 2);
+  EXPECT_EQ(RunTool(out + " --speeds 0.5,fast", log), 2);
   EXPECT_NE(Slurp(log).find("--speeds: expected a number, got 'fast'"), std::string::npos) << Slurp(log);
-  EXPECT_EQ(RunTool("--out /tmp/never --draw --noise purple", log), 2);
+  EXPECT_EQ(RunTool(out + " --draw --noise purple", log), 2);
   EXPECT_NE(Slurp(log).find("unknown noise kind 'purple'"), std::string::npos) << Slurp(log);
-  EXPECT_EQ(RunTool("--out /tmp/never --noise white", log), 2);
+  EXPECT_EQ(RunTool(out + " --noise white", log), 2);
   EXPECT_NE(Slurp(log).find("--noise needs --draw"), std::string::npos) << Slurp(log);
-  EXPECT_FALSE(fs::exists("/tmp/never"));
-  fs::remove(log);
+  EXPECT_FALSE(fs::exists(dir / "never"));
+  fs::remove_all(dir);
 }
 
 }  // namespace
