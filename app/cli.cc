@@ -1,5 +1,6 @@
 #include "app/cli.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <stdexcept>
@@ -84,8 +85,10 @@ ParsedArgs Parse(const CommandSpec& spec, const std::vector<std::string>& args) 
     }
     const OptionSpec* option = Find(spec, name);
     if (!option) {
-      throw UsageError("pwsim " + spec.name + ": unknown option --" + name +
-                                  " (see pwsim " + spec.name + " --help)");
+      std::vector<std::string> names{"help"};
+      for (const OptionSpec& known : spec.options) names.push_back(known.name);
+      throw UsageError("unknown option --" + name + DidYouMean(name, names, "--") + " (see pwsim " +
+                       spec.name + " --help)");
     }
     if (option->value_name.empty()) {
       if (inline_value) throw UsageError("option --" + name + " takes no value");
@@ -113,17 +116,89 @@ bool WantsHelp(const std::vector<std::string>& args) {
 std::string HelpText(const CommandSpec& spec) {
   std::string text = "usage: " + spec.usage + "\n\n" + spec.summary + "\n";
   if (!spec.positional_help.empty()) text += "\n" + spec.positional_help + "\n";
-  text += "\noptions:\n";
+  text += "\noptions (a flag is off unless given):\n";
   for (const OptionSpec& option : spec.options) {
     std::string left = "  --" + option.name;
     if (!option.value_name.empty()) left += " " + option.value_name;
     if (left.size() < 26) left.resize(26, ' ');
     text += left + " " + option.help;
-    text += "  [unit: " + (option.unit.empty() ? std::string("-") : option.unit);
-    text += "; default: " + (option.default_value.empty() ? std::string("none") : option.default_value) + "]\n";
+    if (!option.value_name.empty()) {  // a flag has neither unit nor default
+      std::vector<std::string> notes;
+      if (!option.unit.empty() && option.unit != "-") notes.push_back("unit: " + option.unit);
+      if (!option.default_value.empty()) notes.push_back("default: " + option.default_value);
+      if (!notes.empty()) {
+        text += "  [" + notes[0];
+        for (std::size_t i = 1; i < notes.size(); ++i) text += "; " + notes[i];
+        text += "]";
+      }
+    }
+    text += "\n";
   }
   text += "  --help                   show this help\n";
   return text;
+}
+
+int EditDistance(const std::string& a, const std::string& b) {
+  // d[i][j]: distance between the first i characters of a and the first j of b.
+  const std::size_t n = a.size(), m = b.size();
+  std::vector<std::vector<int>> d(n + 1, std::vector<int>(m + 1, 0));
+  for (std::size_t i = 0; i <= n; ++i) d[i][0] = static_cast<int>(i);
+  for (std::size_t j = 0; j <= m; ++j) d[0][j] = static_cast<int>(j);
+  for (std::size_t i = 1; i <= n; ++i) {
+    for (std::size_t j = 1; j <= m; ++j) {
+      const int cost = a[i - 1] == b[j - 1] ? 0 : 1;
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) {
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+      }
+    }
+  }
+  return d[n][m];
+}
+
+std::string Suggest(const std::string& word, const std::vector<std::string>& candidates) {
+  if (word.empty()) return "";
+  std::vector<const std::string*> prefixed;
+  for (const std::string& candidate : candidates) {
+    if (candidate.size() > word.size() && candidate.compare(0, word.size(), word) == 0) {
+      prefixed.push_back(&candidate);
+    }
+  }
+  if (prefixed.size() == 1) return *prefixed.front();
+  const int limit = word.size() <= 4 ? 1 : 2;
+  const std::string* best = nullptr;
+  int best_distance = limit + 1;
+  for (const std::string& candidate : candidates) {
+    const int distance = EditDistance(word, candidate);
+    if (distance < best_distance) {
+      best_distance = distance;
+      best = &candidate;
+    }
+  }
+  return best ? *best : "";
+}
+
+std::string DidYouMean(const std::string& word, const std::vector<std::string>& candidates,
+                       const std::string& prefix) {
+  const std::string suggestion = Suggest(word, candidates);
+  return suggestion.empty() ? "" : "; did you mean " + prefix + suggestion + "?";
+}
+
+std::string DefaultOutDir(const std::string& command, const std::string& sub) {
+  return "out/" + command + (sub.empty() ? "" : "-" + sub);
+}
+
+OptionSpec OutOption(const std::string& command, const std::string& contents) {
+  return {"out", "DIR", "", DefaultOutDir(command), "output folder: " + contents};
+}
+
+std::filesystem::path OutDir(const ParsedArgs& args, const std::string& sub) {
+  if (args.Has("out")) {
+    const std::string dir = args.Get("out");
+    if (dir.empty()) throw UsageError("option --out: expected a folder, got an empty value");
+    return dir;
+  }
+  return DefaultOutDir(args.spec() ? args.spec()->name : "pwsim", sub);
 }
 
 }  // namespace pwsim::app

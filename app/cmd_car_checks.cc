@@ -18,7 +18,7 @@ const CommandSpec& CarChecksSpec() {
       "Check the car model against closed forms; write figures and car_checks.json.",
       {
           {"vehicle", "FILE", "-", "assets/cars/midsize.yaml", "a pwsim-vehicle/1 file"},
-          {"out", "DIR", "-", "out/car-checks", "output folder (created)"},
+          OutOption("car-checks", "car_checks.json, car_*.png"),
       },
       ""};
   return spec;
@@ -29,7 +29,7 @@ int CarChecksCommand(const ParsedArgs& args) {
   std::filesystem::path file = args.Get("vehicle");
   if (!args.Has("vehicle") && !std::filesystem::exists(file)) file = std::filesystem::path(PWSIM_SOURCE_DIR) / file;
   const vehicle::Vehicle car = vehicle::ReadVehicleFile(file);
-  const std::filesystem::path out = args.Get("out");
+  const std::filesystem::path out = OutDir(args);
   const nlohmann::ordered_json r = report::RunCarChecks(car, file, out);
   std::cout << "pwsim car-checks: " << car.name << " (" << file.string() << ")\n"
             << "  understeer gradient " << r["understeer"]["understeer_gradient_measured_radpmps2"].get<double>()

@@ -22,7 +22,7 @@ const CommandSpec& ChairChecksSpec() {
       {
           {"chair", "FILE", "-", "assets/chairs/table1_pw6.yaml", "a pwsim-chair/1 file with gm and lm"},
           {"load", "KG", "kg", "100", "occupant mass M_u"},
-          {"out", "DIR", "-", "out/chair-checks", "output folder (created)"},
+          OutOption("chair-checks", "chair_checks.json, chair_*.png"),
       },
       ""};
   return spec;
@@ -35,7 +35,7 @@ int ChairChecksCommand(const ParsedArgs& args) {
   const Chair chair = ReadChairFile(file);
   if (!chair.gm || !chair.lm) throw UsageError("--chair: the chair needs identified gm and lm sections");
   const double load = args.GetDouble("load", 0.0, 300.0);
-  const std::filesystem::path out = args.Get("out");
+  const std::filesystem::path out = OutDir(args);
   const nlohmann::ordered_json r = report::RunChairChecks(chair, file, load, out);
   std::cout << "pwsim chair-checks: " << chair.name << " (" << file.string() << "), " << load << " kg\n"
             << "  steady turns: radius vs v/omega worst " << 100.0 * r["turn"]["worst_relative_difference_radius_vs_v_over_omega"].get<double>()

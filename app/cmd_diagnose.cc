@@ -17,6 +17,7 @@
 #include <stdexcept>
 
 #include "app/commands.h"
+#include "app/output_folder.h"
 #include "sysid/diagnose/diagnose.h"
 #include "sysid/effects/effect_catalog.h"
 #include "sysid/measured/measured_trial.h"
@@ -56,7 +57,7 @@ const CommandSpec& DiagnoseSpec() {
       "Find what the base model gets wrong on measured trials, name the cause, extend the model "
       "and measure the gain on held-out trials (diagnosis.json, diagnosis.md).",
       {
-          {"out", "DIR", "-", "out/diagnose", "output folder (diagnosis.json, diagnosis.md, plots/)"},
+          OutOption("diagnose", "diagnosis.json, diagnosis.md, plots/"),
           {"effects", "LIST", "-", "all", "candidate effect ids, comma separated"},
           {"min-gain", "G", "-", "0.10", "share of the held-out error an extension must remove"},
           {"bic-threshold", "B", "-", "-10", "ΔBIC an extension must beat (training trials)"},
@@ -76,7 +77,7 @@ const CommandSpec& DiagnoseSpec() {
 
 int DiagnoseCommand(const ParsedArgs& args) {
   if (args.positional().size() < 2) throw UsageError("expected at least 2 TRIAL_DIR");
-  const std::filesystem::path out = args.Get("out");
+  const std::filesystem::path out = OutDir(args);
   diagnose::DiagnoseOptions options;
   options.candidates = ParseCandidates(args.Get("effects"));
   options.min_heldout_gain = args.GetDouble("min-gain");
@@ -110,9 +111,10 @@ int DiagnoseCommand(const ParsedArgs& args) {
 
   // 1. Old results go first (a failed run must not leave a report that looks complete), then
   //    every input is read: a bad file stops here, before anything is written.
+  OutputFolder folder(out, "diagnose");  // what the last command wrote there goes
   report::RemoveDiagnosisReport(out);
   std::vector<MeasuredTrial> trials;
-  for (const std::string& folder : args.positional()) trials.push_back(ReadMeasuredTrial(folder));
+  for (const std::string& trial : args.positional()) trials.push_back(ReadMeasuredTrial(trial));
 
   // 2. Diagnose.
   const auto started = std::chrono::steady_clock::now();
@@ -141,8 +143,7 @@ int DiagnoseCommand(const ParsedArgs& args) {
               << std::right << std::setw(6) << Fixed(100.0 * e.heldout_gain, 1) << " %  ΔBIC "
               << std::setw(9) << Fixed(e.delta_bic, 0) << (e.earns ? "  earns" : "") << "\n";
   }
-  std::cout << "  " << (out / "diagnosis.json").string() << "\n  " << (out / "diagnosis.md").string()
-            << "\n";
+  folder.Print(std::cout, "pwsim diagnose");
   return 0;
 }
 

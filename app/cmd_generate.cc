@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "app/commands.h"
+#include "app/output_folder.h"
 #include "engine/chair.h"
 #include "engine/number_format.h"
 #include "synth/effect_truth_model.h"
@@ -88,10 +89,10 @@ std::map<std::string, double> ParseEffectParams(const std::string& text) {
 const CommandSpec& GenerateSpec() {
   static const CommandSpec spec{
       "generate",
-      "pwsim generate --out DIR [options]",
+      "pwsim generate [--out DIR] [options]",
       "Write synthetic measured trials (paper protocol) in the measured-trials folder format.",
       {
-          {"out", "DIR", "-", "out/trials", "output folder: one sub-folder per trial"},
+          OutOption("generate", "one sub-folder per trial"),
           {"truth", "CHAIR", "-", "", "truth chair (pwsim-chair/1 with gm and lm); default Table I"},
           {"speeds", "LIST", "m/s", "0.6,1.2,1.8,2.4", "programmed cruise speeds"},
           {"loads", "LIST", "kg", "0,50,100", "loads M_u"},
@@ -172,8 +173,9 @@ int GenerateCommand(const ParsedArgs& args) {
     config.truth_model = effects::MakeEffectTruthModel(*effect, strength, config.truth, overrides);
   }
 
+  const std::filesystem::path out = OutDir(args);
+  OutputFolder folder(out, "generate");  // what the last command wrote there goes
   const TrialSet set = GenerateTrialSet(config);
-  const std::filesystem::path out = args.Get("out");
   WriteTrialSet(set, out);
   std::size_t untracked = 0;
   for (const SyntheticTrial& trial : set.trials) {
@@ -184,6 +186,7 @@ int GenerateCommand(const ParsedArgs& args) {
             << "\n  speeds " << args.Get("speeds") << " m/s, loads " << args.Get("loads")
             << " kg, cushion " << cushion << ", repeats " << repeats << ", mocap "
             << args.Get("mocap-format") << ", " << untracked << " untracked frames\n";
+  folder.Print(std::cout, "pwsim generate");
   return 0;
 }
 

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "app/commands.h"
+#include "app/output_folder.h"
 #include "engine/chair.h"
 #include "sysid/identify/identify.h"
 #include "sysid/measured/measured_trial.h"
@@ -26,7 +27,7 @@ const CommandSpec& IdentifySpec() {
       "pwsim identify TRIAL_DIR... [options]",
       "Identify the chair's GM (alpha, beta) and LM (K, C) from measured trials; write fit.json.",
       {
-          {"out", "DIR", "-", "out/identify", "output folder (identified-chair.yaml, fit.json, identify.md, plots/)"},
+          OutOption("identify", "identified-chair.yaml, fit.json, identify.md, plots/"),
           {"shared-mode", "", "-", "", "one natural frequency and damping ratio for Z and pitch (the paper)"},
           {"reference-load-kg", "KG", "kg", "", "load at which --shared-mode's mode is shared; default: heaviest LM trial"},
           {"passes", "N", "-", "2", "GM/LM alternations (1 = the paper's single pass)"},
@@ -41,7 +42,7 @@ const CommandSpec& IdentifySpec() {
 
 int IdentifyCommand(const ParsedArgs& args) {
   if (args.positional().empty()) throw UsageError("expected at least one TRIAL_DIR");
-  const std::filesystem::path out = args.Get("out");
+  const std::filesystem::path out = OutDir(args);
   IdentifyOptions options;
   options.shared_mode = args.Flag("shared-mode");
   if (args.Has("reference-load-kg")) options.reference_load_kg = args.GetDouble("reference-load-kg", 0.0, 1000.0);
@@ -58,9 +59,10 @@ int IdentifyCommand(const ParsedArgs& args) {
 
   // 1. Old results go first (a failed run must not leave a report that looks complete), then
   //    every input is read: a bad file stops here, before anything is written.
+  OutputFolder folder(out, "identify");  // what the last command wrote there goes
   report::RemoveIdentificationReport(out);
   std::vector<MeasuredTrial> trials;
-  for (const std::string& folder : args.positional()) trials.push_back(ReadMeasuredTrial(folder));
+  for (const std::string& trial : args.positional()) trials.push_back(ReadMeasuredTrial(trial));
   std::optional<Chair> truth;
   const std::filesystem::path truth_file =
       TruthFileBeside(trials.front().folder.parent_path(), "truth-chair.yaml");
@@ -84,9 +86,8 @@ int IdentifyCommand(const ParsedArgs& args) {
   std::cout << "pwsim identify: " << trials.size() << " trials\n\n"
             << report::TextTable(rows, truth.has_value()) << "\nvalidation fit (held out): Z "
             << report::Fixed(result.validation_fit_z, 1) << " %, pitch "
-            << report::Fixed(result.validation_fit_pitch, 1) << " %\n  " << (out / "identified-chair.yaml").string()
-            << "\n  " << (out / "fit.json").string() << "\n  " << (out / "identify.md").string()
-            << "\n";
+            << report::Fixed(result.validation_fit_pitch, 1) << " %\n";
+  folder.Print(std::cout, "pwsim identify");
   return 0;
 }
 

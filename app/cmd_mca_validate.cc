@@ -89,7 +89,7 @@ const CommandSpec& McaValidateSpec() {
       "pwsim mca-validate [TRIAL_DIR...] [options]",
       "MCA validation (paper Fig. 6/7): cross-correlate heave/pitch commands, tracked vs model.",
       {
-          {"out", "DIR", "-", "out/mca-validate", "output folder (created)"},
+          OutOption("mca-validate", "mca_validation.json, mca_validation.png, TRIAL/commands.csv"),
           {"scene", "SCENE", "-", "", "MCA, platform and head offset from this scene (default: the speed-cushion scene)"},
           {"chair", "FILE", "-", "", "model chair with gm and lm (default: the trial's, else Table I)"},
           {"rate-hz", "HZ", "Hz", "1000", "MCA tick rate"},
@@ -104,7 +104,7 @@ const CommandSpec& McaValidateSpec() {
 }
 
 int McaValidateCommand(const ParsedArgs& args) {
-  const std::filesystem::path out_dir = args.Get("out");
+  const std::filesystem::path out_dir = OutDir(args);
   const double rate_hz = args.GetDouble("rate-hz");
   if (!(rate_hz >= 50.0 && rate_hz <= 100000.0)) {
     throw UsageError("option --rate-hz: expected a number in [50, 100000] Hz");

@@ -29,7 +29,7 @@ const CommandSpec& OmctSpec() {
           {"platform", "FILE", "-", "", "pwsim-platform/1 file (default: the scene's, else pw4dof)"},
           {"scene", "SCENE", "-", "", "take the washout (mca:) and platform sections of this scene"},
           McaAlgorithmOptionSpec(),
-          {"out", "DIR", "-", "out/omct", "output folder (created)"},
+          OutOption("omct", "omct.csv and the Bode plot omct.png"),
           {"rate-hz", "HZ", "Hz", "1000", "MCA tick rate"},
           {"force-amplitude", "A", "m/s^2", "0.1", "input amplitude of the specific-force tests"},
           {"rate-amplitude", "A", "deg/s", "1", "input amplitude of the angular-rate tests"},
@@ -61,7 +61,7 @@ int OmctCommand(const ParsedArgs& args) {
     }
     if (const std::string problem = mca::CheckMpcStart(config); !problem.empty()) throw UsageError(problem);
   }
-  const std::filesystem::path out_dir = args.Get("out");
+  const std::filesystem::path out_dir = OutDir(args);
 
   const std::vector<mca::OmctPoint> points = mca::RunOmct(config, options);
 

@@ -214,12 +214,12 @@ int Describe(const ParsedArgs& args, const std::vector<std::string>& files) {
 const CommandSpec& PlatformSpec() {
   static const CommandSpec spec{
       "platform",
-      "pwsim platform identify|diagnose|frequency-response RECORDING... --out DIR [options]\n"
+      "pwsim platform identify|diagnose|frequency-response RECORDING... [--out DIR] [options]\n"
       "       pwsim platform describe PLATFORM.yaml [--pose S,W,H,R,P,Y] [--margin F] [--out DIR]",
       "Identify, diagnose or measure the frequency response of platform axes from recordings; "
       "describe a platform file's mechanism (actuators, workspace, leg forces) and check a pose.",
       {
-          {"out", "DIR", "-", "", "output folder (required; describe: optional, drawing data)"},
+          {"out", "DIR", "", "", "output folder (default out/platform-SUBCOMMAND, e.g. out/platform-identify; describe: only with --out, drawing data)"},
           {"pose", "S,W,H,R,P,Y", "m,deg", "",
            "describe: a pose to check (surge, sway, heave m; roll, pitch, yaw deg): refused with the "
            "actuator and its numbers when unreachable"},
@@ -257,8 +257,7 @@ int PlatformCommand(const ParsedArgs& args) {
   const std::vector<std::string> files(pos.begin() + 1, pos.end());
   if (verb == "describe") return Describe(args, files);
   if (files.empty()) throw UsageError(verb + ": expected at least one RECORDING");
-  if (args.Get("out").empty()) throw UsageError("option --out DIR is required");
-  const std::filesystem::path out = args.Get("out");
+  const std::filesystem::path out = OutDir(args, verb);
   const std::vector<std::string> validate = SplitList(args.Get("validate"));
 
   if (verb == "identify") {
@@ -314,8 +313,9 @@ int PlatformCommand(const ParsedArgs& args) {
                 << j.bandwidth_rad_s << " rad/s\n";
     return 0;
   }
-  throw UsageError("unknown sub-command '" + verb +
-                              "' (expected identify, diagnose, frequency-response or describe)");
+  throw UsageError("unknown sub-command '" + verb + "'" +
+                   DidYouMean(verb, {"identify", "diagnose", "frequency-response", "describe"}) +
+                   " (expected identify, diagnose, frequency-response or describe)");
 }
 
 }  // namespace pwsim::app

@@ -1,5 +1,7 @@
 // pwsim run [SCENE] [--out DIR]: simulates a scene and writes DIR/trial.csv and
-// DIR/summary.json. Wiring only: the physics is in engine/.
+// DIR/summary.json. Wiring only: the physics is in engine/. Every option and the scene are
+// checked before anything is simulated or written; the outputs replace what the last pwsim
+// command wrote into DIR (app/output_folder.h).
 
 #include <nlohmann/json.hpp>
 
@@ -9,6 +11,7 @@
 #include <optional>
 
 #include "app/commands.h"
+#include "app/output_folder.h"
 #include "app/scene_path.h"
 #include "engine/atomic_file.h"
 #include "engine/chair_simulator.h"
@@ -52,6 +55,18 @@ report::RenderStageOptions RenderOptions(const ParsedArgs& args) {
   return options;
 }
 
+/// --fps against the scene's clock, before anything is simulated or written: frame k is tick
+/// k·N, so the frame rate must divide the clock rate (with --no-video too: a wrong value is
+/// refused, never ignored).
+void CheckFps(const ParsedArgs& args, int clock_rate_hz) {
+  if (!args.Has("fps")) return;
+  const long long fps = args.GetInt("fps");
+  if (clock_rate_hz % fps != 0) {
+    throw UsageError("option --fps: expected a divisor of the clock rate " + std::to_string(clock_rate_hz) +
+                     " Hz of the scene (frame k is tick k*N exactly, e.g. 25, 50, 100), got " + args.Get("fps"));
+  }
+}
+
 }  // namespace
 
 const CommandSpec& RunSpec() {
@@ -60,7 +75,7 @@ const CommandSpec& RunSpec() {
       "pwsim run [SCENE] [options]",
       "Simulate a scene (default: scenes/speed_cushion.yaml) and write trial.csv and summary.json.",
       {
-          {"out", "DIR", "-", "out/run", "output folder (created)"},
+          OutOption("run", "trial.csv, summary.json, mca.*, video.mp4, ..."),
           {"decimate", "N", "ticks", "1", "write every N-th tick to trial.csv"},
           {"size", "WxH", "px", "1280x720", "image size (scene render.size; stereo: both eyes)"},
           {"fps", "N", "frames/s", "50", "video frame rate; must divide the clock rate"},
@@ -80,7 +95,7 @@ int RunCommand(const ParsedArgs& args) {
   if (args.positional().size() > 1) throw UsageError("expected at most one SCENE");
   const std::filesystem::path scene_path =
       args.positional().empty() ? DefaultScene() : std::filesystem::path(args.positional()[0]);
-  const std::filesystem::path out_dir = args.Get("out");
+  const std::filesystem::path out_dir = OutDir(args);
   const long long decimate = args.GetInt("decimate");
   if (decimate < 1) throw UsageError("option --decimate: expected an integer >= 1");
 
@@ -100,6 +115,7 @@ int RunCommand(const ParsedArgs& args) {
   const YamlDocument scene_document = LoadYamlFile(scene_path);
   if (vehicle::SceneKind(scene_document) == "car") {  // seed 001's car on the rail + yaw platform
     const vehicle::CarScene car_scene = vehicle::ParseCarScene(scene_document);
+    CheckFps(args, car_scene.clock.rate_hz);
     report::CarRunOptions car;
     car.decimate = static_cast<int>(decimate);
     car.video = !render_options.no_video;
@@ -107,20 +123,24 @@ int RunCommand(const ParsedArgs& args) {
     car.height = render_options.height_px;
     car.fps = render_options.fps;
     car.mca = mca_choice;
-    const auto written = report::RunCarScene(car_scene, scene_path, car, out_dir);
+    OutputFolder folder(out_dir, "run");  // replaces what the last command wrote there
+    report::RunCarScene(car_scene, scene_path, car, out_dir);
     std::cout << "pwsim run: car scene '" << car_scene.name << "' (" << scene_path.string() << "), "
-              << car_scene.tick_count() << " ticks at " << car_scene.clock.rate_hz << " Hz; wrote:\n";
-    for (const auto& file : written) std::cout << "  " << file.string() << "\n";
+              << car_scene.tick_count() << " ticks at " << car_scene.clock.rate_hz << " Hz\n";
+    folder.Print(std::cout, "pwsim run");
     return 0;
   }
 
   const Scene scene = ParseScene(scene_document);
+  CheckFps(args, scene.clock.rate_hz);
+  report::CheckRenderSetup(scene, render_options);  // the scene's render: section, before any output
+  OutputFolder folder(out_dir, "run");  // replaces what the last command wrote there
   if (scene.is_circuit()) {  // the full-DoF chair through a circuit, every platform axis
-    const auto written = report::RunCircuitScene(scene, scene_path.string(), static_cast<int>(decimate),
-                                                 render_options, out_dir, mca_choice);
+    report::RunCircuitScene(scene, scene_path.string(), static_cast<int>(decimate), render_options, out_dir,
+                            mca_choice);
     std::cout << "pwsim run: circuit scene '" << scene.name << "' (" << scene_path.string() << "), "
-              << scene.tick_count() << " ticks at " << scene.clock.rate_hz << " Hz; wrote:\n";
-    for (const auto& file : written) std::cout << "  " << file.string() << "\n";
+              << scene.tick_count() << " ticks at " << scene.clock.rate_hz << " Hz\n";
+    folder.Print(std::cout, "pwsim run");
     return 0;
   }
   const std::vector<ChairSample> samples = SimulateScene(scene);
@@ -133,11 +153,8 @@ int RunCommand(const ParsedArgs& args) {
   report::RenderTrial(scene, table, render_options, summary, out_dir);  // video, frames.csv
   WriteFileAtomically(out_dir / "summary.json", summary.dump(2) + "\n");
   std::cout << "pwsim run: scene '" << scene.name << "' (" << scene_path.string() << "), "
-            << samples.size() << " ticks at " << scene.clock.rate_hz << " Hz; wrote:\n";
-  for (const char* name : {"trial.csv", "summary.json", "mca.png", "mca.svg", "mca.plot.csv", "video.mp4", "video_lossless.mkv",
-                           "frames.csv", "visual_check.csv", "visual_check.png", "visual_check.svg"}) {
-    if (std::filesystem::exists(out_dir / name)) std::cout << "  " << (out_dir / name).string() << "\n";
-  }
+            << samples.size() << " ticks at " << scene.clock.rate_hz << " Hz\n";
+  folder.Print(std::cout, "pwsim run");
   return 0;
 }
 

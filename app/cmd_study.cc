@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "app/commands.h"
+#include "app/output_folder.h"
 #include "engine/atomic_file.h"
 #include "report/study_report.h"
 #include "report/training_study.h"
@@ -48,7 +49,8 @@ int PlanCommand(const ParsedArgs& args) {
   if (seed < 0) throw UsageError("option --seed: expected a non-negative integer");
   options.seed = static_cast<std::uint64_t>(seed);
   if (const std::string bad = options.Validate(); !bad.empty()) throw UsageError("study plan: " + bad);
-  const fs::path out = args.Get("out");
+  const fs::path out = OutDir(args, "plan");
+  OutputFolder folder(out, "study plan");  // what the last command wrote there goes
   const study::StudyPlan plan = study::MakePlan(options);
   WriteFileAtomically(out / "plan.csv", study::PlanCsv(plan));
   WriteFileAtomically(out / "ratings_template.csv", study::RatingsTemplateCsv(plan));
@@ -59,13 +61,14 @@ int PlanCommand(const ParsedArgs& args) {
     for (std::size_t c = 0; c < plan.sequences[s].size(); ++c) std::cout << (c ? " " : "") << plan.sequences[s][c];
     std::cout << ": " << plan.participants_per_sequence[s];
   }
-  std::cout << ")\n  " << (out / "plan.csv").string() << ", " << (out / "ratings_template.csv").string() << "\n";
+  std::cout << ")\n";
   if (args.Has("circuit")) {  // training runs: one circuit run per participant and condition
     WriteFileAtomically(out / "runs.csv", report::PlannedRunsCsv(plan, args.Get("circuit")));
-    std::cout << "  " << (out / "runs.csv").string() << ": a run of " << args.Get("circuit")
+    std::cout << "  runs.csv: a run of " << args.Get("circuit")
               << " per trial (pwsim drive ... --out DIR/runs/P_K_CONDITION, then pwsim study metrics "
               << (out / "runs.csv").string() << ")\n";
   }
+  folder.Print(std::cout, "pwsim study plan");
   return 0;
 }
 
@@ -74,10 +77,10 @@ int PlanCommand(const ParsedArgs& args) {
 const CommandSpec& StudySpec() {
   static const CommandSpec spec{
       "study",
-      "pwsim study RATINGS.csv --out DIR [options] | pwsim study plan --participants N [options] | pwsim study metrics RUNS.csv --out DIR",
+      "pwsim study RATINGS.csv [--out DIR] [options] | pwsim study plan --participants N [options] | pwsim study metrics RUNS.csv [--out DIR]",
       "User-study statistics (seed 000, sec. V): Shapiro-Wilk, Wilcoxon, boxplot; or a study plan (with --circuit: a circuit run per trial); or the training metrics of planned circuit runs through the same statistics.",
       {
-          {"out", "DIR", "-", "out/study", "output folder"},
+          OutOption("study", "study.json, study.md, boxplot.png (plan: default out/study-plan; metrics: out/study-metrics)"),
           {"conditions", "A,B", "-", "", "analysis: the headline pair (default: the first two in the file); plan: the conditions (default T_r,T_m)"},
           {"reported", "TEXT", "-", "", "a published result to check, e.g. test=paired,W=180,p=0.5045"},
           {"participants", "N", "-", "18", "plan: number of participants"},
@@ -94,10 +97,12 @@ namespace {
 /// participant and condition, through the ratings' statistics (report/training_study.h).
 int MetricsCommand(const ParsedArgs& args) {
   if (args.positional().size() != 2) throw UsageError("study metrics: expected one RUNS.csv");
-  const fs::path out = args.Get("out");
+  const fs::path out = OutDir(args, "metrics");
+  OutputFolder folder(out, "study metrics");  // what the last command wrote there goes
   const std::vector<std::string> analysed = report::WriteTrainingStudy(args.positional()[1], out);
   std::cout << "pwsim study metrics: " << analysed.size() << " of " << report::kStudyMetrics.size()
-            << " training metrics analysed; " << (out / "metrics.json").string() << "\n";
+            << " training metrics analysed\n";
+  folder.Print(std::cout, "pwsim study metrics");
   return 0;
 }
 
@@ -108,8 +113,9 @@ int StudyCommand(const ParsedArgs& args) {
   if (!args.positional().empty() && args.positional()[0] == "metrics") return MetricsCommand(args);
   if (args.positional().size() != 1) throw UsageError("expected one RATINGS.csv (or `plan`)");
   const fs::path ratings_file = args.positional()[0];
-  const fs::path out = args.Get("out");
+  const fs::path out = OutDir(args);
   // Old outputs go first, so a failed run never leaves a previous report looking current.
+  OutputFolder folder(out, "study");
   report::RemoveStudyReport(out);
 
   study::AnalysisOptions options;
@@ -134,8 +140,7 @@ int StudyCommand(const ParsedArgs& args) {
   std::cout << "  unpaired " << main.a << " vs " << main.b << ": W = " << main.unpaired.w << ", p = "
             << main.unpaired.p << " (" << main.unpaired.method << ")\n";
   for (const std::string& note : analysis.notes) std::cout << "  note: " << note << "\n";
-  std::cout << "  " << (out / "study.json").string() << ", " << (out / "study.md").string() << ", "
-            << (out / "boxplot.png").string() << "\n";
+  folder.Print(std::cout, "pwsim study");
   return 0;
 }
 

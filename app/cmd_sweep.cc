@@ -13,7 +13,14 @@
 
 #include "app/commands.h"
 #include "engine/atomic_file.h"
+#include "engine/chair.h"
 #include "engine/input_error.h"
+#include "engine/scene.h"
+#include "engine/vehicle/car_scene.h"
+#include "engine/yaml_reader.h"
+#include "mca/config.h"
+#include "mca/platform.h"
+#include "render/render_config.h"
 #include "report/sweep_report.h"
 #include "sweep/collect.h"
 #include "sweep/engines.h"
@@ -47,6 +54,28 @@ void RequireOnly(const ParsedArgs& args, const std::string& sub, const std::set<
   }
 }
 
+/// A task's copy of an input read as the pwsim commands read it (sweep::InputCheck): a scene
+/// with its engine, mca:, platform: and render: sections, a platform file, a chair file. Other
+/// formats are left to the task.
+void CheckTaskInput(const fs::path& file) {
+  const YamlDocument document = LoadYamlFile(file);
+  const YAML::Node format = document.root.IsMap() ? document.root["format"] : YAML::Node();
+  if (!format || !format.IsScalar()) return;
+  if (format.Scalar() == "pwsim-scene/1") {
+    if (vehicle::SceneKind(document) == "car") {
+      mca::LoadCarMcaConfig(vehicle::ParseCarScene(document));
+      return;
+    }
+    const Scene scene = ParseScene(document);
+    mca::LoadMcaConfig(scene);
+    render::ParseRenderConfig(scene);
+  } else if (format.Scalar() == "pwsim-platform/1") {
+    mca::ReadPlatformFile(file);
+  } else if (format.Scalar() == "pwsim-chair/1") {
+    ReadChairFile(file);
+  }
+}
+
 fs::path OneDir(const ParsedArgs& args, const std::string& sub) {
   if (args.positional().size() != 2) throw UsageError("usage: pwsim sweep " + sub + " DIR");
   return args.positional()[1];
@@ -54,10 +83,9 @@ fs::path OneDir(const ParsedArgs& args, const std::string& sub) {
 
 int Plan(const ParsedArgs& args) {
   RequireOnly(args, "plan", {"out", "force"});
-  if (args.positional().size() != 2) throw UsageError("usage: pwsim sweep plan SWEEP.yaml --out DIR");
-  if (!args.Has("out")) throw UsageError("sweep plan: --out DIR is required");
+  if (args.positional().size() != 2) throw UsageError("usage: pwsim sweep plan SWEEP.yaml [--out DIR]");
   const sweep::SweepSpec spec = sweep::ReadSweepFile(args.positional()[1], KnownCommands());
-  const sweep::Manifest manifest = sweep::Plan(spec, args.Get("out"), args.Flag("force"));
+  const sweep::Manifest manifest = sweep::Plan(spec, OutDir(args), args.Flag("force"), CheckTaskInput);
   std::cout << "pwsim sweep plan: '" << manifest.name << "': " << manifest.tasks.size() << " tasks of 'pwsim";
   for (const auto& word : manifest.command) std::cout << " " << word;
   std::cout << "'\n  " << (manifest.dir / "manifest.json").string() << "\n  "
@@ -161,10 +189,10 @@ int Collect(const ParsedArgs& args) {
 const CommandSpec& SweepSpec() {
   static const CommandSpec spec{
       "sweep",
-      "pwsim sweep plan SWEEP.yaml --out DIR | run DIR [--index N] | submit DIR [--engine E] | collect DIR",
+      "pwsim sweep plan SWEEP.yaml [--out DIR] | run DIR [--index N] | submit DIR [--engine E] | collect DIR",
       "Sweeps and batches: plan a sweep file into tasks, run them locally or as a Slurm job array, collect.",
       {
-          {"out", "DIR", "-", "", "plan: the sweep folder (manifest.json, tasks/N/)"},
+          OutOption("sweep", "plan: the sweep folder (manifest.json, tasks/N/), new or empty"),
           {"force", "", "-", "", "plan: replace the plan and results already in DIR"},
           {"index", "N", "-", "", "run: the task (default: SLURM_ARRAY_TASK_ID, else OAR_ARRAY_INDEX - 1)"},
           {"engine", "E", "-", "local", "submit: local (this machine's cores) or slurm (sbatch --array)"},
@@ -187,7 +215,8 @@ int SweepCommand(const ParsedArgs& args) {
   if (sub == "run") return Run(args);
   if (sub == "submit") return Submit(args);
   if (sub == "collect") return Collect(args);
-  throw UsageError("unknown sweep command '" + sub + "' (expected plan, run, submit or collect)");
+  throw UsageError("unknown sweep command '" + sub + "'" + DidYouMean(sub, {"plan", "run", "submit", "collect"}) +
+                   " (expected plan, run, submit or collect)");
 }
 
 }  // namespace pwsim::app

@@ -1,6 +1,8 @@
 // pwsim: command-line entry point. Dispatches to the subcommands of app/commands.cc.
 // Exit status: 0 success, 1 bad input or failure (message on stderr), 2 usage error
-// (app::UsageError). Any other exception from a library is a failure (status 1).
+// (app::UsageError). Any other exception from a library is a failure (status 1). A command
+// may document more codes of its own (pwsim replay: 3 when the replay differs from the log; pwsim sweep
+// run: 65 and 75). `pwsim --version` prints the version and the git commit it was built from.
 
 #include <exception>
 #include <iostream>
@@ -23,7 +25,8 @@ void PrintTopHelp() {
     if (name.size() < 16) name.resize(16, ' ');
     std::cout << name << command.spec->summary << "\n";
   }
-  std::cout << "\nRun 'pwsim <command> --help' for its options, units and defaults.\n";
+  std::cout << "\nRun 'pwsim <command> --help' for its options, units and defaults;\n"
+               "'pwsim --version' for the version and the commit it was built from.\n";
 }
 
 }  // namespace
@@ -34,6 +37,10 @@ int main(int argc, char** argv) {
   if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
     PrintTopHelp();
     return args.empty() ? 2 : 0;
+  }
+  if (args[0] == "--version" || args[0] == "-V" || args[0] == "version") {
+    std::cout << pwsim::app::VersionText() << "\n";
+    return 0;
   }
   const std::string name = args[0];
   args.erase(args.begin());
@@ -56,6 +63,9 @@ int main(int argc, char** argv) {
       return 1;
     }
   }
-  std::cerr << "pwsim: unknown command '" << name << "' (see pwsim --help)\n";
+  std::vector<std::string> names;
+  for (const auto& command : pwsim::app::AllCommands()) names.push_back(command.spec->name);
+  std::cerr << "pwsim: unknown " << (name.rfind("-", 0) == 0 ? "option '" : "command '") << name << "'"
+            << pwsim::app::DidYouMean(name, names) << " (see pwsim --help)\n";
   return 2;
 }

@@ -22,6 +22,18 @@ InputError::InputError(std::string file, int line, std::string field, std::strin
       file_(std::move(file)),
       line_(line),
       field_(std::move(field)),
-      expected_(std::move(expected)) {}
+      expected_(std::move(expected)),
+      got_(std::move(got)) {}
+
+void RequireReadableFile(const std::filesystem::path& file, const std::string& what) {
+  std::error_code error;
+  const std::filesystem::file_status status = std::filesystem::status(file, error);
+  if (status.type() == std::filesystem::file_type::not_found) {
+    throw InputError(file.string(), 0, "(file)", what, "no such file");
+  }
+  if (status.type() == std::filesystem::file_type::directory) {
+    throw InputError(file.string(), 0, "(file)", what, "a path that is a directory");
+  }
+}
 
 }  // namespace pwsim

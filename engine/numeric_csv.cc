@@ -27,8 +27,9 @@ std::vector<std::string> SplitCells(const std::string& line) {
 
 NumericCsv ReadNumericCsv(const std::filesystem::path& file, const std::vector<std::string>& wanted,
                           const CsvCellRule& rule) {
+  RequireReadableFile(file, "a readable CSV file");
   std::ifstream in(file);
-  if (!in) throw InputError(file.string(), 0, "", "a readable CSV file", "cannot open");
+  if (!in) throw InputError(file.string(), 0, "(file)", "a readable CSV file", "cannot open");
   std::string line;
   std::string names;
   for (std::size_t k = 0; k < wanted.size(); ++k) names += (k ? ", " : "") + wanted[k];

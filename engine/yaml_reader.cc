@@ -4,6 +4,7 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <unordered_map>
 
 #include "engine/input_error.h"
 
@@ -36,6 +37,31 @@ std::optional<double> ParseNumber(const std::string& text) {
   return value;
 }
 
+/// yaml-cpp keeps both entries of a key written twice in one mapping and node[key] returns the
+/// first, so the second would be ignored silently: refuse it, naming both lines.
+void RefuseDuplicateKeys(const YAML::Node& node, const std::string& label, const std::string& path) {
+  if (node.IsSequence()) {
+    for (std::size_t i = 0; i < node.size(); ++i) {
+      RefuseDuplicateKeys(node[i], label, path + "[" + std::to_string(i) + "]");
+    }
+    return;
+  }
+  if (!node.IsMap()) return;
+  std::unordered_map<std::string, int> first_line;
+  for (const auto& entry : node) {
+    if (!entry.first.IsScalar()) continue;
+    const std::string& key = entry.first.Scalar();
+    const std::string field = path.empty() ? key : path + "." + key;
+    const int line = LineOf(entry.first);
+    const auto [seen, fresh] = first_line.emplace(key, line);
+    if (!fresh) {
+      throw InputError(label, line, field, "each key once in a mapping",
+                       "\"" + key + "\" again (first on line " + std::to_string(seen->second) + ")");
+    }
+    RefuseDuplicateKeys(entry.second, label, field);
+  }
+}
+
 }  // namespace
 
 bool Range::Contains(double value) const {
@@ -62,6 +88,7 @@ std::string Range::Describe() const {
 }
 
 YamlDocument LoadYamlFile(const std::filesystem::path& file) {
+  RequireReadableFile(file, "a readable YAML file");
   std::ifstream in(file);
   if (!in) {
     throw InputError(file.string(), 0, "(file)", "a readable YAML file", "no such file");
@@ -77,6 +104,7 @@ YamlDocument LoadYamlString(const std::string& text, const std::string& label) {
     if (!root.IsDefined() || root.IsNull()) {
       throw InputError(label, 0, "(document)", "a YAML mapping", "an empty document");
     }
+    RefuseDuplicateKeys(root, label, "");
     return {label, root};
   } catch (const YAML::Exception& error) {
     throw InputError(label, error.mark.line + 1, "(syntax)", "valid YAML", error.msg);

@@ -44,9 +44,10 @@ struct YamlDocument {
   YAML::Node root;
 };
 
-/// Parses a YAML file; a missing file or a syntax error becomes an InputError.
+/// Parses a YAML file; a missing file, a directory, a syntax error or a key written twice in
+/// one mapping (which yaml-cpp would keep, the second copy unread) becomes an InputError.
 YamlDocument LoadYamlFile(const std::filesystem::path& file);
-/// Parses YAML text (for inline tests); `label` stands in for the file name.
+/// Parses YAML text (for inline tests), with the same checks; `label` stands in for the file name.
 YamlDocument LoadYamlString(const std::string& text, const std::string& label);
 
 /// 1-based line of a node (0 when unknown).

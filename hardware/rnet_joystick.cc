@@ -117,14 +117,37 @@ JoystickSample RnetLogJoystick::Poll(std::int64_t tick, std::int64_t now_ns) {
 std::int64_t RnetLogJoystick::last_record_tick() const { return record_tick_.empty() ? 0 : record_tick_.back(); }
 
 std::vector<CandumpRecord> ReadCandumpFile(const std::filesystem::path& file) {
+  RequireReadableFile(file, "a candump log (candump -l)");
   std::ifstream in(file);
-  if (!in) throw InputError(file.string(), 0, "file", "a readable candump log (candump -l)", "cannot open");
-  int bad_line = 0;
-  CodecError error = CodecError::kOk;
-  std::vector<CandumpRecord> records = ReadCandumpLog(in, &bad_line, &error);
-  if (bad_line != 0) {
-    throw InputError(file.string(), bad_line, "frame",
-                     "a candump -l line '(SECONDS.MICROSECONDS) IFACE ID#DATA'", CodecErrorName(error));
+  if (!in) throw InputError(file.string(), 0, "(file)", "a readable candump log (candump -l)", "cannot open");
+  std::vector<CandumpRecord> records;
+  std::string line;
+  int number = 0;
+  int previous_line = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    if (line.empty() || line == "\r") continue;
+    CandumpRecord record;
+    if (const CodecError error = ParseCandumpLine(line, &record); error != CodecError::kOk) {
+      throw InputError(file.string(), number, "frame",
+                       "a candump -l line '(SECONDS.MICROSECONDS) IFACE ID#DATA'", CodecErrorName(error));
+    }
+    if (!records.empty() && record.time_us < records.back().time_us) {
+      const auto stamp = [](std::int64_t us) {
+        const std::string text = FormatCandumpLine({us, "", CanFrame{}});
+        return text.substr(0, text.find(')') + 1);
+      };
+      throw InputError(file.string(), number, "timestamp",
+                       "time that never goes back (line " + std::to_string(previous_line) + " is at " +
+                           stamp(records.back().time_us) + ")",
+                       stamp(record.time_us));
+    }
+    records.push_back(std::move(record));
+    previous_line = number;
+  }
+  if (records.empty()) {
+    throw InputError(file.string(), 0, "frame", "at least one frame line '(SECONDS.MICROSECONDS) IFACE ID#DATA'",
+                     number == 0 ? "an empty file" : "only blank lines");
   }
   return records;
 }

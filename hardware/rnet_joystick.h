@@ -126,7 +126,9 @@ class RnetLogJoystick final : public JoystickSource {
   std::string name_;
 };
 
-/// Reads a candump log (`candump -l`). @throws InputError naming the file, line and form.
+/// Reads a candump log (`candump -l`). @throws InputError naming the file, line and form, for a
+/// missing file or a directory, a malformed line, a timestamp earlier than the line before it,
+/// or a log without frames.
 std::vector<CandumpRecord> ReadCandumpFile(const std::filesystem::path& file);
 
 /// Watchdog ticks for `timeout_ms` at `rate_hz` (rounded up, at least 1).

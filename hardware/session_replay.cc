@@ -33,6 +33,7 @@ ReplayResult ReplaySessionLog(std::istream& log) {
   SessionOutputs out;
   auto fail = [&](std::int64_t at, const std::string& why) {
     result.ok = false;
+    result.unreadable = true;
     result.message = "line " + std::to_string(at) + ": " + why;
     return result;
   };

@@ -22,6 +22,7 @@ struct ReplayResult {
   std::int64_t steps{0};
   std::int64_t lines_compared{0};
   std::string message;  ///< first mismatch or parse error
+  bool unreadable{false};  ///< the log itself is malformed (message: "line N: why"), not a mismatch
   SessionReport report;
 };
 /// Re-runs a session log offline and compares every output line.

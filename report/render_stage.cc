@@ -236,6 +236,10 @@ void WriteVisualCheck(const TrialTable& table, const std::vector<double>& time,
 
 }  // namespace
 
+void CheckRenderSetup(const Scene& scene, const RenderStageOptions& options) {
+  ConfigWithOverrides(scene, options);
+}
+
 void RenderTrial(const Scene& scene, const TrialTable& table, const RenderStageOptions& options,
                  nlohmann::ordered_json& summary, const std::filesystem::path& out_dir) {
   const RenderConfig config = ConfigWithOverrides(scene, options);

@@ -25,6 +25,10 @@ struct RenderStageOptions {
   bool png_frames{false};       ///< also frames/frame_NNNNN.png
 };
 
+/// Checks the scene's render: section with the command line's overrides, as RenderTrial will,
+/// before anything is simulated or written. @throws InputError as RenderTrial.
+void CheckRenderSetup(const Scene& scene, const RenderStageOptions& options);
+
 /// @throws InputError for a bad render: section (or overrides that break it),
 /// render::RenderError when no real GL context can be made.
 void RenderTrial(const Scene& scene, const TrialTable& table, const RenderStageOptions& options,

@@ -30,6 +30,9 @@ std::vector<std::string> SplitFields(const std::string& line) {
 
 std::string Quoted(const std::string& s) { return "\"" + s + "\""; }
 
+/// The largest rating magnitude accepted (see ratings.h).
+constexpr double kMaxRatingMagnitude = 1e6;
+
 bool ParseNumber(const std::string& s, double* value) {
   if (s.empty()) return false;
   const char* begin = s.data();
@@ -106,6 +109,8 @@ Ratings ParseRatings(const std::string& text, const std::string& name) {
     if (!ParseNumber(rating, &r.value))
       throw InputError(name, line_no, "rating", "a finite number",
                        rating.empty() ? std::string("an empty field") : Quoted(rating));
+    if (std::abs(r.value) > kMaxRatingMagnitude)
+      throw InputError(name, line_no, "rating", "a number within +-1e6 (a value on a rating scale)", Quoted(rating));
     if (out.has_order) {
       const std::string& order = fields[column["order"]];
       int value = 0;
@@ -146,6 +151,7 @@ Ratings ParseRatings(const std::string& text, const std::string& name) {
 }
 
 Ratings ReadRatings(const std::filesystem::path& file) {
+  RequireReadableFile(file, "a ratings CSV");
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file.string(), 0, "file", "a readable ratings CSV", "cannot open it");
   std::ostringstream text;

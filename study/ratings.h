@@ -8,7 +8,8 @@
 //
 // Refused with an InputError naming the file, line and field: a missing or unknown column, a
 // row with the wrong number of fields, an empty participant or condition, a rating that is not
-// a finite number, an order that is not a positive integer, a participant rated twice for the
+// a finite number within ±1e6 (every rating scale fits; beyond, the sums of squares of the
+// statistics overflow long before any real scale is reached: 1e308 is a typo, not a rating), an order that is not a positive integer, a participant rated twice for the
 // same condition, fewer than two conditions, or fewer than 3 ratings for a condition.
 
 #include <filesystem>

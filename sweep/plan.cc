@@ -123,10 +123,11 @@ nlohmann::ordered_json ManifestJson(const Manifest& manifest) {
 
 namespace {
 void PlanTasks(const SweepSpec& spec, const fs::path& dir, const std::vector<Variable>& variables,
-               const std::map<std::string, YAML::Node>& originals, Manifest& manifest);
+               const std::map<std::string, YAML::Node>& originals, const InputCheck& check,
+               Manifest& manifest);
 }  // namespace
 
-Manifest Plan(const SweepSpec& spec, const fs::path& dir_in, bool force) {
+Manifest Plan(const SweepSpec& spec, const fs::path& dir_in, bool force, const InputCheck& check) {
   const fs::path dir = fs::absolute(dir_in).lexically_normal();
   if (fs::exists(dir) && !fs::is_directory(dir)) {
     throw InputError(dir.string(), 0, "--out", "a folder for the plan", "an existing file");
@@ -165,7 +166,7 @@ Manifest Plan(const SweepSpec& spec, const fs::path& dir_in, bool force) {
   }
 
   try {
-    PlanTasks(spec, dir, variables, originals, manifest);
+    PlanTasks(spec, dir, variables, originals, check, manifest);
   } catch (...) {
     fs::remove_all(dir / "tasks");  // a refused plan leaves no task folders behind
     throw;
@@ -181,8 +182,53 @@ Manifest Plan(const SweepSpec& spec, const fs::path& dir_in, bool force) {
 }
 
 namespace {
+
+/// "a.b[2].c" -> "a.b.2.c": an InputError's field in the dotted form of a sweep key path.
+std::string DottedField(const std::string& field) {
+  std::string out;
+  for (char c : field) {
+    if (c == '[') {
+      out += '.';
+    } else if (c != ']') {
+      out += c;
+    }
+  }
+  return out;
+}
+
+/// Where in the sweep file a value of `input` that its reader refused was written: the
+/// variable or set: entry whose key path is the refused field or holds it.
+struct Origin {
+  std::string field;
+  int line{0};
+};
+
+Origin OriginOf(const SweepSpec& spec, const std::string& input, const std::string& refused_field,
+                const std::vector<Variable>& variables, const std::vector<const Value*>& values,
+                std::size_t list_row) {
+  const std::string refused = DottedField(refused_field);
+  auto covers = [&](const Variable& v) {
+    if (v.input != input) return false;
+    std::string path;
+    for (const std::string& part : v.path) path += (path.empty() ? "" : ".") + part;
+    return refused == path || refused.rfind(path + ".", 0) == 0;
+  };
+  for (std::size_t v = 0; v < variables.size(); ++v) {
+    if (!covers(variables[v])) continue;
+    const bool listed = v < spec.list_variables.size();
+    return {(listed ? "list[" + std::to_string(list_row) + "]." : std::string("grid.")) + variables[v].key,
+            values[v]->line};
+  }
+  for (const Override& entry : spec.set) {
+    if (covers(entry.target)) return {"set." + entry.target.key, entry.value.line};
+  }
+  const auto line = spec.input_lines.find(input);
+  return {"inputs." + input, line == spec.input_lines.end() ? 0 : line->second};
+}
+
 void PlanTasks(const SweepSpec& spec, const fs::path& dir, const std::vector<Variable>& variables,
-               const std::map<std::string, YAML::Node>& originals, Manifest& manifest) {
+               const std::map<std::string, YAML::Node>& originals, const InputCheck& check,
+               Manifest& manifest) {
   const std::size_t list_count = spec.list_rows.empty() ? 1 : spec.list_rows.size();
   const std::size_t total = spec.TaskCount();
   std::vector<std::size_t> grid_index(spec.grid_variables.size(), 0);
@@ -252,10 +298,22 @@ void PlanTasks(const SweepSpec& spec, const fs::path& dir, const std::vector<Var
       }
       YAML::Emitter out;
       out << copy;
-      WriteFileAtomically(task_dir / "inputs" / (name + path.extension().string()),
-                          "# pwsim sweep " + spec.name + ", task " + std::to_string(index) + " (" +
-                              task.id + "): copy of " + path.string() + " with overrides\n" +
-                              out.c_str() + "\n");
+      const fs::path copy_file = task_dir / "inputs" / (name + path.extension().string());
+      WriteFileAtomically(copy_file, "# pwsim sweep " + spec.name + ", task " + std::to_string(index) + " (" +
+                                         task.id + "): copy of " + path.string() + " with overrides\n" +
+                                         out.c_str() + "\n");
+      if (!check) continue;
+      try {
+        check(copy_file);
+      } catch (const InputError& error) {
+        const Origin origin = OriginOf(spec, name, error.field(), variables, values, list_row);
+        std::string where = error.file();
+        if (error.line() > 0) where += ":" + std::to_string(error.line());
+        throw InputError(spec.file.string(), origin.line, origin.field,
+                         error.expected() + " (task " + std::to_string(index) + "'s " + name + ", " + where +
+                             ", field '" + error.field() + "', as pwsim " + spec.command.front() + " reads it)",
+                         error.got());
+      }
     }
     for (const std::string& word : spec.command) task.argv.push_back(word);
     for (const std::string& word : spec.arguments) task.argv.push_back(Substitute(word, in_args));

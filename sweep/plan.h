@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -45,11 +46,22 @@ std::uint64_t Fnv1a64(const std::string& bytes);
 /// DIR/tasks/N.
 std::filesystem::path TaskDir(const std::filesystem::path& dir, std::size_t index);
 
-/// Plans `spec` into `dir`: writes the task folders, then DIR/manifest.json last (a plan that
-/// stopped half way has no manifest). Refuses a `dir` that is not empty unless `force`, in
-/// which case the previous plan and results there are removed first.
-/// @throws InputError for an override that cannot be applied; std::runtime_error for I/O.
-Manifest Plan(const SweepSpec& spec, const std::filesystem::path& dir, bool force);
+/// Checks one task's copy of an input (DIR/tasks/N/inputs/NAME.yaml) as the swept command will
+/// read it, throwing the InputError that command would throw (the CLI reads scenes, platform
+/// and chair files with their own readers: a misspelt override key or a value of the wrong
+/// kind is refused at plan time, not on the cluster).
+using InputCheck = std::function<void(const std::filesystem::path& input_copy)>;
+
+/// Plans `spec` into `dir`: writes the task folders, checks every task's inputs with `check`
+/// (when given), then writes DIR/manifest.json last (a plan that stopped half way has no
+/// manifest and no task folders). Refuses a `dir` that is not empty unless `force`, in which
+/// case the previous plan and results there are removed first.
+/// @throws InputError for an override that cannot be applied or that `check` refuses: the
+/// sweep file's line and field of the variable (grid.KEY, list[i].KEY, set.KEY) whose value
+/// the reader refused, else of the input, with the task's copy, line and field in the
+/// expectation; std::runtime_error for I/O.
+Manifest Plan(const SweepSpec& spec, const std::filesystem::path& dir, bool force,
+              const InputCheck& check = {});
 
 /// Reads DIR/manifest.json. @throws InputError naming the file and field when it is missing
 /// or malformed.

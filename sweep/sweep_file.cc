@@ -173,6 +173,7 @@ class Reader {
       const YamlDocument input = LoadYamlFile(path);  // syntax errors name that file
       if (!input.root.IsMap()) FailAt(line, field, "a YAML file holding a mapping", path.string());
       spec_.inputs[name] = path;
+      spec_.input_lines[name] = line;
       input_roots_[name] = input.root;
     }
   }

@@ -87,6 +87,7 @@ struct SweepSpec {
   std::string description;
   std::vector<std::string> command;  ///< pwsim words, e.g. {"run"} or {"platform", "identify"}
   std::map<std::string, std::filesystem::path> inputs;  ///< name -> original file (absolute)
+  std::map<std::string, int> input_lines;  ///< name -> its line in the sweep file
   std::vector<std::string> arguments;  ///< after the command words; may hold {placeholders}
   std::vector<Override> set;
   std::vector<Variable> grid_variables;           ///< in file order

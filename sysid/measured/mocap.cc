@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <map>
 #include <optional>
@@ -24,6 +25,7 @@ struct TextLine {
 
 /// Reads every line of `file` (CR stripped). A missing file is an InputError.
 std::vector<TextLine> ReadLines(const std::filesystem::path& file, const std::string& what) {
+  RequireReadableFile(file, "a readable " + what);
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file.string(), 0, "(file)", "a readable " + what, "no such file");
   std::vector<TextLine> lines;
@@ -84,6 +86,13 @@ std::optional<double> ParseField(const std::string& raw) {
 }
 
 std::string Quoted(const std::string& text) { return "\"" + text + "\""; }
+
+/// `value` to 6 significant digits (a rate computed from rounded times: 99.99999 reads 100).
+std::string Significant(double value) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.6g", value);
+  return text;
+}
 
 void CheckFrameCount(const MocapTrack& track, const MocapReadOptions& options,
                      const std::string& field, int line) {
@@ -256,6 +265,7 @@ MocapTrack ReadQtm6dTsv(const std::filesystem::path& file, const std::string& bo
   double last_time = -std::numeric_limits<double>::infinity();
   bool have_time = false;
   int run_start_line = 0;  // first line of the current untracked run (0: none)
+  double first_time = 0.0;
   for (++cursor; cursor < lines.size(); ++cursor) {
     const TextLine& line = lines[cursor];
     if (IsBlank(line.text)) continue;
@@ -286,6 +296,7 @@ MocapTrack ReadQtm6dTsv(const std::filesystem::path& file, const std::string& bo
       throw InputError(name, line.number, "Time", "time strictly increasing",
                        FormatDouble(t) + " after " + FormatDouble(last_time));
     }
+    if (!have_time) first_time = t;
     double body_values[16];
     bool tracked = true;
     for (std::size_t k = 0; k < kBodyColumns.size(); ++k) {
@@ -322,6 +333,27 @@ MocapTrack ReadQtm6dTsv(const std::filesystem::path& file, const std::string& bo
     if (!declared || *declared != static_cast<double>(rows)) {
       throw InputError(name, found->second.second, "NO_OF_FRAMES",
                        "the number of frame rows (" + std::to_string(rows) + ")", Quoted(got));
+    }
+  }
+  if (const auto found = header.find("FREQUENCY"); found != header.end()) {
+    // Every frame has a row (untracked ones too), so the Time column gives the frame rate:
+    // (rows - 1) / (last - first). QTM writes Time rounded (to 1 ms or finer): over the whole
+    // record the rounding is far below the 1 % allowed here.
+    const std::string got = found->second.first.empty() ? "" : found->second.first[0];
+    const std::optional<double> declared = ParseField(got);
+    if (!declared || !std::isfinite(*declared) || !(*declared > 0.0)) {
+      throw InputError(name, found->second.second, "FREQUENCY", "the frame rate in Hz (a positive number)",
+                       Quoted(got));
+    }
+    if (rows >= 2) {
+      const double from_time = (rows - 1) / (last_time - first_time);
+      if (std::abs(from_time - *declared) > 0.01 * *declared) {
+        throw InputError(name, found->second.second, "FREQUENCY",
+                         "the frame rate of the Time column, " + Significant(from_time) + " Hz (" +
+                             std::to_string(rows) + " frames from " + FormatDouble(first_time) + " s to " +
+                             FormatDouble(last_time) + " s), within 1 %",
+                         Quoted(got) + " Hz");
+      }
     }
   }
   if (track.size() < options.min_frames) {

@@ -41,7 +41,9 @@ MocapTrack ReadMocapCsv(const std::filesystem::path& file, const MocapReadOption
 
 /// Reads a QTM 6D TSV export and returns the track of `body`. Positions mm -> m; pitch from
 /// the column-major rotation matrix: θ = atan2(R20, hypot(R00, R10)). Frames whose fields for
-/// the body are not finite numbers are left out and counted in `untracked_frames`.
+/// the body are not finite numbers are left out and counted in `untracked_frames`. A FREQUENCY
+/// header, when present, must match the Time column's frame rate (rows − 1)/(t_last − t_first)
+/// within 1 %; NO_OF_FRAMES, when present, the number of frame rows.
 MocapTrack ReadQtm6dTsv(const std::filesystem::path& file, const std::string& body,
                         const MocapReadOptions& options = {});
 

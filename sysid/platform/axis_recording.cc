@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <memory>
 #include <sstream>
@@ -26,9 +28,69 @@ struct VarFreer {
   void operator()(matvar_t* v) const { Mat_VarFree(v); }
 };
 
+/// A MATLAB v5 file (header text, version 0x0100 and "IM"/"MI" at bytes 124..127) whose data
+/// elements do not fit in it was cut short: "" when whole (or not v5), else where it ends.
+/// After the 128-byte header every element is a tag (type, byte count; a small element packs
+/// both and up to 4 data bytes in 8 bytes), its data, then padding to 8 bytes (none after a
+/// compressed element).
+std::string V5Truncation(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (bytes.size() < 128) {
+    if (bytes.rfind("MATLAB 5.0", 0) != 0) return "";
+    return "cut short: " + std::to_string(bytes.size()) + " of the 128 header bytes";
+  }
+  const bool little = bytes[126] == 'I' && bytes[127] == 'M';
+  const bool big = bytes[126] == 'M' && bytes[127] == 'I';
+  if (!little && !big) return "";
+  auto u16 = [&](std::size_t at) {
+    const auto b0 = static_cast<unsigned char>(bytes[at]), b1 = static_cast<unsigned char>(bytes[at + 1]);
+    return little ? static_cast<std::uint32_t>(b0 | (b1 << 8)) : static_cast<std::uint32_t>(b1 | (b0 << 8));
+  };
+  auto u32 = [&](std::size_t at) {
+    std::uint32_t value = 0;
+    for (int k = 0; k < 4; ++k) {
+      const auto b = static_cast<unsigned char>(bytes[at + static_cast<std::size_t>(little ? 3 - k : k)]);
+      value = (value << 8) | b;
+    }
+    return value;
+  };
+  if (u16(124) != 0x0100) return "";  // v7.3 (HDF5) and others: left to libmatio
+  std::size_t at = 128;
+  int element = 0;
+  while (at < bytes.size()) {
+    ++element;
+    if (bytes.size() - at < 8) {
+      return "cut short: element " + std::to_string(element) + " at byte " + std::to_string(at) + " has " +
+             std::to_string(bytes.size() - at) + " of its 8 tag bytes (file of " + std::to_string(bytes.size()) +
+             " bytes)";
+    }
+    const std::uint32_t type = u32(at);
+    if ((type >> 16) != 0) {  // small data element
+      at += 8;
+      continue;
+    }
+    const std::uint64_t count = u32(at + 4);
+    const std::uint64_t end = at + 8 + count;
+    if (end > bytes.size()) {
+      return "cut short: element " + std::to_string(element) + " at byte " + std::to_string(at) + " needs " +
+             std::to_string(count) + " data bytes, the file ends after " + std::to_string(bytes.size() - at - 8) +
+             " (file of " + std::to_string(bytes.size()) + " bytes)";
+    }
+    at = static_cast<std::size_t>(type == 15 ? end : std::min<std::uint64_t>((end + 7) / 8 * 8, bytes.size()));
+  }
+  return "";
+}
+
 class MatSource {
  public:
   explicit MatSource(std::filesystem::path file) : file_(std::move(file)) {
+    RequireReadableFile(file_, "a MATLAB .mat file (v4, v5 or v7.3)");
+    std::error_code error;
+    if (std::filesystem::is_regular_file(file_, error) && std::filesystem::file_size(file_, error) == 0)
+      throw InputError(file_.string(), 0, "(file)", "a MATLAB .mat file (v4, v5 or v7.3)", "an empty file (0 bytes)");
+    if (const std::string cut = V5Truncation(file_); !cut.empty())
+      throw InputError(file_.string(), 0, "(file)", "a complete MATLAB v5 .mat file", "a truncated file, " + cut);
     mat_.reset(Mat_Open(file_.c_str(), MAT_ACC_RDONLY));
     if (!mat_)
       throw InputError(file_.string(), 0, "(file)", "a readable MATLAB .mat file (v4, v5 or v7.3)",
@@ -38,10 +100,22 @@ class MatSource {
     std::unique_ptr<matvar_t, VarFreer> v(Mat_VarReadInfo(mat_.get(), name.c_str()));
     return v != nullptr;
   }
+  /// The names of the file's variables, "a, b, c" ("none" for a file without any).
+  std::string Names() {
+    Mat_Rewind(mat_.get());
+    std::string names;
+    while (true) {
+      std::unique_ptr<matvar_t, VarFreer> v(Mat_VarReadNextInfo(mat_.get()));
+      if (!v) break;
+      names += (names.empty() ? "" : ", ") + std::string(v->name ? v->name : "?");
+    }
+    return names.empty() ? "none" : names;
+  }
   std::vector<double> Vector(const std::string& name, const std::string& field) {
     std::unique_ptr<matvar_t, VarFreer> v(Mat_VarRead(mat_.get(), name.c_str()));
     if (!v)
-      throw InputError(file_.string(), 0, field, "a variable named '" + name + "'", "none");
+      throw InputError(file_.string(), 0, field, "a variable named '" + name + "'",
+                       "none (the file holds: " + Names() + ")");
     if (v->isComplex || v->data == nullptr || v->rank != 2 ||
         (v->class_type != MAT_C_DOUBLE && v->class_type != MAT_C_SINGLE))
       throw InputError(file_.string(), 0, field + " (variable '" + name + "')",
@@ -71,6 +145,7 @@ class MatSource {
 class CsvSource {
  public:
   explicit CsvSource(std::filesystem::path file) : file_(std::move(file)) {
+    RequireReadableFile(file_, "a readable CSV file");
     std::ifstream in(file_);
     if (!in) throw InputError(file_.string(), 0, "(file)", "a readable CSV file", "no such file");
     std::string line;
@@ -108,6 +183,7 @@ class CsvSource {
                            "\"" + cells[c] + "\"");
         columns_[c].push_back(value);
       }
+      lines_.push_back(line_no);
     }
     if (!header) throw InputError(file_.string(), 0, "(header)", "a header row of column names", "none");
   }
@@ -117,6 +193,8 @@ class CsvSource {
     if (i < 0) throw InputError(file_.string(), 1, field, "a column named '" + name + "'", "none");
     return columns_[static_cast<std::size_t>(i)];
   }
+  /// The 1-based line of each row (sample).
+  const std::vector<int>& lines() const { return lines_; }
 
  private:
   int Index(const std::string& name) const {
@@ -127,6 +205,7 @@ class CsvSource {
   std::filesystem::path file_;
   std::vector<std::string> names_;
   std::vector<std::vector<double>> columns_;
+  std::vector<int> lines_;
 };
 
 struct Source {
@@ -137,13 +216,20 @@ struct Source {
     return mat ? mat->Vector(name, field) : csv->Vector(name, field);
   }
   bool Has(const std::string& name) { return mat ? mat->Has(name) : csv->Has(name); }
+  /// The line of each sample (CSV), or nullptr (a .mat file has no lines).
+  const std::vector<int>* lines() const { return csv ? &csv->lines() : nullptr; }
 };
 
+/// The file's line of sample `i` (0-based), 0 without lines.
+int LineOfSample(const std::vector<int>* lines, std::size_t i) {
+  return lines != nullptr && i < lines->size() ? (*lines)[i] : 0;
+}
+
 void CheckFinite(const std::vector<double>& v, const std::filesystem::path& file,
-                 const std::string& field) {
+                 const std::string& field, const std::vector<int>* lines = nullptr) {
   for (std::size_t i = 0; i < v.size(); ++i)
     if (!std::isfinite(v[i]))
-      throw InputError(file.string(), 0, field, "finite samples",
+      throw InputError(file.string(), LineOfSample(lines, i), field, "finite samples",
                        "a non-finite value at sample " + std::to_string(i + 1));
 }
 
@@ -155,7 +241,7 @@ void CheckLength(const std::vector<double>& v, std::size_t n, const std::filesys
 }
 
 double UniformStep(const std::vector<double>& t, const std::filesystem::path& file,
-                   const std::string& field) {
+                   const std::string& field, const std::vector<int>* lines = nullptr) {
   if (t.size() < 16)
     throw InputError(file.string(), 0, field, "at least 16 samples", std::to_string(t.size()));
   // Every step within 1 % of the median step (the median is not moved by the faulty step).
@@ -169,7 +255,7 @@ double UniformStep(const std::vector<double>& t, const std::filesystem::path& fi
     throw InputError(file.string(), 0, field, "increasing time", "a median step of " + FormatDouble(median) + " s");
   for (std::size_t i = 0; i < steps.size(); ++i)
     if (std::abs(steps[i] - median) > 0.01 * median)
-      throw InputError(file.string(), 0, field,
+      throw InputError(file.string(), LineOfSample(lines, i + 1), field,
                        "uniform sampling (every step within 1 % of " + FormatDouble(median) + " s)",
                        "a step of " + FormatDouble(steps[i]) + " s at sample " + std::to_string(i + 2));
   return (t.back() - t.front()) / static_cast<double>(t.size() - 1);
@@ -188,7 +274,7 @@ std::vector<double> GainOf(YamlMap spec, Source& source, const std::string& fiel
     if (gain.size() != 1) CheckLength(gain, n, source.file, field);
   }
   spec.Finish();
-  CheckFinite(gain, source.file, field);
+  CheckFinite(gain, source.file, field, gain.size() == n ? source.lines() : nullptr);
   double sum = 0.0;
   for (double g : gain) sum += g;
   *mean = sum / static_cast<double>(gain.size());
@@ -255,8 +341,8 @@ AxisRecording ReadYaml(const std::filesystem::path& file) {
       source.csv = std::make_unique<CsvSource>(source.file);
     const std::string time_name = root.String("time");
     r.t = source.Vector(time_name, "time");
-    CheckFinite(r.t, source.file, "time ('" + time_name + "')");
-    r.dt = UniformStep(r.t, source.file, "time ('" + time_name + "')");
+    CheckFinite(r.t, source.file, "time ('" + time_name + "')", source.lines());
+    r.dt = UniformStep(r.t, source.file, "time ('" + time_name + "')", source.lines());
     r.experiment = root.ChoiceOr("experiment", "excitation", {"excitation", "step", "ramp", "chirp"});
     YAML::Node joints = root.Sequence("joints");
     if (joints.size() < 1 || joints.size() > 2)
@@ -272,7 +358,7 @@ AxisRecording ReadYaml(const std::filesystem::path& file) {
         const std::string field = js.FieldName(key) + " ('" + name + "')";
         out = source.Vector(name, field);
         CheckLength(out, r.size(), source.file, field);
-        CheckFinite(out, source.file, field);
+        CheckFinite(out, source.file, field, source.lines());
       };
       column("position", j.position);
       if (js.Has("reference")) column("reference", j.reference);

@@ -10,8 +10,60 @@
 
 #include <unistd.h>
 
+#include "engine/input_error.h"
+#include "hardware/rnet_joystick.h"
+
 namespace pwsim::hw {
 namespace {
+
+/// A fresh folder of this test under the build tree.
+std::filesystem::path CandumpScratch() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  const std::filesystem::path dir = std::filesystem::path(PWSIM_BINARY_DIR) / "test_out" / "candump" / info->name();
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+/// The InputError ReadCandumpFile throws for `file` (fails the test when none).
+InputError CandumpFileError(const std::filesystem::path& file) {
+  try {
+    ReadCandumpFile(file);
+  } catch (const InputError& error) {
+    return error;
+  }
+  ADD_FAILURE() << "no InputError for " << file;
+  return InputError("", 0, "", "", "");
+}
+
+// Tests the three R-Net logs that used to "drive" 4.5 s and exit 0: an empty one, one whose
+// time goes back (named at the line that goes back, with the time before it), a directory.
+TEST(CandumpFile, RefusesEmptyBackwardsAndDirectoryLogs) {
+  const std::filesystem::path dir = CandumpScratch();
+  std::ofstream(dir / "empty.log").close();
+  const InputError empty = CandumpFileError(dir / "empty.log");
+  EXPECT_EQ(empty.field(), "frame");
+  EXPECT_EQ(empty.got(), "an empty file");
+  std::ofstream(dir / "blank.log") << "\n\n";
+  EXPECT_EQ(CandumpFileError(dir / "blank.log").got(), "only blank lines");
+
+  std::ofstream(dir / "back.log") << "(1700000000.000000) can0 02000000#0000\n"
+                                     "(1700000000.010000) can0 02000000#0064\n"
+                                     "(1700000000.010000) can0 02000000#0064\n"
+                                     "(1699999999.990000) can0 02000000#0000\n";
+  const InputError back = CandumpFileError(dir / "back.log");
+  EXPECT_EQ(back.line(), 4);
+  EXPECT_EQ(back.field(), "timestamp");
+  EXPECT_EQ(back.got(), "(1699999999.990000)");
+  EXPECT_NE(back.expected().find("line 3 is at (1700000000.010000)"), std::string::npos) << back.what();
+
+  const InputError folder = CandumpFileError(dir);
+  EXPECT_EQ(folder.line(), 0);
+  EXPECT_EQ(folder.got(), "a path that is a directory");
+  // equal timestamps (frames of one microsecond) are fine
+  std::ofstream(dir / "ok.log") << "(1.000000) can0 02000000#0000\n(1.000000) can0 02000000#0001\n";
+  EXPECT_EQ(ReadCandumpFile(dir / "ok.log").size(), 2U);
+}
 
 TEST(CandumpLog, LinesRoundTrip) {
   const std::vector<CandumpRecord> records = {

@@ -106,5 +106,24 @@ TEST(Ratings, MissingFile) {
   EXPECT_THROW(ReadRatings("/nonexistent/ratings.csv"), InputError);
 }
 
+// Tests that a rating beyond any scale (1e308: finite, but its square overflows) is refused at
+// its line and field, and that a directory named as the ratings file says so.
+TEST(Ratings, HugeRatingAndDirectoryAreRefused) {
+  std::string text = Good();
+  text.replace(text.find("P02,T_m,2,2"), 11, "P02,T_m,1e308,2");
+  const InputError e = ErrorOf(text);
+  EXPECT_EQ(e.line(), 5);
+  EXPECT_EQ(e.field(), "rating");
+  EXPECT_EQ(e.got(), "\"1e308\"");
+  EXPECT_NE(e.expected().find("within +-1e6"), std::string::npos) << e.what();
+  EXPECT_EQ(ErrorOf("participant,condition,rating\nP1,A,-2e6\n").field(), "rating");
+  try {
+    ReadRatings(PWSIM_BINARY_DIR);
+    ADD_FAILURE() << "a directory was read as ratings";
+  } catch (const InputError& error) {
+    EXPECT_EQ(error.got(), "a path that is a directory");
+  }
+}
+
 }  // namespace
 }  // namespace pwsim::study

@@ -206,6 +206,53 @@ TEST(Plan, RefusesARepeatedCombinationAndLeavesNoTaskFolders) {
   EXPECT_FALSE(fs::exists(dir / "plan" / "tasks"));
 }
 
+/// The scene reader as the input check (pwsim sweep plan passes the CLI's, which adds mca:).
+void ReadAsScene(const fs::path& file) { ParseScene(LoadYamlFile(file)); }
+
+/// The InputError planning `body` with the scene check throws (fails the test when none), and
+/// that nothing of the plan is left.
+InputError PlanError(const std::string& name, const std::string& body) {
+  const fs::path dir = Scratch(name);
+  Write(dir / "s.yaml", SweepText("arguments: [\"{scene}\", --out, \"{out}\"]\n" + body + kGather));
+  try {
+    Plan(ReadSweepFile(dir / "s.yaml", kCommands), dir / "plan", false, ReadAsScene);
+  } catch (const InputError& error) {
+    EXPECT_FALSE(fs::exists(dir / "plan" / "manifest.json"));
+    EXPECT_FALSE(fs::exists(dir / "plan" / "tasks"));
+    return error;
+  }
+  ADD_FAILURE() << "planned:\n" << body;
+  return InputError("", 0, "", "", "");
+}
+
+// Tests that every task's copy of the scene is read by the scene reader at plan time: a grid
+// value "fast" for a speed and a misspelt override key (grid:, set:, list:) are refused before
+// any submission, at the sweep file's line and field, with the task's copy and field named.
+TEST(Plan, ChecksEveryTasksInputsWithTheReaderBeforeSubmission) {
+  const InputError fast = PlanError("fast", "grid:\n  scene.drive.speed_mps: [0.5, fast, 1.5]\n");
+  EXPECT_EQ(fast.line(), 7);
+  EXPECT_EQ(fast.field(), "grid.scene.drive.speed_mps");
+  EXPECT_EQ(fast.got(), "\"fast\"");
+  EXPECT_NE(fast.expected().find("a number in (0, "), std::string::npos) << fast.what();
+  EXPECT_NE(fast.expected().find("task 1's scene, "), std::string::npos) << fast.what();
+  EXPECT_NE(fast.expected().find("/tasks/1/inputs/scene.yaml:"), std::string::npos) << fast.what();
+  EXPECT_NE(fast.expected().find("field 'drive.speed_mps', as pwsim run reads it"), std::string::npos) << fast.what();
+
+  const InputError key = PlanError("key", "grid:\n  scene.drive.sped_mps: [0.5, 1.0]\n");
+  EXPECT_EQ(key.line(), 7);
+  EXPECT_EQ(key.field(), "grid.scene.drive.sped_mps");
+  EXPECT_EQ(key.got(), "unknown key \"sped_mps\"");
+
+  const InputError set = PlanError("set", "set: {scene.drive.acel_mps2: 1.5}\ngrid:\n  scene.load_kg: [80, 90]\n");
+  EXPECT_EQ(set.line(), 6);
+  EXPECT_EQ(set.field(), "set.scene.drive.acel_mps2");
+
+  const InputError list = PlanError("list", "list:\n  - {scene.load_kg: 80}\n  - {scene.load_kg: heavy}\n");
+  EXPECT_EQ(list.line(), 8);
+  EXPECT_EQ(list.field(), "list[1].scene.load_kg");
+  EXPECT_EQ(list.got(), "\"heavy\"");
+}
+
 /// A hand-made plan whose "pwsim" is /bin/sh: each task's words are `-c SCRIPT`.
 Manifest ShellPlan(const fs::path& dir, const std::vector<std::string>& scripts, double timeout_s = 0.0) {
   Manifest m;

@@ -277,5 +277,34 @@ TEST(MalformedMocapTest, QtmRenamedBodyColumn) {
   EXPECT_EQ(error.field(), "wheelchair Residual");
 }
 
+// Tests that a FREQUENCY header contradicting the Time column (4 frames 10 ms apart: 100 Hz)
+// is refused at its line, naming the rate the Time column gives; 100.5 Hz (within 1 %) passes.
+TEST(MalformedMocapTest, QtmFrequencyContradictsTheTimeColumn) {
+  std::string text = kQtmFile;
+  text.replace(text.find("FREQUENCY\t100\n"), 14, "FREQUENCY\t50\n");
+  const auto file = WriteText(ScratchDir() / "m.tsv", text);
+  const InputError error = ExpectInputError([&] { ReadQtm6dTsv(file, "wheelchair"); });
+  EXPECT_EQ(error.line(), 4);
+  EXPECT_EQ(error.field(), "FREQUENCY");
+  EXPECT_EQ(error.got(), "\"50\" Hz");
+  EXPECT_NE(error.expected().find("the frame rate of the Time column, 100 Hz (4 frames from 0 s to 0.03 s)"),
+            std::string::npos)
+      << error.what();
+  text.replace(text.find("FREQUENCY\t50\n"), 13, "FREQUENCY\t100.5\n");
+  EXPECT_NO_THROW(ReadQtm6dTsv(WriteText(ScratchDir() / "m2.tsv", text), "wheelchair"));
+  text.replace(text.find("FREQUENCY\t100.5\n"), 16, "FREQUENCY\tfast\n");
+  const InputError word = ExpectInputError([&] { ReadQtm6dTsv(WriteText(ScratchDir() / "m3.tsv", text), "wheelchair"); });
+  EXPECT_EQ(word.field(), "FREQUENCY");
+  EXPECT_EQ(word.got(), "\"fast\"");
+}
+
+// Tests that a directory named as a mocap file says it is a directory.
+TEST(MalformedMocapTest, DirectoryInsteadOfAFile) {
+  const InputError error = ExpectInputError([&] { ReadQtm6dTsv(ScratchDir(), "wheelchair"); });
+  EXPECT_EQ(error.got(), "a path that is a directory");
+  const InputError csv = ExpectInputError([&] { ReadMocapCsv(ScratchDir()); });
+  EXPECT_EQ(csv.got(), "a path that is a directory");
+}
+
 }  // namespace
 }  // namespace pwsim

@@ -129,7 +129,7 @@ TEST_F(AxisRecordingTest, NonUniformTimeIsNamed) {
   for (int i = 0; i < 50; ++i) o << (i < 30 ? i * 0.001 : i * 0.001 + 0.0005) << ",0,0,0\n";
   o.close();
   Write("run.yaml", Yaml("{file: run.csv, format: csv}"));
-  ExpectError(dir_ / "run.yaml", {"run.csv", "time ('t')", "uniform sampling", "sample 31"});
+  ExpectError(dir_ / "run.yaml", {"run.csv:32:", "time ('t')", "uniform sampling", "sample 31"});
 }
 
 TEST_F(AxisRecordingTest, NanIsNamed) {
@@ -138,7 +138,7 @@ TEST_F(AxisRecordingTest, NanIsNamed) {
   for (int i = 0; i < 50; ++i) o << i * 0.001 << "," << (i == 7 ? "nan" : "0") << ",0,0\n";
   o.close();
   Write("run.yaml", Yaml("{file: run.csv, format: csv}"));
-  ExpectError(dir_ / "run.yaml", {"run.csv", "position", "'x'", "finite", "sample 8"});
+  ExpectError(dir_ / "run.yaml", {"run.csv:9:", "position", "'x'", "finite", "sample 8"});
 }
 
 TEST_F(AxisRecordingTest, MissingColumnAndRaggedRowAreNamed) {
@@ -180,6 +180,54 @@ TEST_F(AxisRecordingTest, UnknownJointKindIsNamed) {
 TEST_F(AxisRecordingTest, CsvWithoutDescriptionIsRefused) {
   WriteCsv("run.csv", 50);
   ExpectError(dir_ / "run.csv", {"run.csv", ".yaml"});
+}
+
+// Tests an empty .mat and .mat files cut short (uncompressed and compressed v5, and the real
+// EMPS file when present): each named as such, never as "no variable 't'".
+TEST_F(AxisRecordingTest, EmptyAndTruncatedMatAreNamed) {
+  std::ofstream(dir_ / "empty.mat").close();
+  ExpectError(dir_ / "empty.mat", {"empty.mat", "an empty file (0 bytes)"});
+  const int n = 400;
+  std::vector<double> t(n), x(n), u(n);
+  for (int i = 0; i < n; ++i) {
+    t[static_cast<std::size_t>(i)] = i * 0.001;
+    x[static_cast<std::size_t>(i)] = std::sin(0.37 * i);
+    u[static_cast<std::size_t>(i)] = std::cos(0.11 * i);
+  }
+  for (const auto compression : {MAT_COMPRESSION_NONE, MAT_COMPRESSION_ZLIB}) {
+    const fs::path whole = dir_ / "whole.mat";
+    mat_t* mat = Mat_CreateVer(whole.c_str(), nullptr, MAT_FT_MAT5);
+    ASSERT_NE(mat, nullptr);
+    for (auto [name, v] : {std::pair{"t", &t}, std::pair{"qm", &x}, std::pair{"vir", &u}}) {
+      std::size_t dims[2] = {v->size(), 1};
+      matvar_t* m = Mat_VarCreate(name, MAT_C_DOUBLE, MAT_T_DOUBLE, 2, dims, v->data(), 0);
+      Mat_VarWrite(mat, m, compression);
+      Mat_VarFree(m);
+    }
+    Mat_Close(mat);
+    const auto size = fs::file_size(whole);
+    for (const double share : {0.2, 0.5, 0.9}) {
+      const fs::path cut = dir_ / "cut.mat";
+      fs::copy_file(whole, cut, fs::copy_options::overwrite_existing);
+      fs::resize_file(cut, static_cast<std::uintmax_t>(share * static_cast<double>(size)));
+      ExpectError(cut, {"cut.mat", "a complete MATLAB v5 .mat file", "a truncated file", "cut short"});
+    }
+  }
+  if (fs::exists(test::EmpsDir() / "DATA_EMPS.mat")) {
+    fs::copy_file(test::EmpsDir() / "DATA_EMPS.mat", dir_ / "emps_cut.mat");
+    fs::permissions(dir_ / "emps_cut.mat", fs::perms::owner_write, fs::perm_options::add);
+    fs::resize_file(dir_ / "emps_cut.mat", fs::file_size(dir_ / "emps_cut.mat") / 2);
+    ExpectError(dir_ / "emps_cut.mat", {"emps_cut.mat", "a truncated file"});
+  }
+}
+
+// Tests that a directory named as the recording or its data file says it is a directory.
+TEST_F(AxisRecordingTest, DirectoryWhereAFileBelongsIsNamed) {
+  fs::create_directories(dir_ / "data.mat");
+  ExpectError(dir_ / "data.mat", {"data.mat", "a path that is a directory"});
+  fs::create_directories(dir_ / "run.csv");
+  Write("run.yaml", Yaml("{file: run.csv, format: csv}"));
+  ExpectError(dir_ / "run.yaml", {"run.csv", "a path that is a directory"});
 }
 
 }  // namespace
