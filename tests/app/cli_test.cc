@@ -17,6 +17,7 @@
 #include "app/commands.h"
 #include "app/output_folder.h"
 #include "engine/input_error.h"
+#include "tests/hardware/session_world.h"
 
 namespace pwsim::app {
 namespace {
@@ -259,6 +260,106 @@ TEST(CliOutputFolder, ARecordNamingAPathOutsideIsRefused) {
   Touch(dir / "out" / OutputFolder::kRecord, R"({"format": "pwsim-outputs/1", "files": ["../keep.txt"]})");
   EXPECT_THROW(OutputFolder(dir / "out", "run"), InputError);
   EXPECT_TRUE(fs::exists(dir / "keep.txt"));
+}
+
+std::string ReadText(const fs::path& file) {
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// Tests pwsim replay's exit codes on a real session log (the in-process session of the
+// hardware tests): 0 when it replays, 3 for a tampered output (a real mismatch), 1 with the
+// file and line for a malformed record, 1 for a directory.
+TEST(CliEndToEnd, ReplayTellsACorruptLogFromAMismatch) {
+  const fs::path dir = Scratch("replay");
+  hw::session_testing::World world(1500);
+  world.Finish();
+  const std::string log = world.LogText();
+  std::ofstream(dir / "session.log") << log;
+  const Result good = Pwsim("replay session.log", dir);
+  EXPECT_EQ(good.status, 0) << good.output;
+
+  std::string tampered = log;
+  const std::size_t s_line = tampered.find("\nS 800 ");
+  ASSERT_NE(s_line, std::string::npos);
+  const std::size_t digit = tampered.find_first_of("123456789", s_line + 10);
+  tampered[digit] = tampered[digit] == '9' ? '8' : static_cast<char>(tampered[digit] + 1);
+  std::ofstream(dir / "tampered.log") << tampered;
+  const Result mismatch = Pwsim("replay tampered.log", dir);
+  EXPECT_EQ(mismatch.status, 3) << mismatch.output;
+  EXPECT_NE(mismatch.output.find("pwsim replay: MISMATCH in tampered.log: line "), std::string::npos)
+      << mismatch.output;
+
+  std::string corrupt = log;
+  const std::size_t t_line = corrupt.find("\nT 700 ");
+  ASSERT_NE(t_line, std::string::npos);
+  corrupt.replace(t_line + 1, 5, "T 7x0");
+  const int line = 2 + static_cast<int>(std::count(corrupt.begin(), corrupt.begin() + static_cast<long>(t_line), '\n'));
+  std::ofstream(dir / "corrupt.log") << corrupt;
+  const Result bad = Pwsim("replay corrupt.log", dir);
+  EXPECT_EQ(bad.status, 1) << bad.output;
+  EXPECT_NE(bad.output.find("pwsim replay: error: corrupt.log:" + std::to_string(line) +
+                            ": field 'record': expected a well-formed session log"),
+            std::string::npos)
+      << bad.output;
+  EXPECT_NE(bad.output.find("bad T record in \"T 7x0"), std::string::npos) << bad.output;
+  const Result folder = Pwsim("replay .", dir);
+  EXPECT_EQ(folder.status, 1) << folder.output;
+  EXPECT_NE(folder.output.find("got a path that is a directory"), std::string::npos) << folder.output;
+}
+
+// Tests bad measured-trial input through the binary: a QTM export whose FREQUENCY (50 Hz)
+// contradicts its Time column (100 Hz) stops pwsim identify at that header line, and the
+// refused run leaves no output folder.
+TEST(CliEndToEnd, IdentifyRefusesAQtmFrequencyThatContradictsItsTimeColumn) {
+  const fs::path dir = Scratch("qtm_frequency");
+  fs::copy(fs::path(PWSIM_SOURCE_DIR) / "assets/trials-demo/qtm_v1.20_m50_cushion_r1", dir / "trial");
+  std::string tsv = ReadText(dir / "trial" / "mocap.tsv");
+  ASSERT_NE(tsv.find("FREQUENCY\t100\n"), std::string::npos);
+  tsv.replace(tsv.find("FREQUENCY\t100\n"), 14, "FREQUENCY\t50\n");
+  std::ofstream(dir / "trial" / "mocap.tsv") << tsv;
+  const Result result = Pwsim("identify trial --out o", dir);
+  EXPECT_EQ(result.status, 1) << result.output;
+  EXPECT_NE(result.output.find("mocap.tsv:4: field 'FREQUENCY': expected the frame rate of the Time column, 100 Hz"),
+            std::string::npos)
+      << result.output;
+  EXPECT_FALSE(fs::exists(dir / "o"));
+}
+
+// Tests the issue's case end to end: a car run into the folder of a chair run leaves exactly
+// the car's files (each listed in the car's record and in its printed list), none of the
+// chair's, and the user's own file.
+TEST(CliEndToEnd, CarRunAfterAChairRunLeavesOnlyTheCarsOutputs) {
+  const fs::path dir = Scratch("chair_then_car");
+  fs::create_directories(dir / "o");
+  std::ofstream(dir / "o" / "notes.txt") << "mine";
+  // a small video, so the chair run writes its visual_check.* (the car writes none)
+  const Result chair = Pwsim(std::string("run ") + PWSIM_SOURCE_DIR +
+                                 "/scenes/speed_cushion.yaml --size 64x36 --fps 10 --decimate 20 --out o",
+                             dir);
+  ASSERT_EQ(chair.status, 0) << chair.output;
+  ASSERT_TRUE(fs::exists(dir / "o" / "visual_check.png")) << chair.output;
+
+  const Result car = Pwsim(std::string("run ") + PWSIM_SOURCE_DIR + "/scenes/car_launch.yaml --no-video --decimate 20 --out o", dir);
+  ASSERT_EQ(car.status, 0) << car.output;
+  for (const char* stale : {"visual_check.png", "visual_check.csv", "visual_check.svg", "video.mp4", "frames.csv"}) {
+    EXPECT_FALSE(fs::exists(dir / "o" / stale)) << stale << " of the chair run is still there";
+  }
+  EXPECT_TRUE(fs::exists(dir / "o" / "notes.txt"));
+  const std::string car_record = ReadText(dir / "o" / OutputFolder::kRecord);
+  int files = 0;
+  for (const auto& entry : fs::directory_iterator(dir / "o")) {
+    const std::string name = entry.path().filename().string();
+    if (name == "notes.txt" || name == OutputFolder::kRecord) continue;
+    ++files;
+    EXPECT_NE(car_record.find("\"" + name + "\""), std::string::npos) << name << " is not the car's";
+    EXPECT_NE(car.output.find("  o/" + name + "\n"), std::string::npos) << name << " not listed:\n" << car.output;
+  }
+  EXPECT_GE(files, 3);
+  EXPECT_NE(car.output.find("pwsim run: wrote " + std::to_string(files) + " files in o:"), std::string::npos)
+      << car.output;
 }
 
 }  // namespace
