@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "app/commands.h"
+#include "app/output_folder.h"
 #include "engine/vehicle/vehicle_params.h"
 #include "report/car_checks.h"
 
@@ -30,6 +31,7 @@ int CarChecksCommand(const ParsedArgs& args) {
   if (!args.Has("vehicle") && !std::filesystem::exists(file)) file = std::filesystem::path(PWSIM_SOURCE_DIR) / file;
   const vehicle::Vehicle car = vehicle::ReadVehicleFile(file);
   const std::filesystem::path out = OutDir(args);
+  OutputFolder folder(out, "car-checks");  // what the last command wrote there goes
   const nlohmann::ordered_json r = report::RunCarChecks(car, file, out);
   std::cout << "pwsim car-checks: " << car.name << " (" << file.string() << ")\n"
             << "  understeer gradient " << r["understeer"]["understeer_gradient_measured_radpmps2"].get<double>()
@@ -39,7 +41,8 @@ int CarChecksCommand(const ParsedArgs& args) {
             << 100.0 * r["energy"]["residual_fraction"].get<double>() << " % of the engine work\n"
             << "  stall in 5th: " << (r["stall"]["dropped_in_fifth_stalls"].get<bool>() ? "yes" : "no")
             << ", slow release in 1st: " << (r["stall"]["slow_release_in_first_stalls"].get<bool>() ? "stalls" : "no stall")
-            << "\n  wrote " << (out / "car_checks.json").string() << " and car_{understeer,launch,energy,stall}.png\n";
+            << "\n";
+  folder.Print(std::cout, "pwsim car-checks");
   return 0;
 }
 

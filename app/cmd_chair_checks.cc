@@ -9,6 +9,7 @@
 #include <string>
 
 #include "app/commands.h"
+#include "app/output_folder.h"
 #include "engine/chair.h"
 #include "report/chair_checks.h"
 
@@ -36,6 +37,7 @@ int ChairChecksCommand(const ParsedArgs& args) {
   if (!chair.gm || !chair.lm) throw UsageError("--chair: the chair needs identified gm and lm sections");
   const double load = args.GetDouble("load", 0.0, 300.0);
   const std::filesystem::path out = OutDir(args);
+  OutputFolder folder(out, "chair-checks");  // what the last command wrote there goes
   const nlohmann::ordered_json r = report::RunChairChecks(chair, file, load, out);
   std::cout << "pwsim chair-checks: " << chair.name << " (" << file.string() << "), " << load << " kg\n"
             << "  steady turns: radius vs v/omega worst " << 100.0 * r["turn"]["worst_relative_difference_radius_vs_v_over_omega"].get<double>()
@@ -48,8 +50,8 @@ int ChairChecksCommand(const ParsedArgs& args) {
             << "  static roll: worst " << r["roll"]["worst_abs_difference_rad"].get<double>() << " rad from the closed form\n"
             << "  braking load transfer: worst " << 100.0 * r["braking"]["worst_relative_difference"].get<double>() << " %\n"
             << "  tip-over grade " << r["tip"]["tip_grade_found"].get<double>() << " (closed form "
-            << r["tip"]["tip_grade_closed_form"].get<double>() << ")\n"
-            << "  wrote " << (out / "chair_checks.json").string() << " and chair_{turn,caster,pull,roll,braking,tip}.png\n";
+            << r["tip"]["tip_grade_closed_form"].get<double>() << ")\n";
+  folder.Print(std::cout, "pwsim chair-checks");
   return 0;
 }
 

@@ -17,6 +17,7 @@
 #include <stdexcept>
 
 #include "app/commands.h"
+#include "app/output_folder.h"
 #include "plot/plot.h"
 #include "engine/atomic_file.h"
 #include "engine/chair.h"
@@ -122,6 +123,7 @@ int McaValidateCommand(const ParsedArgs& args) {
   const mca::McaConfig config = mca::LoadMcaConfig(scene);
   std::optional<Chair> chair_override;
   if (args.Has("chair")) chair_override = ReadChairFile(args.Get("chair"));
+  OutputFolder outputs(out_dir, "mca-validate");  // what the last command wrote there goes
 
   // the trials: read, or generated in-process
   std::vector<MeasuredTrial> trials;
@@ -207,8 +209,8 @@ int McaValidateCommand(const ParsedArgs& args) {
         "t [s]");
   }
   std::cout << "pwsim mca-validate: " << results.size() << " trial(s), " << source << ", "
-            << (pass ? "all" : "NOT all") << " cross-correlations >= " << min_xcorr << "\n"
-            << "  " << (out_dir / "mca_validation.json").string() << "\n";
+            << (pass ? "all" : "NOT all") << " cross-correlations >= " << min_xcorr << "\n";
+  outputs.Print(std::cout, "pwsim mca-validate");  // a failed check is a result: its files stay
   return pass ? 0 : 1;
 }
 

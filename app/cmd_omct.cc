@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "app/commands.h"
+#include "app/output_folder.h"
 #include "app/session_setup.h"
 #include "plot/plot.h"
 #include "engine/atomic_file.h"
@@ -62,6 +63,7 @@ int OmctCommand(const ParsedArgs& args) {
     if (const std::string problem = mca::CheckMpcStart(config); !problem.empty()) throw UsageError(problem);
   }
   const std::filesystem::path out_dir = OutDir(args);
+  OutputFolder folder(out_dir, "omct");  // what the last command wrote there goes
 
   const std::vector<mca::OmctPoint> points = mca::RunOmct(config, options);
 
@@ -108,9 +110,8 @@ int OmctCommand(const ParsedArgs& args) {
   plot::WriteFigure(out_dir / "omct.png", figure);
 
   std::cout << "pwsim omct: " << mca::McaAlgorithmName(config.algorithm) << ", platform '" << config.platform.name << "', " << points.size()
-            << " points (" << points.size() / 12 << " tests x 12 frequencies)\n"
-            << "  " << (out_dir / "omct.csv").string() << "\n"
-            << "  " << (out_dir / "omct.png").string() << "\n";
+            << " points (" << points.size() / 12 << " tests x 12 frequencies)\n";
+  folder.Print(std::cout, "pwsim omct");
   return 0;
 }
 

@@ -15,6 +15,7 @@
 #include <stdexcept>
 
 #include "app/commands.h"
+#include "app/output_folder.h"
 #include "engine/number_format.h"
 #include "mca/platform.h"
 #include "report/platform_report.h"
@@ -45,10 +46,6 @@ std::vector<sp::AxisRecording> ReadAll(const std::vector<std::string>& files) {
 
 void RemoveOld(const std::vector<std::filesystem::path>& files) {
   for (const auto& f : files) std::filesystem::remove(f);
-}
-
-void PrintWritten(const std::string& verb, const std::vector<std::filesystem::path>& files) {
-  for (const auto& f : files) std::cout << "pwsim platform " << verb << ": wrote " << f.string() << "\n";
 }
 
 sp::IdimOptions IdimFromArgs(const ParsedArgs& args) {
@@ -268,25 +265,26 @@ int PlatformCommand(const ParsedArgs& args) {
       for (const std::string& n : names) list += (list.empty() ? "" : " | ") + n;
       throw UsageError("option --model: expected " + list + ", got " + model);
     }
+    OutputFolder folder(out, "platform identify");  // what the last command wrote there goes
     RemoveOld(report::PlatformIdentifyOutputs(out));
     const sp::PlatformFit fit =
         sp::IdentifyPlatform(ReadAll(files), ReadAll(validate), args.Get("model"), IdimFromArgs(args));
-    std::filesystem::create_directories(out);
-    PrintWritten(verb, report::WritePlatformIdentifyReport(fit, out));
+    report::WritePlatformIdentifyReport(fit, out);
     std::cout << "pwsim platform identify: model " << fit.model.name << ", relative error "
               << fit.ls.relative_error_pct << " %, cond " << fit.ls.condition_number << ", "
               << fit.ls.rows << " rows\n";
     for (const auto& v : fit.validation)
       std::cout << "pwsim platform identify: cross-test " << v.recording << " "
                 << v.relative_error_pct << " %\n";
+    folder.Print(std::cout, "pwsim platform identify");
     return 0;
   }
   if (verb == "diagnose") {
+    OutputFolder folder(out, "platform diagnose");  // what the last command wrote there goes
     RemoveOld(report::PlatformDiagnoseOutputs(out));
     const sp::AxisDiagnoseOptions o = DiagnoseFromArgs(args);
     const sp::AxisDiagnosis d = sp::DiagnoseAxis(ReadAll(files), ReadAll(validate), o);
-    std::filesystem::create_directories(out);
-    PrintWritten(verb, report::WritePlatformDiagnosisReport(d, out));
+    report::WritePlatformDiagnosisReport(d, out);
     std::cout << "pwsim platform diagnose: verdict " << diagnose::VerdictName(d.verdict)
               << ", cause " << d.cause << ", report-row (held-out) relative error "
               << d.heldout_base_pct << " % -> " << d.heldout_extended_pct << " % (noise floor "
@@ -295,9 +293,11 @@ int PlatformCommand(const ParsedArgs& args) {
       std::cout << "pwsim platform diagnose: cause " << sp::AxisEffectId(c.effect) << " gain "
                 << c.heldout_gain_pct << " % (se " << c.heldout_gain_se_pct << " %, "
                 << (c.confirmed ? "confirmed" : "not confirmed") << ")\n";
+    folder.Print(std::cout, "pwsim platform diagnose");
     return 0;
   }
   if (verb == "frequency-response") {
+    OutputFolder folder(out, "platform frequency-response");  // what the last command wrote there goes
     RemoveOld(report::PlatformFrequencyOutputs(out));
     sp::FrequencyResponseOptions o;
     o.sweeps = static_cast<int>(args.GetInt("sweeps", 0, 10000));
@@ -306,11 +306,11 @@ int PlatformCommand(const ParsedArgs& args) {
       throw UsageError("option --order: expected 2, 3 or 0 (both), got " + args.Get("order"));
     if (order != 0) o.orders = {static_cast<int>(order)};
     const auto joints = sp::EstimateFrequencyResponse(ReadAll(files), o);
-    std::filesystem::create_directories(out);
-    PrintWritten(verb, report::WriteFrequencyResponseReport(joints, out));
+    report::WriteFrequencyResponseReport(joints, out);
     for (const auto& j : joints)
       std::cout << "pwsim platform frequency-response: " << j.joint << " bandwidth "
                 << j.bandwidth_rad_s << " rad/s\n";
+    folder.Print(std::cout, "pwsim platform frequency-response");
     return 0;
   }
   throw UsageError("unknown sub-command '" + verb + "'" +

@@ -143,6 +143,7 @@ Manifest Plan(const SweepSpec& spec, const fs::path& dir_in, bool force, const I
       fs::remove_all(dir / name);
     }
   }
+  const bool created = !fs::exists(dir);
   fs::create_directories(dir);
 
   Manifest manifest;
@@ -169,6 +170,8 @@ Manifest Plan(const SweepSpec& spec, const fs::path& dir_in, bool force, const I
     PlanTasks(spec, dir, variables, originals, check, manifest);
   } catch (...) {
     fs::remove_all(dir / "tasks");  // a refused plan leaves no task folders behind
+    std::error_code error;
+    if (created && fs::is_empty(dir, error)) fs::remove(dir, error);  // nor a folder it made
     throw;
   }
   {
