@@ -1,17 +1,25 @@
 # Writes VERSION_HEADER with the project version and what git says about the source tree
 # (run at build time by app/CMakeLists.txt, so a new commit shows without re-configuring).
 # The header is only rewritten when its text changes: an unchanged tree rebuilds nothing.
+# --no-optional-locks: a build never takes the index lock a concurrent git add needs.
 set(describe "unknown")
 set(commit "unknown")
 find_package(Git QUIET)
 if(GIT_FOUND)
-  execute_process(COMMAND "${GIT_EXECUTABLE}" describe --always --dirty --tags
+  # not `describe --dirty`: it may take the index lock; `status` honours --no-optional-locks
+  execute_process(COMMAND "${GIT_EXECUTABLE}" --no-optional-locks describe --always --tags
                   WORKING_DIRECTORY "${SOURCE_DIR}" OUTPUT_VARIABLE out RESULT_VARIABLE rc
                   OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
   if(rc EQUAL 0 AND NOT out STREQUAL "")
     set(describe "${out}")
+    execute_process(COMMAND "${GIT_EXECUTABLE}" --no-optional-locks status --porcelain --untracked-files=no
+                    WORKING_DIRECTORY "${SOURCE_DIR}" OUTPUT_VARIABLE changes RESULT_VARIABLE rc
+                    OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
+    if(rc EQUAL 0 AND NOT changes STREQUAL "")
+      set(describe "${describe}-dirty")
+    endif()
   endif()
-  execute_process(COMMAND "${GIT_EXECUTABLE}" rev-parse HEAD
+  execute_process(COMMAND "${GIT_EXECUTABLE}" --no-optional-locks rev-parse HEAD
                   WORKING_DIRECTORY "${SOURCE_DIR}" OUTPUT_VARIABLE out RESULT_VARIABLE rc
                   OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
   if(rc EQUAL 0 AND NOT out STREQUAL "")
