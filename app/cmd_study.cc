@@ -111,6 +111,10 @@ int MetricsCommand(const ParsedArgs& args) {
 int StudyCommand(const ParsedArgs& args) {
   if (!args.positional().empty() && args.positional()[0] == "plan") return PlanCommand(args);
   if (!args.positional().empty() && args.positional()[0] == "metrics") return MetricsCommand(args);
+  if (!args.positional().empty() && !fs::exists(args.positional()[0])) {  // a misspelt sub-command?
+    const std::string hint = DidYouMean(args.positional()[0], {"plan", "metrics"});
+    if (!hint.empty()) throw UsageError("no ratings file '" + args.positional()[0] + "'" + hint);
+  }
   if (args.positional().size() != 1) throw UsageError("expected one RATINGS.csv (or `plan`)");
   const fs::path ratings_file = args.positional()[0];
   const fs::path out = OutDir(args);

@@ -180,6 +180,10 @@ TEST(CliEndToEnd, MisspeltOptionAndCommandGetOnePrefixAndASuggestion) {
   const Result sub = Pwsim("sweep plna x.yaml", dir);
   EXPECT_EQ(sub.status, 2) << sub.output;
   EXPECT_NE(sub.output.find("did you mean plan?"), std::string::npos) << sub.output;
+  const Result study = Pwsim("study metrcs runs.csv", dir);
+  EXPECT_EQ(study.status, 2) << study.output;
+  EXPECT_NE(study.output.find("pwsim study: no ratings file 'metrcs'; did you mean metrics?"), std::string::npos)
+      << study.output;
 }
 
 // Tests that `pwsim run --fps 33 --no-video` is refused before anything is simulated or
