@@ -1,16 +1,21 @@
-// pwsim platform-sim: the platform's two CiA 402 servo drives, simulated (seed 001's 2-DoF
-// Lagrange model with dry + viscous friction and joint PID), behind CAN over UDP in cannelloni
-// framing. A session connects with --can udp:HOST:PORT. The drives take frames from one peer
-// only: the session's CAN address given with --peer, or (tests, demos) with --adopt-first-peer
-// the sender that runs a CANopen master's start-up (NMT to the drives' nodes, then SYNC; with
-// --link-key: an authenticated sender); frames from anyone else are counted and dropped
-// (udp_can_bus.h).
+// pwsim platform-sim: the platform's CiA 402 servo drives, simulated, one node per actuator of
+// the mechanism of --platform FILE (node = 1 + actuator index; each actuator's servo with its
+// stroke, speed, acceleration and force limits, the plate pose measured by forward kinematics;
+// default and for car2dof: the car's yaw and rail on seed 001's 2-DoF Lagrange model with dry +
+// viscous friction and joint PID), behind CAN over UDP in cannelloni framing. A session
+// connects with --can udp:HOST:PORT. The drives take frames from one peer only: the session's
+// CAN address given with --peer, or (tests, demos) with --adopt-first-peer the sender that runs
+// a CANopen master's start-up (NMT to the drives' nodes, then SYNC; with --link-key: an
+// authenticated sender); frames from anyone else are counted and dropped (udp_can_bus.h).
 // Wiring only: see hardware/.
 
 #include <csignal>
 #include <fstream>
 #include <iostream>
 #include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "app/commands.h"
 #include "app/link_key_option.h"
@@ -22,25 +27,28 @@
 #include "sysid/platform/axis_recording.h"
 #include "hardware/simulated_drives.h"
 #include "hardware/udp_can_bus.h"
+#include "mca/platform.h"
 
 namespace pwsim::app {
 const CommandSpec& PlatformSimSpec() {
   static const CommandSpec spec{
       "platform-sim",
       "pwsim platform-sim [options]",
-      "Simulated CiA 402 drives of the 2-DoF rail+yaw platform (seed 001) on CAN over UDP.",
+      "Simulated CiA 402 drives of a platform's actuators (default: the 2-DoF rail+yaw car of seed 001) on CAN over UDP.",
       {
           {"listen", "HOST:PORT", "-", "127.0.0.1:29536", "UDP address to serve the CAN link on (port 0: any free port; the line 'listening on HOST:PORT' names it)"},
           {"peer", "udp:HOST:PORT", "-", "", "the session's CAN address (pwsim session --can-local): the only sender whose frames are taken"},
           {"adopt-first-peer", "", "-", "", "instead of --peer: the sender that starts the drives as a CANopen master does (NMT to their nodes, then SYNC) becomes the only peer (tests and demos on one machine); a first datagram alone adopts no one"},
           LinkKeyOptionSpec(),
+          {"platform", "FILE", "-", "", "platform file (pwsim-platform/1, e.g. scenes/platforms/pw4dof.yaml): one drive per actuator, node 1 + its index (default: the car, yaw node 1, rail node 2)"},
           {"cycle-ms", "MS", "ms", "4", "SYNC period the drives interpolate over"},
           {"duration", "S", "s", "0", "exit after this long (0 = until idle or signal)"},
           {"idle-exit", "S", "s", "2", "exit when no frame arrived for this long after a master was seen"},
           {"exit-after", "S", "s", "0", "vanish abruptly this long after the master's first frame (fault injection; 0 = never)"},
-          {"fault-at", "S", "s", "0", "drive fault (EMCY 0x5530 on the rail) this long after the master's first frame (0 = never)"},
+          {"fault-at", "S", "s", "0", "drive fault (EMCY 0x5530 on --fault-node) this long after the master's first frame (0 = never)"},
+          {"fault-node", "N", "-", "2", "the node --fault-at faults (the car's rail is node 2)"},
           {"candump", "FILE", "-", "", "write the bus traffic as a candump log"},
-          {"report", "FILE", "-", "", "write a JSON summary (peak positions, states)"},
+          {"report", "FILE", "-", "", "write a JSON summary, atomically: per actuator its stroke use, peak speed, acceleration and effort against its limits and whether one was exceeded (sampled on every simulation substep), its state; the plate pose by forward kinematics"},
           {"chirp", "FILE.yaml", "-", "",
            "instead of serving CAN: run the chirp experiment offline and write the recording "
            "(pwsim-axis-trial/1 + CSV) for `pwsim platform frequency-response`"},
@@ -111,6 +119,7 @@ int PlatformSimCommand(const ParsedArgs& args) {
   const double idle_exit = args.GetDouble("idle-exit", 0.0, 86400.0);
   const double exit_after = args.GetDouble("exit-after", 0.0, 86400.0);
   const double fault_at = args.GetDouble("fault-at", 0.0, 86400.0);
+  const auto fault_node = static_cast<int>(args.GetInt("fault-node", 1, 127));
 
   const bool adopt = args.Flag("adopt-first-peer");
   std::string peer = args.Get("peer");
@@ -121,9 +130,24 @@ int PlatformSimCommand(const ParsedArgs& args) {
       throw UsageError("option --peer: expected udp:HOST:PORT, got '" + peer + "'");
     peer = peer.substr(4);
   }
+  // The drives: one CiA 402 node per actuator of the platform's mechanism, node 1 + its index.
+  std::string platform_name = "car2dof (built in)";
+  mca::Mechanism mechanism = hw::SimulatedDrives::CarMechanism();
+  if (!args.Get("platform").empty()) {
+    const mca::PlatformSpec spec = mca::ReadPlatformFile(args.Get("platform"));
+    platform_name = spec.name;
+    mechanism = spec.mechanism;
+  }
+  if (const std::string why = mechanism.Validate(); !why.empty())
+    throw std::invalid_argument(args.Get("platform") + ": " + why);
+  std::vector<std::uint8_t> nodes;
+  for (int i = 0; i < mechanism.actuator_count(); ++i) nodes.push_back(static_cast<std::uint8_t>(1 + i));
+  if (fault_at > 0 && fault_node > mechanism.actuator_count())
+    throw UsageError("option --fault-node: this platform's drives are nodes 1 to " +
+                     std::to_string(mechanism.actuator_count()));
   hw::UdpCanBus::Options link;  // adoption needs a master's start-up to the drives' nodes
   link.policy = adopt ? hw::UdpCanBus::PeerPolicy::kAdoptConfirmed : hw::UdpCanBus::PeerPolicy::kConfigured;
-  if (adopt) link.confirm = hw::MasterStartsNodes({1, 2});  // the drives' node ids
+  if (adopt) link.confirm = hw::MasterStartsNodes(nodes);  // the drives' node ids
   link.key = LinkKeyOption(args, "platform-sim");
   link.role = hw::LinkRole::kPeer;
   hw::BusOpenResult opened = hw::UdpCanBus::Open(args.Get("listen"), peer, link);
@@ -140,11 +164,16 @@ int PlatformSimCommand(const ParsedArgs& args) {
   }
   hw::DriveSimConfig config;
   config.cycle_s = cycle_ms / 1000.0;
-  hw::SimulatedDrives drives(config);
+  hw::SimulatedDrives drives(mechanism, config);
   InstallStopSignalHandlers();
   hw::UdpAddress bound = *hw::ParseUdpAddress(args.Get("listen"));  // Open parsed it already
   bound.port = bus.local_port();
-  std::cout << "pwsim platform-sim: drives 1 (yaw) and 2 (rail) on " << bus.name() << ", frames taken from "
+  std::string drive_list;
+  for (int i = 0; i < drives.axis_count(); ++i)
+    drive_list += (i == 0 ? "" : ", ") + std::to_string(drives.node(i)) + " (" + mechanism.actuator(i).name + ")";
+  std::cout << "pwsim platform-sim: " << platform_name << ", drives " << drive_list
+            << (drives.uses_car_plant() ? " on seed 001's Lagrange plant" : " (actuator servos)") << ", on "
+            << bus.name() << ", frames taken from "
             << (adopt ? "the master that starts them" : peer) << " only\n"
             << "pwsim platform-sim: listening on " << bound.ToString() << "\n"
             << std::flush;
@@ -181,7 +210,7 @@ int PlatformSimCommand(const ParsedArgs& args) {
     out.clear();
     if (fault_at > 0 && t_master >= fault_at && !faulted) {
       faulted = true;
-      drives.InjectFault(1, 0x5530, &out);
+      drives.InjectFault(fault_node - 1, 0x5530, &out);
     }
     hw::WaitReadable(bus, 1);
     hw::CanFrame f;
@@ -198,8 +227,7 @@ int PlatformSimCommand(const ParsedArgs& args) {
       if (bus.Send(x) == hw::BusStatus::kOk && dump) dump->Write(hw::MonotonicNs() / 1000, x);
     }
     // Events other processes can wait for (lines on stdout, never timing).
-    if (!enabled_said && drives.drive_state(0) == hw::canopen::DriveState::kOperationEnabled &&
-        drives.drive_state(1) == hw::canopen::DriveState::kOperationEnabled) {
+    if (!enabled_said && drives.all_enabled()) {
       enabled_said = true;
       std::cout << "pwsim platform-sim: operation enabled, master " << bus.peer() << "\n" << std::flush;
     }
@@ -210,22 +238,29 @@ int PlatformSimCommand(const ParsedArgs& args) {
     }
   }
   const auto& peak = drives.peak_abs_position();
-  const auto& s = drives.platform();
-  std::cout << "pwsim platform-sim: stopped (" << why << "), " << drives.syncs() << " SYNCs, "
-            << "peak |yaw| " << peak[0] << " rad, peak |rail| " << peak[1] << " m, final q = ("
-            << s.q[0] << ", " << s.q[1] << "), refused " << bus.stats().rx_refused
-            << " datagrams from other senders\n";
+  std::cout << "pwsim platform-sim: stopped (" << why << "), " << drives.syncs() << " SYNCs, refused "
+            << bus.stats().rx_refused << " datagrams from other senders\n";
+  std::istringstream summary(hw::DrivesSummaryText(drives));  // what the actuators did, in words
+  for (std::string line; std::getline(summary, line);) std::cout << "pwsim platform-sim: " << line << "\n";
   if (!args.Get("report").empty()) {
     std::ostringstream r;
     r << "{\n  \"format\": \"pwsim-platform-sim-report/1\",\n  \"syncs\": " << drives.syncs()
       << ",\n  \"peer\": \"" << bus.peer() << "\",\n  \"frames_taken\": " << bus.stats().rx
       << ",\n  \"refused_datagrams\": " << bus.stats().rx_refused
       << ",\n  \"malformed_datagrams\": " << bus.stats().rx_malformed
-      << ",\n  \"peak_abs_position\": [" << FormatDouble(peak[0]) << ", " << FormatDouble(peak[1])
-      << "],\n  \"final_position\": [" << FormatDouble(s.q[0]) << ", " << FormatDouble(s.q[1])
-      << "],\n  \"final_velocity\": [" << FormatDouble(s.qd[0]) << ", " << FormatDouble(s.qd[1])
-      << "],\n  \"master_lost\": " << (drives.master_lost() ? "true" : "false")
-      << ",\n  \"rail_state\": \"" << hw::canopen::DriveStateName(drives.drive_state(1)) << "\"\n}\n";
+      << ",\n  \"platform\": \"" << platform_name << "\"";
+    auto per_axis = [&](const char* key, auto value) {  // one number per drive, node order
+      r << ",\n  \"" << key << "\": [";
+      for (int i = 0; i < drives.axis_count(); ++i) r << (i == 0 ? "" : ", ") << FormatDouble(value(i));
+      r << "]";
+    };
+    per_axis("peak_abs_position", [&](int i) { return peak[static_cast<std::size_t>(i)]; });
+    per_axis("final_position", [&](int i) { return drives.position(i); });
+    per_axis("final_velocity", [&](int i) { return drives.velocity(i); });
+    r << ",\n  \"master_lost\": " << (drives.master_lost() ? "true" : "false");
+    if (drives.uses_car_plant())
+      r << ",\n  \"rail_state\": \"" << hw::canopen::DriveStateName(drives.drive_state(1)) << "\"";
+    r << ",\n" << hw::DrivesReportJsonMembers(drives) << "\n}\n";
     WriteFileAtomically(args.Get("report"), r.str());
   }
   return 0;

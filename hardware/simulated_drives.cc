@@ -467,9 +467,17 @@ std::string DrivesSummaryText(const SimulatedDrives& drives) {
 std::string DrivesReportJsonMembers(const SimulatedDrives& drives) {
   std::ostringstream o;
   const mca::Mechanism& mech = drives.mechanism();
+  auto any = [&](bool ActuatorMeasurement::*flag) {
+    for (int i = 0; i < drives.axis_count(); ++i)
+      if (drives.measurement(i).*flag) return true;
+    return false;
+  };
   o << "  \"plant\": \"" << (drives.uses_car_plant() ? "lagrange-rail-yaw" : "actuator-servos") << "\",\n"
     << "  \"limit_tolerance\": " << JsonNumber(kLimitTolerance) << ",\n"
-    << "  \"limits_exceeded\": " << JsonBool(drives.any_limit_exceeded()) << ",\n"
+    << "  \"limits_exceeded\": {\"stroke\": " << JsonBool(any(&ActuatorMeasurement::stroke_exceeded))
+    << ", \"speed\": " << JsonBool(any(&ActuatorMeasurement::speed_exceeded))
+    << ", \"acceleration\": " << JsonBool(any(&ActuatorMeasurement::accel_exceeded))
+    << ", \"force\": " << JsonBool(any(&ActuatorMeasurement::force_exceeded)) << "},\n"
     << "  \"actuators\": [";
   for (int i = 0; i < drives.axis_count(); ++i) {
     const mca::Actuator& a = mech.actuator(i);

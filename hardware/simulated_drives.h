@@ -175,8 +175,9 @@ class SimulatedDrives {
 /// plate pose by forward kinematics. (Allocates: at exit, not per cycle.)
 std::string DrivesSummaryText(const SimulatedDrives& drives);
 /// The same as JSON object members, each on its own line as `  "key": value`, separated by
-/// ",\n", without the braces: "plant", "limit_tolerance", "limits_exceeded", "actuators" (one
-/// object per actuator), "plate_pose" and "forward_kinematics". Infinite limits are null.
+/// ",\n", without the braces: "plant", "limit_tolerance", "limits_exceeded" (stroke, speed,
+/// acceleration, force: on any actuator), "actuators" (one object per actuator), "plate_pose"
+/// and "forward_kinematics". Infinite limits are null.
 std::string DrivesReportJsonMembers(const SimulatedDrives& drives);
 
 }  // namespace pwsim::hw
