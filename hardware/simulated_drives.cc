@@ -446,7 +446,7 @@ std::string DrivesSummaryText(const SimulatedDrives& drives) {
       << "; peak acceleration " << Short(m.peak_accel) << " " << u << "/s^2 of " << Short(a.limits.accel)
       << "; peak effort " << Short(m.peak_effort) << " " << f;
     if (std::isfinite(a.limits.force)) o << " of " << Short(a.limits.force);
-    if (drives.load(i) != 0.0) o << " (payload share now " << Short(drives.load(i)) << " " << f << ")";
+    if (std::abs(drives.load(i)) > 1e-6) o << " (payload share now " << Short(drives.load(i)) << " " << f << ")";
     const std::string exceeded = ExceededList(m);
     o << "; " << (exceeded.empty() ? "within its limits" : "EXCEEDED " + exceeded) << "; "
       << canopen::DriveStateName(drives.drive_state(i)) << "\n";
