@@ -36,6 +36,7 @@ void ParseMcaSection(const SceneSection& section, McaConfig& config) {
       map.Fail("vestibular", "valid vestibular parameters (" + problem + ")", "invalid ones");
     }
   }
+  config.washout.tilt_rate_threshold = config.vestibular.thresholds.tilt_rate;  // one τ for both
   map.Finish();
 }
 
@@ -73,10 +74,14 @@ const char* McaAlgorithmName(McaAlgorithm algorithm) {
 
 std::string CheckMpcStart(const McaConfig& config) {
   // the brake-to-rest plan of mca/mpc.h's feasibility argument stops within a block only when
-  // every block is at most 2 V̄/A long on each axis with a travel
+  // every block is at most 2 V̄/A long on each independent stage with a stroke (the coupled
+  // group's envelope constant c_g covers its blocks by construction)
+  const ActuatorLimiter actuators(config.platform, config.mpc.control_period);
   for (Dof dof : kAllDofs) {
-    const DofLimits& limits = config.platform.limits(dof);
-    if (!limits.present || !std::isfinite(limits.travel)) continue;
+    DofLimits limits;
+    double centre = 0.0;
+    if (!config.platform.Has(dof) || !actuators.StageLimits(dof, &limits, &centre)) continue;
+    if (!std::isfinite(limits.travel)) continue;
     const double brake = limits.brake_accel();
     const double longest = 2.0 * std::min(limits.speed, std::sqrt(brake * limits.travel)) / brake;
     if (std::max(config.mpc.block, config.mpc.control_period) > longest * (1.0 + 1e-9)) {

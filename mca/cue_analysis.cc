@@ -80,6 +80,60 @@ std::array<double, 2> MaxCrossCorrelation(const std::vector<double>& a,
   return {best, static_cast<double>(best_lag) * dt};
 }
 
+StackedCorrelation CompareStacked(const std::vector<std::vector<double>>& truth,
+                                  const std::vector<std::vector<double>>& platform, double dt, double max_lag) {
+  PWSIM_DEMAND(truth.size() == platform.size() && dt > 0.0 && max_lag >= 0.0);
+  StackedCorrelation out;
+  if (truth.empty() || truth[0].empty()) return out;
+  const std::size_t n = truth[0].size();
+  std::vector<std::vector<double>> a(truth.size()), b(truth.size());
+  std::vector<double> qa(n + 1, 0.0), qb(n + 1, 0.0);  // prefix sums of squares over the channels
+  for (std::size_t c = 0; c < truth.size(); ++c) {
+    PWSIM_DEMAND(truth[c].size() == n && platform[c].size() == n);
+    const double ma = Mean(truth[c]), mb = Mean(platform[c]);
+    a[c].resize(n);
+    b[c].resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      a[c][i] = truth[c][i] - ma;
+      b[c][i] = platform[c][i] - mb;
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    double sa = 0.0, sb = 0.0;
+    for (std::size_t c = 0; c < a.size(); ++c) {
+      sa += a[c][i] * a[c][i];
+      sb += b[c][i] * b[c][i];
+    }
+    qa[i + 1] = qa[i] + sa;
+    qb[i + 1] = qb[i] + sb;
+  }
+  const long max_ticks = std::min(static_cast<long>(std::llround(max_lag / dt)), static_cast<long>(n) / 2);
+  double best = -2.0;
+  long best_lag = 0;
+  for (long lag = -max_ticks; lag <= max_ticks; ++lag) {
+    const auto a_from = static_cast<std::size_t>(std::max(0L, -lag));
+    const auto a_to = static_cast<std::size_t>(std::min(static_cast<long>(n), static_cast<long>(n) - lag));
+    if (a_to <= a_from) continue;
+    const auto b_from = static_cast<std::size_t>(static_cast<long>(a_from) + lag);
+    const auto b_to = static_cast<std::size_t>(static_cast<long>(a_to) + lag);
+    const double norm = std::sqrt((qa[a_to] - qa[a_from]) * (qb[b_to] - qb[b_from]));
+    if (!(norm > 0.0)) continue;
+    double dot = 0.0;
+    for (std::size_t c = 0; c < a.size(); ++c) dot += LaggedDot(a[c], b[c], lag);
+    const double value = dot / norm;
+    if (lag == 0) out.zero_lag = value;
+    if (value > best) {
+      best = value;
+      best_lag = lag;
+    }
+  }
+  if (best >= -1.0) {
+    out.peak = best;
+    out.lag = static_cast<double>(best_lag) * dt;
+  }
+  return out;
+}
+
 AxisConsistency CompareAxis(const std::vector<double>& truth, const std::vector<double>& platform,
                             double threshold, double dt, double max_lag) {
   PWSIM_DEMAND(truth.size() == platform.size() && dt > 0.0 && max_lag >= 0.0);
@@ -105,7 +159,7 @@ AxisConsistency CompareAxis(const std::vector<double>& truth, const std::vector<
   out.rms_error = std::sqrt(see / static_cast<double>(n));
   // lag and gain at the best cross-correlation
   const auto [xc, lag] = MaxCrossCorrelation(truth, platform, dt, max_lag);
-  (void)xc;
+  out.xcorr = xc;
   out.lag = lag;
   const long lag_ticks = static_cast<long>(std::llround(lag / dt));
   const double tt = LaggedSquares(truth, -lag_ticks, static_cast<long>(n) - lag_ticks);

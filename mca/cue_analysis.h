@@ -32,6 +32,7 @@ struct AxisConsistency {
   double correlation{0.0};   ///< Pearson, zero lag [-]
   double rms_error{0.0};     ///< RMS(platform - true) [axis unit]
   double gain{0.0};          ///< least-squares gain platform/true at the best lag [-]
+  double xcorr{0.0};         ///< the best normalised cross-correlation within ±max_lag [-]
   double lag{0.0};           ///< [s] lag of the best cross-correlation, > 0: platform late
   double peak_true{0.0};     ///< max |true|
   double peak_platform{0.0}; ///< max |platform|
@@ -51,6 +52,17 @@ struct RateCues {
 RateCues RateAbove(const std::vector<double>& angle, double threshold, double dt);
 /// The same from the rates themselves [rad/s], one per tick of length dt.
 RateCues RatesAbove(const std::vector<double>& rate, double threshold, double dt);
+
+/// Several channels compared at once (each mean-removed, their lagged products summed over the
+/// channels before normalising): how well a vector signal follows another, one common lag.
+struct StackedCorrelation {
+  double zero_lag{0.0};  ///< normalised correlation at lag 0 [-]
+  double peak{0.0};      ///< the largest normalised cross-correlation within ±max_lag [-]
+  double lag{0.0};       ///< [s] its lag, > 0: platform late
+};
+/// @pre every channel of equal size in both; dt > 0; max_lag >= 0 [s].
+StackedCorrelation CompareStacked(const std::vector<std::vector<double>>& truth,
+                                  const std::vector<std::vector<double>>& platform, double dt, double max_lag);
 
 /// Normalised cross-correlation max over lags within ±max_lag [s]: returns {value, lag [s]}.
 std::array<double, 2> MaxCrossCorrelation(const std::vector<double>& a,

@@ -46,6 +46,7 @@ HeadMotion Kinematics(double ax, double az, double pitch, double pitch_rate, dou
   HeadMotion m;
   m.fs = {c * f_x + s * f_z, 0.0, -s * f_x + c * f_z};
   m.w = {0.0, -pitch_rate, 0.0};
+  m.attitude = {0.0, pitch};
   return m;
 }
 
@@ -84,6 +85,8 @@ HeadMotion HeadMotionAt(const PointPose& prev, const PointPose& now, const Point
   }
   const Mat3 omega = Multiply(rt, rdot);
   out.w = {0.5 * (omega[7] - omega[5]), 0.5 * (omega[2] - omega[6]), 0.5 * (omega[3] - omega[1])};
+  // R = Rz(ψ) Ry(−θ) Rx(φ): R₂₀ = sin θ, R₂₁ = cos θ sin φ, R₂₂ = cos θ cos φ
+  out.attitude = {std::atan2(now.r[7], now.r[8]), std::atan2(now.r[6], std::hypot(now.r[7], now.r[8]))};
   return out;
 }
 

@@ -7,6 +7,7 @@
 //   HeadMotion h = HeadMotionFromChair(sample, scene.occupant.head_offset);
 
 #include <array>
+#include <cmath>
 #include <vector>
 
 #include "engine/chair_simulator.h"
@@ -19,8 +20,20 @@ struct HeadMotion {
   /// w_WH_H [rad/s], right-handed about x, y, z. Note y points left, so a nose-up pitch rate
   /// θ̇ is w[1] = -θ̇.
   std::array<double, 3> w{};
+  /// The head's attitude relative to gravity [rad]: roll φ (left side up) and pitch θ (nose-up)
+  /// of H's axes, R_WH = Rz(ψ) Ry(−θ) Rx(φ) — what a slope, a ramp or a banked road sustains.
+  /// 0 where the producer does not know it; then nothing is presented as bank (mca/washout.h).
+  std::array<double, 2> attitude{};
   bool operator==(const HeadMotion&) const = default;
 };
+
+/// The gravity part of the specific force at an attitude: g·(sin θ, sin φ cos θ, cos φ cos θ),
+/// R_WHᵀ (0, 0, g) (a vehicle at rest on a slope feels exactly this).
+inline std::array<double, 3> GravityAtAttitude(const std::array<double, 2>& attitude) {
+  const double sr = std::sin(attitude[0]), cr = std::cos(attitude[0]);
+  const double sp = std::sin(attitude[1]), cp = std::cos(attitude[1]);
+  return {kGravity * sp, kGravity * sr * cp, kGravity * cr * cp};
+}
 
 /// The rotational cue rates of a motion: (roll rate, nose-up pitch rate, yaw rate) [rad/s].
 inline std::array<double, 3> CueRates(const HeadMotion& m) { return {m.w[0], -m.w[1], m.w[2]}; }

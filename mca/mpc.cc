@@ -13,6 +13,9 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr std::array<const char*, 3> kAxisNames{"x", "y", "z"};
+/// Share of each actuator's half-stroke, speed and acceleration kept free in the QP's actuator
+/// rows for the error of their linearisation about the solve's pose (header).
+constexpr double kActuatorMargin = 0.05;
 
 /// Exact zero-order-hold discretisation of ẋ = A x + B u over h: exp([[A, B], [0, 0]] h).
 void DiscretizeZoh(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b, double h, Eigen::MatrixXd& phi,
@@ -77,19 +80,6 @@ std::string CheckWeight(const char* name, double w) {
 
 }  // namespace
 
-double StepFollowRate(double follow_rate, double vehicle_rate, double brake_accel, double dt) {
-  const double step = brake_accel * dt;
-  return std::clamp(vehicle_rate, follow_rate - step, follow_rate + step);
-}
-
-RateWindow TiltBand(double follow_rate, double threshold) {
-  return {std::min(0.0, follow_rate) - threshold, std::max(0.0, follow_rate) + threshold};
-}
-
-double TiltCoordinationRate(double platform_rate, double follow_rate) {
-  return platform_rate - std::clamp(platform_rate, std::min(0.0, follow_rate), std::max(0.0, follow_rate));
-}
-
 int MpcParams::BlockCount() const {
   if (!(block > 0.0) || !(horizon > control_period)) return 1;
   return 1 + static_cast<int>(std::ceil((horizon - control_period) / block - 1e-9));
@@ -123,6 +113,7 @@ MpcParams ParseMpcParams(YamlMap& map, const MpcParams& base) {
   p.control_period = map.NumberOr("control_period_s", p.control_period, Range::Positive(1.0, "s"));
   p.block = map.NumberOr("block_s", p.block, Range::Positive(10.0, "s"));
   p.preview = map.BoolOr("preview", p.preview);
+  p.prediction_decay = map.NumberOr("prediction_decay_s", p.prediction_decay, Range::Closed(0.0, 60.0, "s"));
   const std::string solver = map.ChoiceOr("solver", std::string(QpAlgorithmName(p.solver)),
                                           {"active_set", "bleic", "dense_aul", "dense_ipm"});
   p.solver = solver == "active_set" ? QpAlgorithm::kActiveSet
@@ -246,18 +237,45 @@ MpcModel BuildMpcModel(const MpcParams& params, const VestibularParams& vestibul
   model.nz = m * n_blocks;
   const int nz = model.nz;
 
-  // scales per axis
-  std::vector<double> travel(static_cast<std::size_t>(m)), pose_scale(static_cast<std::size_t>(m)),
-      speed(static_cast<std::size_t>(m)), accel(static_cast<std::size_t>(m)), brake_c(static_cast<std::size_t>(m));
+  // scales and limits per axis: an independent stage's 1-D limits (its actuator's stroke about
+  // its centre, speed, peak and sustained acceleration), or, on the coupled group's axes, Â and
+  // V̂ of mca/actuator_limiter.h (the limits then come as actuator rows, filled per solve)
+  const ActuatorLimiter mechanism(platform, params.control_period);
+  const auto ms = static_cast<std::size_t>(m);
+  std::vector<double> travel(ms), centre(ms), pose_scale(ms), speed(ms), accel(ms), peak(ms), brake_c(ms);
+  std::vector<bool> coupled(ms);
   for (int i = 0; i < m; ++i) {
-    const DofLimits& lim = platform.limits(model.axes[static_cast<std::size_t>(i)]);
+    const Dof dof = model.axes[static_cast<std::size_t>(i)];
     const auto s = static_cast<std::size_t>(i);
-    accel[s] = lim.brake_accel();
-    travel[s] = lim.travel;
-    pose_scale[s] = std::isfinite(lim.travel) ? lim.travel : kPi;
-    speed[s] = std::isfinite(lim.travel) ? std::min(lim.speed, std::sqrt(accel[s] * lim.travel)) : lim.speed;
+    const DofLimits& box = platform.limits(dof);
+    pose_scale[s] = std::isfinite(box.travel) ? box.travel : kPi;
+    coupled[s] = mechanism.coupled(dof);
+    if (coupled[s]) {
+      accel[s] = mechanism.axis_accel(dof);
+      peak[s] = kInf;
+      speed[s] = mechanism.axis_speed(dof);
+      travel[s] = kInf;
+      continue;
+    }
+    DofLimits stage;
+    double mid = 0.0;
+    PWSIM_DEMAND(mechanism.StageLimits(dof, &stage, &mid));
+    accel[s] = stage.brake_accel();
+    peak[s] = stage.accel;
+    travel[s] = stage.travel;
+    centre[s] = mid;
+    speed[s] = std::isfinite(stage.travel) ? std::min(stage.speed, std::sqrt(accel[s] * stage.travel)) : stage.speed;
     brake_c[s] = speed[s] / accel[s];
   }
+  double longest_block = 0.0;
+  for (double h : model.block_length) longest_block = std::max(longest_block, h);
+  model.envelope_c = std::max(mechanism.longest_brake(), 0.5 * longest_block);
+  model.actuator_margin = kActuatorMargin;
+  model.coupled_actuators = mechanism.coupled_actuators();
+  model.axis_pos_c.resize(n_blocks * m, nz);
+  model.axis_vel_c.resize(n_blocks * m, nz);
+  model.axis_pos_dx.resize(n_blocks * m, nx);
+  model.axis_vel_dx.resize(n_blocks * m, nx);
 
   // condensed prediction: x_k = M_k x0 + L_k z
   std::vector<Eigen::MatrixXd> cost_rows_e, cost_rows_fx;
@@ -310,12 +328,28 @@ MpcModel BuildMpcModel(const MpcParams& params, const VestibularParams& vestibul
       Eigen::RowVectorXd effort = Eigen::RowVectorXd::Zero(nz);
       effort(kb * m + i) = std::sqrt(params.weight_effort * wt) / accel[s];
       add_cost(effort, zero_x);
-      // constraints at the block's end
+      model.axis_pos_c.row(kb * m + i) = lk.row(2 * i);
+      model.axis_vel_c.row(kb * m + i) = lk.row(2 * i + 1);
+      model.axis_pos_dx.row(kb * m + i) = mk.row(2 * i);
+      model.axis_vel_dx.row(kb * m + i) = mk.row(2 * i + 1);
+      if (coupled[s]) continue;
+      // an independent stage's constraints at the block's end
       add_con(lk.row(2 * i + 1), mk.row(2 * i + 1), -speed[s], speed[s], -1, 0);
       if (std::isfinite(travel[s])) {
-        add_con(lk.row(2 * i), mk.row(2 * i), -travel[s], travel[s], -1, 0);
+        const double end_lo = centre[s] - travel[s], end_hi = centre[s] + travel[s];
+        add_con(lk.row(2 * i), mk.row(2 * i), end_lo, end_hi, -1, 0);
         add_con(lk.row(2 * i) + brake_c[s] * lk.row(2 * i + 1), mk.row(2 * i) + brake_c[s] * mk.row(2 * i + 1),
-                -travel[s], travel[s], -1, 0);
+                end_lo, end_hi, -1, 0);
+      }
+    }
+    // the coupled group's actuator rows at the block's end (placeholders, filled per solve)
+    const Eigen::RowVectorXd zero_z = Eigen::RowVectorXd::Zero(nz);
+    for (int actuator : model.coupled_actuators) {
+      for (const MpcModel::ActuatorRowKind kind :
+           {MpcModel::ActuatorRowKind::kStroke, MpcModel::ActuatorRowKind::kEnvelope,
+            MpcModel::ActuatorRowKind::kSpeed, MpcModel::ActuatorRowKind::kAccel}) {
+        model.actuator_rows.push_back({static_cast<int>(c_rows.size()), actuator, kb, kind});
+        add_con(zero_z, zero_x, 0.0, 0.0, -1, 0);
       }
     }
     for (int t = 0; t < n_tilt; ++t) {
@@ -351,8 +385,8 @@ MpcModel BuildMpcModel(const MpcParams& params, const VestibularParams& vestibul
   model.z_hi.resize(nz);
   for (int kb = 0; kb < n_blocks; ++kb) {
     for (int i = 0; i < m; ++i) {
-      model.z_lo[kb * m + i] = -accel[static_cast<std::size_t>(i)];
-      model.z_hi[kb * m + i] = accel[static_cast<std::size_t>(i)];
+      model.z_lo[kb * m + i] = -peak[static_cast<std::size_t>(i)];  // coupled axes: the actuator rows
+      model.z_hi[kb * m + i] = peak[static_cast<std::size_t>(i)];
     }
   }
   return model;
@@ -366,7 +400,8 @@ MpcCueing::MpcCueing(const MpcParams& params, const WashoutParams& washout,
       dt_(dt),
       period_ticks_(static_cast<int>(std::lround(params.control_period / dt))),
       model_(BuildMpcModel(params, vestibular, platform)),
-      washout_(washout, platform, dt) {
+      washout_(washout, platform, dt),
+      limiter_(platform, dt, TiltGuards(platform, vestibular.thresholds.tilt_rate)) {
   PWSIM_DEMAND(dt > 0.0);
   PWSIM_DEMAND(period_ticks_ >= 1 && std::abs(period_ticks_ * dt - params.control_period) < 1e-9);
   const Eigen::MatrixXd hessian = model_.hessian + 1e-10 * Eigen::MatrixXd::Identity(model_.nz, model_.nz);
@@ -375,6 +410,13 @@ MpcCueing::MpcCueing(const MpcParams& params, const WashoutParams& washout,
   } else {
     alglib_ = std::make_unique<AlglibQp>(params.solver, hessian, model_.con_c);
   }
+  con_c_ = model_.con_c;
+  con_dx_ = model_.con_dx;
+  con_lo_ = model_.con_lo;
+  con_hi_ = model_.con_hi;
+  jacobian_.resize(platform.mechanism.actuator_count(), 6);
+  for (double h : model_.block_length) block_ticks_.push_back(static_cast<int>(std::lround(h / dt)));
+  predicted_.resize(6, model_.blocks);
   ref_.resize(6, model_.blocks);
   rate_ref_.resize(2, model_.blocks);
   e_.resize(model_.cost_e.rows());
@@ -393,6 +435,8 @@ MpcCueing::~MpcCueing() = default;
 
 void MpcCueing::SetPreview(const std::vector<HeadMotion>* trial) { preview_ = trial; }
 
+void MpcCueing::SetPredictor(VehiclePredictor* predictor) { predictor_ = predictor; }
+
 void MpcCueing::Reset() {
   tick_ = 0;
   x_ = Eigen::VectorXd::Zero(model_.nx);
@@ -401,7 +445,8 @@ void MpcCueing::Reset() {
   u_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model_.axes.size()));
   input_sum_ = {};
   last_input_ = {};
-  limiter_ = {};
+  sustained_ = {};
+  limiter_.Reset();
   nominal_pose_ = {};
   nominal_rate_ = {};
   fallback_ = false;
@@ -422,6 +467,12 @@ std::array<double, 6> Channels(const HeadMotion& h) {
   return {h.fs[0], h.fs[1], h.fs[2] - kGravity, h.w[0], h.w[1], h.w[2]};
 }
 
+/// The part of the input a vehicle sustains without moving: the gravity at its attitude.
+std::array<double, 6> Sustained(const HeadMotion& h) {
+  const std::array<double, 3> g = GravityAtAttitude(h.attitude);
+  return {g[0], g[1], g[2] - kGravity, 0.0, 0.0, 0.0};
+}
+
 bool Finite(const HeadMotion& h) {
   for (int i = 0; i < 3; ++i) {
     if (!std::isfinite(h.fs[static_cast<std::size_t>(i)]) || !std::isfinite(h.w[static_cast<std::size_t>(i)])) return false;
@@ -432,38 +483,122 @@ bool Finite(const HeadMotion& h) {
 }  // namespace
 
 void MpcCueing::PredictVehicle() {
-  // per block: the vehicle's input (held, or the preview's mean over the block), then its
-  // perceived output and the followable roll and pitch rates ω̂_f at the block's end
+  // per block: the vehicle's mean input (the preview's, the predictor's, or the present input's
+  // transients decaying), then its perceived output and the followable roll and pitch rates ω̂_f
+  // at the block's end
   xv_scratch_ = xv_;
   std::array<double, 2> follow = follow_rate_;
-  const bool preview = using_preview();
+  const bool preview = using_preview() && !preview_->empty();
+  const bool predicted = !preview && predictor_ != nullptr;
+  if (predicted) predictor_->Predict(tick_, block_ticks_, predicted_);
   std::int64_t start = tick_;
+  double t_start = 0.0;
   for (int kb = 0; kb < model_.blocks; ++kb) {
-    const auto len = static_cast<std::int64_t>(
-        std::lround(model_.block_length[static_cast<std::size_t>(kb)] / dt_));
-    std::array<double, 6> q = last_input_;
-    if (preview && !preview_->empty()) {
-      q = {};
+    const auto len = static_cast<std::int64_t>(block_ticks_[static_cast<std::size_t>(kb)]);
+    const double h = model_.block_length[static_cast<std::size_t>(kb)];
+    std::array<double, 6> q{};
+    if (preview) {
       const auto last = static_cast<std::int64_t>(preview_->size()) - 1;
       for (std::int64_t t = start; t < start + len; ++t) {
-        const HeadMotion& h = (*preview_)[static_cast<std::size_t>(std::min(t, last))];
-        if (!Finite(h)) continue;  // a gap in the trial counts as rest
-        const auto ch = Channels(h);
+        const HeadMotion& motion = (*preview_)[static_cast<std::size_t>(std::min(t, last))];
+        if (!Finite(motion)) continue;  // a gap in the trial counts as rest
+        const auto ch = Channels(motion);
         for (std::size_t c = 0; c < 6; ++c) q[c] += ch[c];
       }
       for (double& v : q) v /= static_cast<double>(len);
+    } else if (predicted) {
+      for (std::size_t c = 0; c < 6; ++c) q[c] = predicted_(static_cast<Eigen::Index>(c), kb);
+    } else {
+      // the block's mean of e^(−t/τ): the present input's departure from its sustained part
+      // (the gravity at the present attitude) dies away at τ; τ = 0 holds it
+      const double tau = params_.prediction_decay;
+      const double share = tau > 0.0 ? tau * (std::exp(-t_start / tau) - std::exp(-(t_start + h) / tau)) / h : 1.0;
+      for (std::size_t c = 0; c < 6; ++c) q[c] = sustained_[c] + share * (last_input_[c] - sustained_[c]);
     }
+    t_start += h;
     const Eigen::Map<const Eigen::Matrix<double, 6, 1>> qv(q.data());
     xv_next_.noalias() = model_.vphi[static_cast<std::size_t>(kb)] * xv_scratch_;
     xv_next_.noalias() += model_.vgamma[static_cast<std::size_t>(kb)] * qv;
     xv_scratch_.swap(xv_next_);
     ref_.col(kb).noalias() = model_.vc * xv_scratch_;
-    const double h = model_.block_length[static_cast<std::size_t>(kb)];
     follow[0] = StepFollowRate(follow[0], q[3], model_.tilt_brake[0], h);
     follow[1] = StepFollowRate(follow[1], -q[4], model_.tilt_brake[1], h);
     rate_ref_(0, kb) = follow[0];
     rate_ref_(1, kb) = follow[1];
     start += len;
+  }
+}
+
+void MpcCueing::FillActuatorRows() {
+  // q ≈ q0 + J (p − p0) about the platform's pose now: rows J p (+ c_g J v), J v, J u
+  const Mechanism& mechanism = platform_.mechanism;
+  const DofArray& p0 = limiter_.pose();
+  const ActuatorVector& q0 = limiter_.position();
+  mechanism.Jacobian(p0, &jacobian_);
+  const auto m = static_cast<int>(model_.axes.size());
+  const double c = model_.envelope_c;
+  const double keep = 1.0 - model_.actuator_margin;
+  for (const MpcModel::ActuatorRow& row : model_.actuator_rows) {
+    const Eigen::Index r = row.row;
+    const int i = row.actuator;
+    con_c_.row(r).setZero();
+    con_dx_.row(r).setZero();
+    double jp0 = 0.0, w0 = 0.0;  // J p0 and the actuator's rate now, J v0
+    for (int a = 0; a < m; ++a) {
+      const auto d = static_cast<std::size_t>(Index(model_.axes[static_cast<std::size_t>(a)]));
+      const double j = jacobian_(i, static_cast<Eigen::Index>(d));
+      jp0 += j * p0[d];
+      w0 += j * x_[2 * a + 1];
+      if (j == 0.0) continue;
+      const Eigen::Index b = row.block * m + a;
+      switch (row.kind) {
+        case MpcModel::ActuatorRowKind::kStroke:
+          con_c_.row(r) += j * model_.axis_pos_c.row(b);
+          con_dx_.row(r) += j * model_.axis_pos_dx.row(b);
+          break;
+        case MpcModel::ActuatorRowKind::kEnvelope:
+          con_c_.row(r) += j * model_.axis_pos_c.row(b) + (c * j) * model_.axis_vel_c.row(b);
+          con_dx_.row(r) += j * model_.axis_pos_dx.row(b) + (c * j) * model_.axis_vel_dx.row(b);
+          break;
+        case MpcModel::ActuatorRowKind::kSpeed:
+          con_c_.row(r) += j * model_.axis_vel_c.row(b);
+          con_dx_.row(r) += j * model_.axis_vel_dx.row(b);
+          break;
+        case MpcModel::ActuatorRowKind::kAccel:
+          con_c_(r, b) = j;
+          break;
+      }
+    }
+    const ActuatorLimits& lim = mechanism.actuator(i).limits;
+    switch (row.kind) {
+      case MpcModel::ActuatorRowKind::kStroke:
+      case MpcModel::ActuatorRowKind::kEnvelope: {
+        // the stroke less the margin, in J p; a row the state already stands beyond keeps its
+        // present value (braking never makes it grow)
+        // (the envelope's present value q0 + c_g w0 also bounds where braking takes q itself)
+        const double margin = (1.0 - keep) * 0.5 * (lim.max - lim.min);
+        const double envelope = q0[i] + c * w0;
+        const bool stroke = row.kind == MpcModel::ActuatorRowKind::kStroke;
+        const double low = stroke ? std::min(q0[i], envelope) : envelope;
+        const double high = stroke ? std::max(q0[i], envelope) : envelope;
+        con_lo_[r] = std::min(lim.min + margin, low) - q0[i] + jp0;
+        con_hi_[r] = std::max(lim.max - margin, high) - q0[i] + jp0;
+        break;
+      }
+      case MpcModel::ActuatorRowKind::kSpeed:
+        con_hi_[r] = std::max(keep * lim.speed, std::abs(w0));
+        con_lo_[r] = -con_hi_[r];
+        break;
+      case MpcModel::ActuatorRowKind::kAccel:
+        con_hi_[r] = keep * lim.accel;
+        con_lo_[r] = -con_hi_[r];
+        break;
+    }
+  }
+  if (active_set_) {
+    active_set_->SetConstraintMatrix(con_c_);
+  } else {
+    alglib_->SetConstraintMatrix(con_c_);
   }
 }
 
@@ -475,11 +610,12 @@ void MpcCueing::Solve() {
     e_[model_.ref_row[r]] -= model_.ref_scale[r] * ref_(model_.ref_channel[r], model_.ref_block[r]);
   }
   b_.noalias() = model_.cost_et * e_;
-  dx_.noalias() = model_.con_dx * x_;
+  if (!model_.actuator_rows.empty()) FillActuatorRows();
+  dx_.noalias() = con_dx_ * x_;
   for (Eigen::Index r = 0; r < c_lo_.size(); ++r) {
     const auto s = static_cast<std::size_t>(r);
-    c_lo_[r] = model_.con_lo[r] - dx_[r];
-    c_hi_[r] = model_.con_hi[r] - dx_[r];
+    c_lo_[r] = con_lo_[r] - dx_[r];
+    c_hi_[r] = con_hi_[r] - dx_[r];
     if (model_.con_tilt_block[s] >= 0) {  // the tilt band about ω̂_f, widened by μ
       const auto channel = static_cast<std::size_t>(model_.con_tilt_channel[s]);
       const double follow = rate_ref_(model_.con_tilt_channel[s], model_.con_tilt_block[s]);
@@ -531,6 +667,7 @@ const McaCommand& MpcCueing::Step(const HeadMotion& raw) {
   if (params_.whole_trial) {
     if (tick_ == 0) {
       last_input_ = Channels(input);
+      sustained_ = Sustained(input);
       Solve();
     }
     const auto block = std::min<std::int64_t>(tick_ / period_ticks_, model_.blocks - 1);
@@ -559,6 +696,7 @@ const McaCommand& MpcCueing::Step(const HeadMotion& raw) {
       input_sum_ = {};
     }
     last_input_ = Channels(input);
+    sustained_ = Sustained(input);
     Solve();
   }
   const auto ch = Channels(input);
@@ -566,37 +704,38 @@ const McaCommand& MpcCueing::Step(const HeadMotion& raw) {
   vehicle_roll_ += input.w[0] * dt_;
   vehicle_pitch_ += -input.w[1] * dt_;
 
+  DofArray target{}, target_rate{};
   for (int i = 0; i < m; ++i) {
-    const Dof dof = model_.axes[static_cast<std::size_t>(i)];
-    const auto d = static_cast<std::size_t>(Index(dof));
-    const DofLimits& limits = platform_.limits(dof);
-    double target, target_rate;
+    const auto d = static_cast<std::size_t>(Index(model_.axes[static_cast<std::size_t>(i)]));
     if (fallback_) {
-      target = fallback.pose[d];
-      target_rate = fallback.rate[d];
+      target[d] = fallback.pose[d];
+      target_rate[d] = fallback.rate[d];
     } else {
       const double u = u_[i];
-      target = nominal_pose_[d] + nominal_rate_[d] * dt_ + 0.5 * u * dt_ * dt_;
-      target_rate = (target - nominal_pose_[d]) / dt_;
+      target[d] = nominal_pose_[d] + nominal_rate_[d] * dt_ + 0.5 * u * dt_ * dt_;
+      target_rate[d] = (target[d] - nominal_pose_[d]) / dt_;
       nominal_rate_[d] += u * dt_;
     }
-    const bool tilt = dof == Dof::kRoll || dof == Dof::kPitch;
-    const std::size_t channel = dof == Dof::kPitch ? 1 : 0;
-    const RateWindow window =
-        tilt ? TiltBand(follow_rate_[channel], vestibular_.thresholds.tilt_rate) : RateWindow{};
-    limiter_[d] = StepLimiter(limits, limiter_[d], target, target_rate, window, dt_);
+  }
+  std::array<RateWindow, kDofCount> windows{};
+  if (platform_.Has(Dof::kRoll)) windows[Index(Dof::kRoll)] = TiltBand(follow_rate_[0], vestibular_.thresholds.tilt_rate);
+  if (platform_.Has(Dof::kPitch)) windows[Index(Dof::kPitch)] = TiltBand(follow_rate_[1], vestibular_.thresholds.tilt_rate);
+  limiter_.Step(target, target_rate, windows);
+  for (int i = 0; i < m; ++i) {
+    const auto d = static_cast<std::size_t>(Index(model_.axes[static_cast<std::size_t>(i)]));
+    const double pose = limiter_.pose()[d];
     if (params_.whole_trial && !fallback_) {
-      nominal_pose_[d] = target;  // the whole trial's plan runs open loop; the limiter closes any gap
+      nominal_pose_[d] = target[d];  // the whole trial's plan runs open loop; the limiter closes any gap
     } else {
-      if (fallback_ || std::abs(limiter_[d].pose - target) > 1e-9 * std::max(1.0, std::abs(target))) {
-        nominal_rate_[d] = limiter_[d].rate;  // the limiter acted: resynchronise the plan
+      if (fallback_ || std::abs(pose - target[d]) > 1e-9 * std::max(1.0, std::abs(target[d]))) {
+        nominal_rate_[d] = limiter_.rate()[d];  // the limiter acted: resynchronise the plan
       }
-      nominal_pose_[d] = limiter_[d].pose;
+      nominal_pose_[d] = pose;
     }
-    command_.desired[d] = target;
-    command_.pose[d] = limiter_[d].pose;
-    command_.rate[d] = limiter_[d].rate;
-    command_.accel[d] = limiter_[d].accel;
+    command_.desired[d] = target[d];
+    command_.pose[d] = pose;
+    command_.rate[d] = limiter_.rate()[d];
+    command_.accel[d] = limiter_.accel()[d];
   }
   command_.tilt_pitch = platform_.Has(Dof::kPitch) ? command_.pose[Index(Dof::kPitch)] - vehicle_pitch_ : 0.0;
   command_.tilt_roll = platform_.Has(Dof::kRoll) ? command_.pose[Index(Dof::kRoll)] - vehicle_roll_ : 0.0;

@@ -48,6 +48,16 @@ ActiveSetQp::ActiveSetQp(const Eigen::MatrixXd& hessian, const Eigen::MatrixXd& 
   was_active_.assign(static_cast<std::size_t>(one_sided), 0);
 }
 
+void ActiveSetQp::SetConstraintMatrix(const Eigen::MatrixXd& constraints) {
+  PWSIM_DEMAND(constraints.rows() == rows_ && constraints.cols() == n_);
+  a_ = constraints;
+  row_norm1_ = a_.cwiseAbs().rowwise().sum();
+  for (int i = 0; i < rows_; ++i) {
+    const double norm = a_.row(i).norm();
+    row_inv_norm2_(i) = norm > 0.0 ? 1.0 / norm : 0.0;
+  }
+}
+
 void ActiveSetQp::Normal(int c, Eigen::VectorXd& normal) const {
   const double sign = c % 2 == 0 ? 1.0 : -1.0;
   if (c < 2 * rows_) {

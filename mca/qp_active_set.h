@@ -57,6 +57,11 @@ class ActiveSetQp {
   /// A_i z = a_lo_i, 0 on inactive rows (bounds alike). Allocates only to resize the outputs.
   void Multipliers(Eigen::VectorXd& rows, Eigen::VectorXd& bounds) const;
 
+  /// Replaces the constraint matrix A (same size as at construction): the MPC's actuator rows,
+  /// linearised about the pose of each solve (mca/mpc.h). H, its factorisation and the warm
+  /// start are kept. No allocation.
+  void SetConstraintMatrix(const Eigen::MatrixXd& constraints);
+
   /// Forgets the previous active set (the next solve starts cold).
   void ResetWarmStart() { std::fill(was_active_.begin(), was_active_.end(), 0); }
   int variables() const { return n_; }

@@ -79,6 +79,13 @@ AlglibQp::AlglibQp(QpAlgorithm algorithm, const Eigen::MatrixXd& hessian,
 
 AlglibQp::~AlglibQp() = default;
 
+void AlglibQp::SetConstraintMatrix(const Eigen::MatrixXd& constraints) {
+  PWSIM_DEMAND(constraints.rows() == r_ && constraints.cols() == n_);
+  for (int i = 0; i < r_; ++i) {
+    for (int j = 0; j < n_; ++j) impl_->constraint_matrix(i, j) = constraints(i, j);
+  }
+}
+
 QpStatus AlglibQp::Solve(const Eigen::VectorXd& b, const Eigen::VectorXd& lo,
                          const Eigen::VectorXd& hi, const Eigen::VectorXd& c_lo,
                          const Eigen::VectorXd& c_hi, Eigen::VectorXd& z) {

@@ -52,6 +52,9 @@ class AlglibQp {
   QpStatus Solve(const Eigen::VectorXd& b, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi,
                  const Eigen::VectorXd& c_lo, const Eigen::VectorXd& c_hi, Eigen::VectorXd& z);
 
+  /// Replaces the constraint matrix (same size as at construction). No allocation.
+  void SetConstraintMatrix(const Eigen::MatrixXd& constraints);
+
   QpAlgorithm algorithm() const { return algorithm_; }
   int variables() const { return n_; }
   int constraints() const { return r_; }

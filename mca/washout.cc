@@ -34,6 +34,19 @@ DofLimits TiltLimits(const TiltParams& p) {
   return {.present = true, .travel = p.max_angle, .speed = p.max_rate, .accel = p.max_accel};
 }
 
+/// 1 − H(s): the complement of a filter (same states, output negated, feed-through 1 − D).
+ContinuousSystem Complement(const ContinuousSystem& h) {
+  ContinuousSystem c = h;
+  for (double& v : c.c) v = -v;
+  c.d = 1.0 - h.d;
+  return c;
+}
+
+/// The rotation channel's high-pass of one axis (unit scale, no integrator).
+ContinuousSystem RotationHighPass(const RotationalParams& p) {
+  return p.hp_order == 1 ? HighPass1(p.hp_omega) : HighPass2(p.hp_omega, p.hp_zeta);
+}
+
 void ParseTranslational(YamlMap& m, TranslationalParams& p) {
   p.scale = m.NumberOr("scale", p.scale, Range::Closed(0.0, 10.0));
   p.limit = m.NumberOr("limit_mps2", p.limit, Range::Positive(100.0, "m/s^2"));
@@ -104,6 +117,8 @@ std::string WashoutParams::Validate() const {
              ": scale >= 0, low-pass > 0, max_rate > 0, max_accel > 0, max_angle in (0, 60] deg required";
     }
   }
+  if (!(bank.max_angle > 0.0 && bank.max_angle <= 60.0 * kDegToRad)) return "bank: max_angle in (0, 60] deg required";
+  if (!(tilt_rate_threshold > 0.0) || !std::isfinite(tilt_rate_threshold)) return "tilt_rate_threshold must be > 0";
   if (!(fault.hold_time >= 0.0) || !(fault.return_speed_fraction > 0.0) ||
       !(fault.return_speed_fraction <= 1.0)) {
     return "fault: hold_s >= 0 and return_speed_fraction in (0, 1] required";
@@ -152,6 +167,13 @@ WashoutParams ParseWashoutParams(YamlMap& map, const WashoutParams& base) {
     ParseTilt(axis, *tilt);
     axis.Finish();
   }
+  if (map.Has("bank")) {
+    YamlMap bank = map.Map("bank");
+    p.bank.enabled = bank.BoolOr("enabled", p.bank.enabled);
+    p.bank.max_angle = kDegToRad * bank.NumberOr("max_angle_deg", p.bank.max_angle / kDegToRad,
+                                                 Range::Positive(60.0, "deg"));
+    bank.Finish();
+  }
   if (map.Has("fault")) {
     YamlMap fault = map.Map("fault");
     p.fault.hold_time = fault.NumberOr("hold_s", p.fault.hold_time, Range::Closed(0.0, 60.0, "s"));
@@ -181,7 +203,11 @@ ContinuousSystem ChannelSystem(const WashoutParams& params, Dof dof) {
 
 ClassicalWashout::ClassicalWashout(const WashoutParams& params, const PlatformSpec& platform,
                                    double dt)
-    : params_(params), platform_(platform), dt_(dt), inv_dt_(1.0 / dt) {
+    : params_(params),
+      platform_(platform),
+      dt_(dt),
+      inv_dt_(1.0 / dt),
+      limiter_(platform, dt, TiltGuards(platform, params.tilt_rate_threshold)) {
   PWSIM_DEMAND(params.Validate().empty());
   PWSIM_DEMAND(platform.Validate().empty());
   PWSIM_DEMAND(dt > 0.0);
@@ -194,6 +220,10 @@ ClassicalWashout::ClassicalWashout(const WashoutParams& params, const PlatformSp
   tilt_lp_[1] = Discretize(LowPass2(params.tilt_roll.lp_omega, params.tilt_roll.lp_zeta), dt);
   tilt_sin_max_ = {std::sin(params.tilt_pitch.max_angle), std::sin(params.tilt_roll.max_angle)};
   tilt_limits_ = {TiltLimits(params.tilt_pitch), TiltLimits(params.tilt_roll)};
+  bank_[0] = Discretize(Complement(RotationHighPass(params.rotation(Dof::kPitch))), dt);
+  bank_[1] = Discretize(Complement(RotationHighPass(params.rotation(Dof::kRoll))), dt);
+  band_accel_ = {platform.Has(Dof::kRoll) ? platform.limits(Dof::kRoll).brake_accel() : 0.0,
+                 platform.Has(Dof::kPitch) ? platform.limits(Dof::kPitch).brake_accel() : 0.0};
   hold_ticks_ = static_cast<std::int64_t>(std::llround(params.fault.hold_time / dt));
   Reset();
 }
@@ -201,6 +231,12 @@ ClassicalWashout::ClassicalWashout(const WashoutParams& params, const PlatformSp
 void ClassicalWashout::Reset() {
   state_ = WashoutState{};
   command_ = McaCommand{};
+  limiter_.Reset();
+}
+
+void ClassicalWashout::Follow(const HeadMotion& vehicle) {
+  state_.follow_rate[0] = StepFollowRate(state_.follow_rate[0], vehicle.w[0], band_accel_[0], dt_);
+  state_.follow_rate[1] = StepFollowRate(state_.follow_rate[1], -vehicle.w[1], band_accel_[1], dt_);
 }
 
 const McaCommand& ClassicalWashout::Step(const HeadMotion& input) {
@@ -217,6 +253,8 @@ void ClassicalWashout::StepHealthy(const HeadMotion& input) {
     state_.fault_ticks = 0;
     state_.recovering = true;
   }
+  state_.held = input;
+  Follow(input);
   DofArray desired{};
   // specific-force channels on the deviation from rest (0, 0, g)
   const std::array<double, 3> deviation{input.fs[0], input.fs[1], input.fs[2] - kGravity};
@@ -234,14 +272,30 @@ void ClassicalWashout::StepHealthy(const HeadMotion& input) {
     const double u = std::clamp(p.scale * rates[At(dof) - 3], -p.limit, p.limit);
     desired[At(dof)] = mca::Step(channel_[At(dof)], state_.channel[At(dof)], u);
   }
+  // bank: the sustained attitude, the complement of the rotation channel's high-pass
+  std::array<double, 3> kinematic = input.fs;  // the specific force the bank does not present
+  if (params_.bank.enabled) {
+    const std::array<double, 3> gravity = GravityAtAttitude(input.attitude);
+    kinematic[0] -= gravity[0];
+    kinematic[1] -= gravity[1];
+    const double limit = params_.bank.max_angle;
+    if (platform_.Has(Dof::kPitch)) {
+      command_.bank_pitch = std::clamp(mca::Step(bank_[0], state_.bank[0], input.attitude[1]), -limit, limit);
+      desired[At(Dof::kPitch)] += command_.bank_pitch;
+    }
+    if (platform_.Has(Dof::kRoll)) {
+      command_.bank_roll = std::clamp(mca::Step(bank_[1], state_.bank[1], input.attitude[0]), -limit, limit);
+      desired[At(Dof::kRoll)] += command_.bank_roll;
+    }
+  }
   // tilt coordination: sustained surge -> pitch, sustained sway -> roll
   if (platform_.Has(Dof::kPitch) && params_.tilt_pitch.enabled) {
-    const double f = mca::Step(tilt_lp_[0], state_.tilt_lp[0], params_.tilt_pitch.scale * input.fs[0]);
+    const double f = mca::Step(tilt_lp_[0], state_.tilt_lp[0], params_.tilt_pitch.scale * kinematic[0]);
     TiltStep(0, TiltTarget(tilt_sin_max_[0], f));
     desired[At(Dof::kPitch)] += state_.tilt[0].pose;
   }
   if (platform_.Has(Dof::kRoll) && params_.tilt_roll.enabled) {
-    const double f = mca::Step(tilt_lp_[1], state_.tilt_lp[1], params_.tilt_roll.scale * input.fs[1]);
+    const double f = mca::Step(tilt_lp_[1], state_.tilt_lp[1], params_.tilt_roll.scale * kinematic[1]);
     TiltStep(1, TiltTarget(tilt_sin_max_[1], f));
     desired[At(Dof::kRoll)] += state_.tilt[1].pose;
   }
@@ -259,12 +313,16 @@ void ClassicalWashout::StepHealthy(const HeadMotion& input) {
 void ClassicalWashout::StepFaulted() {
   if (state_.fault_ticks == 0) {
     // hold the last safe pose; the filters restart from rest when input returns
-    for (Dof dof : kAllDofs) state_.hold_pose[At(dof)] = state_.limiter[At(dof)].pose;
+    state_.hold_pose = limiter_.pose();
     state_.tilt_hold = {state_.tilt[0].pose, state_.tilt[1].pose};
     state_.channel = {};
     state_.tilt_lp = {};
+    state_.bank = {};
   }
   ++state_.fault_ticks;
+  // the tilt band's vehicle rate: the last finite input for hold_s, then rest
+  Follow(state_.fault_ticks <= hold_ticks_ ? state_.held : HeadMotion{});
+  command_.bank_pitch = command_.bank_roll = 0.0;
   ++state_.fault_total;
   state_.recovering = false;
   DofArray desired{};
@@ -295,21 +353,25 @@ void ClassicalWashout::TiltStep(int axis, double target) {
 }
 
 void ClassicalWashout::Limit(const DofArray& desired, double speed_fraction) {
+  DofArray target_rate{};
+  for (std::size_t i = 0; i < kDofCount; ++i) target_rate[i] = (desired[i] - state_.desired_prev[i]) * inv_dt_;
+  std::array<RateWindow, kDofCount> windows{};
+  if (platform_.Has(Dof::kRoll)) windows[At(Dof::kRoll)] = TiltBand(state_.follow_rate[0], params_.tilt_rate_threshold);
+  if (platform_.Has(Dof::kPitch)) windows[At(Dof::kPitch)] = TiltBand(state_.follow_rate[1], params_.tilt_rate_threshold);
+  limiter_.Step(desired, target_rate, windows, speed_fraction);
   for (Dof dof : kAllDofs) {
     const std::size_t i = At(dof);
-    const DofLimits& limits = platform_.dofs[i];
-    if (!limits.present) continue;
-    const double target_rate = (desired[i] - state_.desired_prev[i]) * inv_dt_;
-    state_.limiter[i] =
-        StepLimiter(limits, state_.limiter[i], desired[i], target_rate, speed_fraction * limits.speed, dt_);
-    command_.pose[i] = state_.limiter[i].pose;
-    command_.rate[i] = state_.limiter[i].rate;
-    command_.accel[i] = state_.limiter[i].accel;
+    if (!platform_.Has(dof)) continue;
+    command_.pose[i] = limiter_.pose()[i];
+    command_.rate[i] = limiter_.rate()[i];
+    command_.accel[i] = limiter_.accel()[i];
   }
   state_.desired_prev = desired;
   command_.desired = desired;
-  command_.tilt_rate_pitch = (state_.tilt[0].pose - command_.tilt_pitch) / dt_;
-  command_.tilt_rate_roll = (state_.tilt[1].pose - command_.tilt_roll) / dt_;
+  command_.tilt_rate_pitch =
+      platform_.Has(Dof::kPitch) ? TiltCoordinationRate(command_.rate[At(Dof::kPitch)], state_.follow_rate[1]) : 0.0;
+  command_.tilt_rate_roll =
+      platform_.Has(Dof::kRoll) ? TiltCoordinationRate(command_.rate[At(Dof::kRoll)], state_.follow_rate[0]) : 0.0;
   command_.tilt_pitch = state_.tilt[0].pose;
   command_.tilt_roll = state_.tilt[1].pose;
 }

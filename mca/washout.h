@@ -4,13 +4,25 @@
 //   surge/sway/heave:  f = fs_H - (0, 0, g)  → scale, clamp ±limit → H_hp(s) → 1/(s+λ)² → pose
 //                      H_hp = s²/(s²+2ζωs+ω²) (order 2) or that · s/(s+ω_b) (order 3)
 //   roll/pitch/yaw:    rate → scale, clamp ±limit → s/(s+ω) or s²/(s²+2ζωs+ω²) → 1/(s+λ) → pose
-//   tilt (pitch←surge, roll←sway): f → scale → ω²/(s²+2ζωs+ω²) → asin(f/g), clamped to
+//   bank (roll, pitch):  the vehicle's attitude relative to gravity (HeadMotion::attitude)
+//                      → 1 − H_hp(s) of that axis's rotation channel → clamped to ±max_angle →
+//                      added to pose. With unit scale and no leak, rotation channel + bank
+//                      = the attitude itself: a slope, a ramp or a banked road is presented as
+//                      the real, sustained tilt it is, the rotation channel adding the onset.
+//   tilt (pitch←surge, roll←sway): f_kin → scale → ω²/(s²+2ζωs+ω²) → asin(f/g), clamped to
 //                      ±max_angle → rate limited to ±max_rate (default 3 deg/s) and acceleration
 //                      limited to ±max_accel (the head sits above the pivot: a tilt acceleration
-//                      θ̈ is felt as a tangential specific force h·θ̈) → added to pose
+//                      θ̈ is felt as a tangential specific force h·θ̈) → added to pose;
+//                      f_kin = fs − g·(sin θ, sin φ cos θ, ·) at the attitude (GravityAtAttitude):
+//                      the part of the specific force that the bank does not already present
+//                      (with the bank off, f_kin = fs: a slope is rendered by tilt, as before)
 //
-// Then each present axis goes through the platform limiter (mca/platform.h), so the command
-// stream never leaves the platform's limits. The specific-force channels act on the head's
+// Then the pose goes through the platform limiter in actuator space (mca/actuator_limiter.h):
+// every actuator inside its stroke, speed and acceleration, and the pitch and roll rates inside
+// the tilt band B = [min(0, ω_f) − τ, max(0, ω_f) + τ] (ω_f the vehicle's own rate as the axis
+// can follow it, τ = vestibular tilt-rate threshold, mca/mpc.h): the rotation beyond the
+// vehicle's or against it — tilt coordination, the bank's approach and the rotation channel's
+// return alike — is never faster than τ. The specific-force channels act on the head's
 // specific force in head axes (no rotation into the inertial frame: the PW platform's tilts are
 // small and the resulting coupling is second order); filters are exact FOH discretisations, so
 // the behaviour does not depend on the step size.
@@ -28,6 +40,7 @@
 #include <string>
 
 #include "engine/yaml_reader.h"
+#include "mca/actuator_limiter.h"
 #include "mca/dof.h"
 #include "mca/head_motion.h"
 #include "mca/lti.h"
@@ -71,6 +84,13 @@ struct TiltParams {
   bool operator==(const TiltParams&) const = default;
 };
 
+/// The vehicle's sustained attitude presented as platform tilt (roll and pitch; see the header).
+struct BankParams {
+  bool enabled{true};
+  double max_angle{10.0 * kDegToRad};  ///< [rad] per axis
+  bool operator==(const BankParams&) const = default;
+};
+
 struct FaultParams {
   double hold_time{0.5};               ///< [s] the last safe pose is held
   double return_speed_fraction{0.1};   ///< [-] of each axis's speed limit, while returning
@@ -82,6 +102,8 @@ struct WashoutParams {
   std::array<RotationalParams, 3> rotational{};        ///< roll, pitch, yaw
   TiltParams tilt_pitch{};                             ///< pitch from surge specific force
   TiltParams tilt_roll{};                              ///< roll from sway specific force
+  BankParams bank{};
+  double tilt_rate_threshold{3.0 * kDegToRad};         ///< τ of the tilt band [rad/s]
   FaultParams fault{};
   bool operator==(const WashoutParams&) const = default;
 
@@ -109,9 +131,14 @@ struct McaCommand {
   DofArray desired{};  ///< washout + tilt before the limiter
   double tilt_pitch{0.0};  ///< [rad] tilt-coordination part of the pitch (not to be seen)
   double tilt_roll{0.0};   ///< [rad] tilt-coordination part of the roll (not to be seen)
-  /// [rad/s] the commanded tilt-coordination rates, held below the tilt-rate threshold: the
-  /// washout's tilt channel's rate; the MPC's rotation beyond or against the vehicle's own
-  /// (mca/mpc.h). The false-cue count of the tilt rate (EvaluateConsistency) reads these.
+  /// [rad] the sustained attitude of the vehicle presented (a slope, a ramp, a banked road: a
+  /// real tilt, shown by the visuals too), part of the pose's pitch and roll
+  double bank_pitch{0.0};
+  double bank_roll{0.0};
+  /// [rad/s] the tilt-coordination rates, the platform's rotation beyond the vehicle's own or
+  /// against it (TiltCoordinationRate, mca/actuator_limiter.h), held below the tilt-rate
+  /// threshold by the limiter's tilt band. The false-cue count of the tilt rate
+  /// (EvaluateConsistency) reads these.
   double tilt_rate_pitch{0.0};
   double tilt_rate_roll{0.0};
   bool fault{false};       ///< this tick's input was not finite
@@ -124,7 +151,9 @@ struct WashoutState {
   std::array<FilterState, 2> tilt_lp{};   ///< pitch, roll
   std::array<LimiterState, 2> tilt{};     ///< rate/acceleration-limited tilt (pitch, roll)
   std::array<double, 2> tilt_target{};    ///< asin(low-passed force / g) of the last tick
-  std::array<LimiterState, kDofCount> limiter{};
+  std::array<FilterState, 2> bank{};      ///< bank filters (pitch, roll)
+  std::array<double, 2> follow_rate{};    ///< ω_f of the tilt band (roll, pitch) [rad/s]
+  HeadMotion held{};                      ///< the last finite input (ω_f during a fault)
   DofArray desired_prev{};
   DofArray hold_pose{};
   std::array<double, 2> tilt_hold{};      ///< tilt angles held during a fault's hold time
@@ -148,12 +177,15 @@ class ClassicalWashout {
   const McaCommand& command() const { return command_; }
   const WashoutParams& params() const { return params_; }
   const PlatformSpec& platform() const { return platform_; }
+  /// The limiter in actuator space: actuator positions, rates, accelerations of the command.
+  const ActuatorLimiter& limiter() const { return limiter_; }
   double dt() const { return dt_; }
 
  private:
   void StepHealthy(const HeadMotion& input);
   void StepFaulted();
   void TiltStep(int axis, double target);
+  void Follow(const HeadMotion& vehicle);
   void Limit(const DofArray& desired, double speed_fraction);
 
   WashoutParams params_;
@@ -164,7 +196,10 @@ class ClassicalWashout {
   std::array<DiscreteSystem, 2> tilt_lp_{};
   std::array<double, 2> tilt_sin_max_{};
   std::array<DofLimits, 2> tilt_limits_{};
+  std::array<DiscreteSystem, 2> bank_{};   ///< 1 − H_hp of pitch, roll
+  std::array<double, 2> band_accel_{};     ///< A of roll, pitch: ω_f's rate of change [rad/s²]
   std::int64_t hold_ticks_{0};
+  ActuatorLimiter limiter_;
   WashoutState state_;
   McaCommand command_;
 };

@@ -102,6 +102,10 @@ void AddCarCueing(const vehicle::CarScene& scene, const std::vector<CarSample>& 
   nlohmann::ordered_json mca_json;
   mca_json["algorithm"] = AlgorithmJson(config, trace);
   mca_json["platform"] = platform_json;
+  mca_json["actuators"] = ActuatorsJson(config.platform, report);
+  mca_json["limits"] = LimitsJson(config.platform, report);
+  mca_json["perceived"] = PerceivedJson(report.perceived);
+  if (choice.compare) mca_json["comparison"] = ComparisonJson(config, head, dt, nullptr, rail_yaw);
   mca_json["consistency"] = ConsistencyJson(report);
   const WrongSignCues wrong = CountWrongSignCues(report);
   mca_json["false_cues"] = {{"wrong_sign_count", wrong.count}, {"wrong_sign_duration_s", wrong.duration_s}};

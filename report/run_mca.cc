@@ -1,6 +1,8 @@
 #include "report/run_mca.h"
 
 #include "mca/offline_optimum.h"
+#include "mca/rail_yaw.h"
+#include "mca/vehicle_prediction.h"
 
 #include <cmath>
 #include <string>
@@ -35,6 +37,7 @@ nlohmann::ordered_json AxisJson(const mca::AxisConsistency& c, const char* unit)
   return {{"correlation", c.correlation},
           {std::string("rms_error_") + unit, c.rms_error},
           {"gain", c.gain},
+          {"xcorr_peak", c.xcorr},
           {"lag_s", c.lag},
           {std::string("peak_true_") + unit, c.peak_true},
           {std::string("peak_platform_") + unit, c.peak_platform},
@@ -59,11 +62,54 @@ nlohmann::ordered_json PlatformUsageJson(const mca::ConsistencyReport& report) {
 }
 
 bool WithinLimits(const mca::ConsistencyReport& report) {
-  bool within = true;
-  for (const mca::DofUsage& u : report.usage)
-    within = within && u.pose_fraction <= 1.0 + 1e-9 && u.rate_fraction <= 1.0 + 1e-9 &&
-             u.accel_fraction <= 1.0 + 1e-9;
-  return within;
+  return report.limits.within && report.limits.positions_checked;
+}
+
+nlohmann::ordered_json ActuatorsJson(const mca::PlatformSpec& platform, const mca::ConsistencyReport& report) {
+  nlohmann::ordered_json list = nlohmann::ordered_json::array();
+  for (const mca::ActuatorUsage& u : report.actuators) {
+    const mca::Actuator& a = platform.mechanism.actuator(u.index);
+    const bool rotary = a.kind == mca::ActuatorKind::kRotary;
+    const double k = rotary ? 1.0 / mca::kDegToRad : 1.0;
+    const std::string unit = rotary ? "deg" : "m";
+    nlohmann::ordered_json j;
+    j["name"] = a.name;
+    j["kind"] = mca::ActuatorKindName(a.kind);
+    if (std::isfinite(a.limits.min)) j["stroke_" + unit] = {a.limits.min * k, a.limits.max * k};
+    j["position_range_" + unit] = {u.min_position * k, u.max_position * k};
+    j["stroke_use"] = u.stroke_use;
+    j["box_stroke_use"] = u.box_stroke_use;
+    j["speed_fraction"] = u.speed_fraction;
+    j["accel_fraction"] = u.accel_fraction;
+    list.push_back(j);
+  }
+  return list;
+}
+
+nlohmann::ordered_json LimitsJson(const mca::PlatformSpec& platform, const mca::ConsistencyReport& report) {
+  const mca::ActuatorLimitsCheck& c = report.limits;
+  nlohmann::ordered_json j;
+  j["within_limits"] = WithinLimits(report);
+  j["from"] = "actuator positions q = IK(command pose), what the drives get; their differences per tick; "
+              "every q checked back by forward kinematics";
+  j["tolerance"] = mca::kLimitTolerance;
+  j["tolerance_what"] = "relative: speed and acceleration up to limit x (1 + tolerance), stroke ends +- tolerance x stroke";
+  j["forward_residual"] = c.forward_residual;
+  j["forward_tolerance"] = mca::kForwardTolerance;
+  j["ik_failures"] = c.ik_failures;
+  j["worst_fraction"] = c.worst_fraction;
+  if (c.worst_actuator >= 0) {
+    j["worst"] = platform.mechanism.actuator(c.worst_actuator).name + " " + c.worst_what;
+  }
+  return j;
+}
+
+nlohmann::ordered_json PerceivedJson(const mca::PerceivedError& p) {
+  return {{"rms_error", p.rms},
+          {"what", "RMS of platform - vehicle over the otolith channels [m/s^2] and the canal channels [rad/s] x 10"},
+          {"correlation", p.correlation.zero_lag},
+          {"xcorr_peak", p.correlation.peak},
+          {"lag_s", p.correlation.lag}};
 }
 
 nlohmann::ordered_json ConsistencyJson(const mca::ConsistencyReport& report) {
@@ -82,6 +128,30 @@ WrongSignCues CountWrongSignCues(const mca::ConsistencyReport& report) {
     }
   }
   return out;
+}
+
+nlohmann::ordered_json ComparisonJson(const mca::McaConfig& config, const std::vector<mca::HeadMotion>& head, double dt,
+                                      mca::VehiclePredictor* predictor, bool rail_yaw) {
+  nlohmann::ordered_json j;
+  j["what"] = "this trial's head motion through each algorithm: the washout, the MPC without preview (as live), "
+              "the offline ceiling (mca/offline_optimum.h)";
+  auto row = [&](const mca::CueingTrace& trace, bool mpc) {
+    nlohmann::ordered_json r = PerceivedJson(mca::EvaluatePerceivedError(trace, dt));
+    r.erase("what");
+    if (mpc) r["fallbacks_to_washout"] = trace.mpc.fallbacks;
+    return r;
+  };
+  mca::McaConfig washout = config;
+  washout.algorithm = mca::McaAlgorithm::kWashout;
+  j["washout"] = row(rail_yaw ? mca::RunRailYawCueing(washout, head, dt) : mca::RunCueing(washout, head, dt), false);
+  mca::McaConfig mpc = config;
+  mpc.algorithm = mca::McaAlgorithm::kMpc;
+  mpc.mpc.preview = false;
+  j["mpc"] = row(rail_yaw ? mca::RunRailYawCueing(mpc, head, dt) : mca::RunCueing(mpc, head, dt, predictor), true);
+  j["mpc"]["prediction"] = predictor != nullptr && !rail_yaw ? "the vehicle model with the driver's present input held"
+                                                             : "the present input's transients decaying";
+  j["offline"] = row(mca::RunOfflineOptimum(config, head, dt, rail_yaw), false);
+  return j;
 }
 
 void AddCueMotionColumns(const mca::McaConfig& config, const mca::CueingTrace& trace,
@@ -130,6 +200,7 @@ void McaChoice::Apply(mca::McaConfig& config) const {
   if (preview) config.mpc.preview = true;
 }
 
+
 nlohmann::ordered_json AlgorithmJson(const mca::McaConfig& config, const mca::CueingTrace& trace) {
   nlohmann::ordered_json j;
   j["name"] = mca::McaAlgorithmName(trace.algorithm);
@@ -137,13 +208,19 @@ nlohmann::ordered_json AlgorithmJson(const mca::McaConfig& config, const mca::Cu
     j["name"] = "offline";
     j["what"] = "the whole trial optimised at once, open loop (mca/offline_optimum.h): the ceiling";
   } else if (trace.algorithm == mca::McaAlgorithm::kMpc) {
-    j["preview"] = trace.preview ? "the whole trial ahead (recorded or simulated)" : "none: the current input is held";
+    j["preview"] = trace.preview     ? "the whole trial ahead (recorded or simulated)"
+                   : trace.predictor ? "none: the vehicle model run ahead with the driver's present input held"
+                                     : "none: the present input's transients decay (prediction_decay_s " +
+                                           std::to_string(config.mpc.prediction_decay) + ")";
     j["horizon_s"] = config.mpc.control_period + (config.mpc.BlockCount() - 1) * config.mpc.block;
     j["control_period_s"] = config.mpc.control_period;
     j["blocks"] = config.mpc.BlockCount();
-    j["solver"] = std::string("alglib minqp ") + std::string(mca::QpAlgorithmName(config.mpc.solver));
+    j["solver"] = config.mpc.solver == mca::QpAlgorithm::kActiveSet
+                      ? std::string("dual active set (mca/qp_active_set.h)")
+                      : std::string("alglib minqp ") + std::string(mca::QpAlgorithmName(config.mpc.solver));
     j["solves"] = trace.mpc.solves;
     j["fallbacks_to_washout"] = trace.mpc.fallbacks;
+    j["fallbacks_what"] = "control steps whose QP failed and followed the classical washout";
   }
   return j;
 }
@@ -160,20 +237,22 @@ void AddMotionCueing(const Scene& scene, const std::vector<ChairSample>& samples
   visual.pitch = Column(n, [&](std::size_t k) { return samples[k].lm.pitch; });
   std::vector<double> t(n);
   for (std::size_t k = 0; k < n; ++k) t[k] = scene.clock.TimeAt(samples[k].tick);
-  AddMotionCueingStage(scene, t, head, visual, table, summary, out_dir, choice);
+  mca::ChairRolloutPredictor predictor(scene);  // the MPC's vehicle model without preview
+  AddMotionCueingStage(scene, t, head, visual, table, summary, out_dir, choice, &predictor);
 }
 
 void AddMotionCueingStage(const Scene& scene, const std::vector<double>& t,
                           const std::vector<mca::HeadMotion>& head, const VisualPose& visual,
                           TrialTable& table, nlohmann::ordered_json& summary,
-                          const std::filesystem::path& out_dir, const McaChoice& choice) {
+                          const std::filesystem::path& out_dir, const McaChoice& choice,
+                          mca::VehiclePredictor* predictor) {
   mca::McaConfig config = mca::LoadMcaConfig(scene);
   choice.Apply(config);
   const double dt = scene.clock.dt();
   const std::size_t n = head.size();
   const bool planar = !visual.yaw.empty();  // a chair free in the plane: every axis reported
   const mca::CueingTrace trace = choice.offline ? mca::RunOfflineOptimum(config, head, dt)
-                                                : mca::RunCueing(config, head, dt);
+                                                : mca::RunCueing(config, head, dt, predictor);
   const mca::ConsistencyReport report = mca::EvaluateConsistency(config, trace, dt);
 
   // trial.csv columns
@@ -196,11 +275,13 @@ void AddMotionCueingStage(const Scene& scene, const std::vector<double>& t,
   platform_json["name"] = config.platform.name;
   platform_json["source"] = config.platform_source;
   platform_json["usage"] = PlatformUsageJson(report);
-  if (planar) {
-    platform_json["axes_in_use"] = AxesInUse(report);
-    platform_json["within_limits"] = WithinLimits(report);
-  }
+  if (planar) platform_json["axes_in_use"] = AxesInUse(report);
+  platform_json["within_limits"] = WithinLimits(report);
   mca_json["platform"] = platform_json;
+  mca_json["actuators"] = ActuatorsJson(config.platform, report);
+  mca_json["limits"] = LimitsJson(config.platform, report);
+  mca_json["perceived"] = PerceivedJson(report.perceived);
+  if (choice.compare) mca_json["comparison"] = ComparisonJson(config, head, dt, predictor, false);
   double max_tilt = 0.0, max_roll_tilt = 0.0;
   for (const mca::McaCommand& c : trace.commands) {
     max_tilt = std::max(max_tilt, std::abs(c.tilt_pitch));

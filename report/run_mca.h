@@ -43,7 +43,21 @@ void AddVestibularColumns(const mca::CueingTrace& trace, TrialTable& table);
 /// consistency of true and platform vestibular responses per otolith and canal axis; and the
 /// wrong-sign cues summed over all axes.
 nlohmann::ordered_json PlatformUsageJson(const mca::ConsistencyReport& report);
+/// Every actuator within its stroke, speed and acceleration (mca::kLimitTolerance) and every
+/// position checked back by forward kinematics (ConsistencyReport::limits).
 bool WithinLimits(const mca::ConsistencyReport& report);
+/// summary["mca"]["actuators"]: per actuator its stroke use against what the axis boxes ask
+/// (box_stroke_use), position range, speed and acceleration fractions.
+nlohmann::ordered_json ActuatorsJson(const mca::PlatformSpec& platform, const mca::ConsistencyReport& report);
+/// summary["mca"]["limits"]: within_limits, how it is computed, the tolerance, the FK residual.
+nlohmann::ordered_json LimitsJson(const mca::PlatformSpec& platform, const mca::ConsistencyReport& report);
+/// The six-channel perceived error: RMS, correlation, cross-correlation peak and its lag.
+nlohmann::ordered_json PerceivedJson(const mca::PerceivedError& perceived);
+/// summary["mca"]["comparison"]: the same head motion through the washout, the MPC without
+/// preview (`predictor`, as a live session has it) and the offline ceiling: each one's
+/// PerceivedJson and QP fallbacks. `rail_yaw`: the car's delivered kinematics.
+nlohmann::ordered_json ComparisonJson(const mca::McaConfig& config, const std::vector<mca::HeadMotion>& head, double dt,
+                                      mca::VehiclePredictor* predictor, bool rail_yaw);
 nlohmann::ordered_json AxisJson(const mca::AxisConsistency& c, const char* unit);
 nlohmann::ordered_json ConsistencyJson(const mca::ConsistencyReport& report);
 struct WrongSignCues {
@@ -57,6 +71,7 @@ struct McaChoice {
   std::optional<mca::McaAlgorithm> algorithm;  ///< overrides the scene's mca.algorithm
   bool preview{false};   ///< the MPC previews the trial (mca.mpc.preview)
   bool offline{false};   ///< the offline ceiling instead (mca/offline_optimum.h)
+  bool compare{true};    ///< summary["mca"]["comparison"]: washout, MPC and ceiling on this trial
   /// Applies the choice to a loaded configuration.
   void Apply(mca::McaConfig& config) const;
 };
@@ -82,7 +97,8 @@ struct VisualPose {
 void AddMotionCueingStage(const Scene& scene, const std::vector<double>& t,
                           const std::vector<mca::HeadMotion>& head, const VisualPose& visual,
                           TrialTable& table, nlohmann::ordered_json& summary,
-                          const std::filesystem::path& out_dir, const McaChoice& choice = {});
+                          const std::filesystem::path& out_dir, const McaChoice& choice = {},
+                          mca::VehiclePredictor* predictor = nullptr);
 
 /// The straight run's stage: head motion from the sagittal samples (HeadMotionFromChair).
 /// `choice`: what `pwsim run --mca` overrides.

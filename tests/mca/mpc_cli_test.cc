@@ -26,18 +26,27 @@ nlohmann::json RunMca(const std::string& scene, const std::string& args, const s
   const std::filesystem::path out = std::filesystem::path(PWSIM_BINARY_DIR) / "test-out" / name;
   std::filesystem::remove_all(out);
   const std::string command = "cd '" + kSource.string() + "' && '" + kBinary.string() + "' run " + scene +
-                              " --no-video --decimate 10 " + args + " --out '" + out.string() + "' > /dev/null";
+                              " --no-video --decimate 10 " +
+                              (args.find("--mca-compare") != std::string::npos ? args.substr(0, args.find(" --mca-compare"))
+                                                                                : args + " --no-mca-compare") +
+                              " --out '" + out.string() + "' > /dev/null";
   if (std::system(command.c_str()) != 0) return {};
   std::ifstream in(out / "summary.json");
   return nlohmann::json::parse(in)["mca"];
 }
 
+/// summary.json says every actuator stayed within its stroke, speed and acceleration (from the
+/// actuator positions, checked by FK), and its figures agree.
 void ExpectInsideLimits(const nlohmann::json& mca) {
   ASSERT_TRUE(mca.is_object());
-  for (const auto& usage : mca["platform"]["usage"]) {
-    EXPECT_LE(usage["pose_fraction_of_limit"].get<double>(), 1.0 + 1e-9) << usage["dof"];
-    EXPECT_LE(usage["rate_fraction_of_limit"].get<double>(), 1.0 + 1e-9) << usage["dof"];
-    EXPECT_LE(usage["accel_fraction_of_limit"].get<double>(), 1.0 + 1e-6) << usage["dof"];
+  EXPECT_TRUE(mca["limits"]["within_limits"].get<bool>()) << mca["limits"];
+  EXPECT_TRUE(mca["platform"]["within_limits"].get<bool>());
+  EXPECT_LE(mca["limits"]["forward_residual"].get<double>(), 1e-9);
+  ASSERT_FALSE(mca["actuators"].empty());
+  for (const auto& a : mca["actuators"]) {
+    EXPECT_LE(a["stroke_use"].get<double>(), 1.0 + 1e-9) << a["name"];
+    EXPECT_LE(a["speed_fraction"].get<double>(), 1.0 + 1e-9) << a["name"];
+    EXPECT_LE(a["accel_fraction"].get<double>(), 1.0 + 1e-9) << a["name"];
   }
 }
 
@@ -47,13 +56,27 @@ TEST(MpcCliTest, SpeedCushionWithMpc) {
   const nlohmann::json held = RunMca("scenes/speed_cushion.yaml", "--mca mpc", "mpc_cushion");
   ExpectInsideLimits(held);
   EXPECT_EQ(held["algorithm"]["name"], "mpc");
-  EXPECT_EQ(held["algorithm"]["preview"], "none: the current input is held");
+  EXPECT_EQ(held["algorithm"]["preview"], "none: the vehicle model run ahead with the driver's present input held");
   EXPECT_EQ(held["algorithm"]["fallbacks_to_washout"].get<int>(), 0);
   const nlohmann::json preview = RunMca("scenes/speed_cushion.yaml", "--mca mpc --mca-preview", "mpc_cushion_preview");
   ExpectInsideLimits(preview);
   EXPECT_NE(preview["algorithm"]["preview"].get<std::string>().find("whole trial"), std::string::npos);
   const nlohmann::json washout = RunMca("scenes/speed_cushion.yaml", "--mca washout", "mpc_cushion_washout");
   EXPECT_EQ(washout["algorithm"]["name"], "washout");
+  // the run's comparison: the same trial through the washout, the MPC without preview and the
+  // offline ceiling, each figure equal to that algorithm's own run
+  const nlohmann::json compared = RunMca("scenes/speed_cushion.yaml", "--mca mpc --mca-compare", "mpc_cushion_compare");
+  const nlohmann::json& c = compared["comparison"];
+  ASSERT_TRUE(c.is_object());
+  EXPECT_EQ(c["mpc"]["rms_error"].get<double>(), held["perceived"]["rms_error"].get<double>());
+  EXPECT_EQ(c["washout"]["rms_error"].get<double>(), washout["perceived"]["rms_error"].get<double>());
+  EXPECT_LE(c["mpc"]["rms_error"].get<double>(), c["washout"]["rms_error"].get<double>());
+  EXPECT_LE(c["offline"]["rms_error"].get<double>(), c["mpc"]["rms_error"].get<double>());
+  EXPECT_EQ(c["mpc"]["fallbacks_to_washout"].get<int>(), 0);
+  for (const char* who : {"washout", "mpc", "offline"}) {
+    EXPECT_GT(c[who]["xcorr_peak"].get<double>(), 0.5) << who;
+    EXPECT_LT(std::abs(c[who]["lag_s"].get<double>()), 0.5) << who;
+  }
 }
 
 // Tests the car's launch and lane change with the MPC and the offline ceiling on the rail + yaw,
@@ -99,32 +122,49 @@ std::map<std::string, std::vector<double>> ReadColumns(const std::filesystem::pa
   return columns;
 }
 
-// Tests the MPC's tilt-rate guarantee (mca/mpc.h) on every shipped scene, held input and
-// previewed, from trial.csv alone: the platform's pitch (roll) rate r, the pose difference per
-// tick, stays within [min(0, ω_f) − τ, max(0, ω_f) + τ], τ = 3 deg/s, where ω_f is the
-// vehicle's own nose-up pitch rate −head_w_y (roll rate head_w_x) changing by at most the
-// axis's acceleration limit per tick (recomputed here from the definition); only floating-point
-// slack is allowed. The car platform has no pitch or roll (no columns): nothing to tilt.
+// Tests every shipped scene with both algorithms (the washout, the MPC without preview as a
+// live session runs it, and the MPC previewing the trial), from the files pwsim run writes:
+//  - the tilt-rate guarantee (mca/mpc.h, mca/actuator_limiter.h), from trial.csv alone: the
+//    platform's pitch (roll) rate r, the pose difference per tick, stays within
+//    [min(0, ω_f) − τ, max(0, ω_f) + τ], τ = 3 deg/s, where ω_f is the vehicle's own nose-up
+//    pitch rate −head_w_y (roll rate head_w_x) changing by at most the axis's acceleration limit
+//    per tick (recomputed here from the definition); only floating-point slack is allowed. The
+//    car platform has no pitch or roll (no columns): nothing to tilt;
+//  - every actuator within its stroke, speed and acceleration (summary.json, from the actuator
+//    positions by FK; MpcTest and WashoutTest recompute them from the poses);
+//  - the MPC without preview never loses to the washout on this trial: its perceived-motion
+//    error (RMS over otolith [m/s²] and canal [rad/s × 10] channels, summary's mca.comparison) is
+//    at most the washout's, and no QP fell back.
 TEST(MpcCliTest, TiltCoordinationRateNeverAboveThresholdOnEveryShippedScene) {
   const double deg = std::numbers::pi / 180.0;
   const double threshold = 3.0 * deg;
-  int tilt_runs = 0;
+  int tilt_runs = 0, scenes = 0;
   double worst = 0.0;
   for (const auto& entry : std::filesystem::directory_iterator(kSource / "scenes")) {
     if (entry.path().extension() != ".yaml") continue;
+    ++scenes;
     const std::string scene = "scenes/" + entry.path().filename().string();
-    for (const std::string preview : {"", " --mca-preview"}) {
-      const std::string name = "mpc_tilt_" + entry.path().stem().string() + (preview.empty() ? "" : "_preview");
+    double held_error = -1.0, washout_error = -1.0;
+    for (const std::string mode : {"--mca mpc", "--mca mpc --mca-preview", "--mca washout"}) {
+      const std::string name = "mpc_tilt_" + entry.path().stem().string() + "_" +
+                               (mode.find("preview") != std::string::npos ? "preview"
+                                : mode.find("washout") != std::string::npos ? "washout" : "held");
       const std::filesystem::path out = std::filesystem::path(PWSIM_BINARY_DIR) / "test-out" / name;
       std::filesystem::remove_all(out);
       const std::string command = "cd '" + kSource.string() + "' && '" + kBinary.string() + "' run " + scene +
-                                  " --no-video --mca mpc" + preview + " --out '" + out.string() + "' > /dev/null";
+                                  " --no-video --no-mca-compare " + mode + " --out '" + out.string() + "' > /dev/null";
       ASSERT_EQ(std::system(command.c_str()), 0) << command;
       std::ifstream in(out / "summary.json");
       const nlohmann::json mca = nlohmann::json::parse(in)["mca"];
+      ExpectInsideLimits(mca);
       if (mca["false_cues"].contains("tilt_rate_count")) {  // platforms with a tilt axis
         EXPECT_EQ(mca["false_cues"]["tilt_rate_count"].get<int>(), 0) << name;
       }
+      if (mca["algorithm"]["name"] == "mpc") {
+        EXPECT_EQ(mca["algorithm"]["fallbacks_to_washout"].get<int>(), 0) << name;
+      }
+      if (name.ends_with("_held")) held_error = mca["perceived"]["rms_error"].get<double>();
+      if (name.ends_with("_washout")) washout_error = mca["perceived"]["rms_error"].get<double>();
       const std::map<std::string, std::vector<double>> c = ReadColumns(out / "trial.csv");
       const std::vector<double>& t = c.at("t_s");
       ASSERT_GT(t.size(), 100u) << name;
@@ -150,8 +190,11 @@ TEST(MpcCliTest, TiltCoordinationRateNeverAboveThresholdOnEveryShippedScene) {
         ++tilt_runs;
       }
     }
+    ASSERT_GT(washout_error, 0.0) << scene;
+    EXPECT_LE(held_error, washout_error) << scene << ": the MPC without preview loses to the washout";
   }
-  EXPECT_GE(tilt_runs, 2 * (1 + 3 * 2));  // speed cushion (pitch) and three circuits (pitch, roll)
+  EXPECT_GE(scenes, 8);
+  EXPECT_GE(tilt_runs, 3 * (1 + 3 * 2));  // speed cushion (pitch) and three circuits (pitch, roll)
   EXPECT_GT(worst, 0.9 * threshold) << "the band binds somewhere (the check is not vacuous)";
 }
 

@@ -15,35 +15,17 @@
 #include "mca/cueing.h"
 #include "mca/mpc.h"
 #include "mca/offline_optimum.h"
+#include "tests/mca/actuator_checks.h"
 
 namespace pwsim::mca {
 namespace {
 
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
-/// Every command of the stream inside the platform's travel, speed and acceleration.
-void ExpectWithinLimits(const PlatformSpec& platform, const std::vector<McaCommand>& commands,
+/// Every actuator inside its stroke, speed and acceleration (tests/mca/actuator_checks.h).
+void ExpectWithinLimits(const PlatformSpec& platform, const std::vector<McaCommand>& commands, double dt,
                         const std::string& what) {
-  for (Dof dof : kAllDofs) {
-    const auto i = static_cast<std::size_t>(Index(dof));
-    const DofLimits& lim = platform.limits(dof);
-    double pose = 0.0, rate = 0.0, accel = 0.0;
-    for (const McaCommand& c : commands) {
-      ASSERT_TRUE(std::isfinite(c.pose[i]) && std::isfinite(c.rate[i]) && std::isfinite(c.accel[i])) << what;
-      pose = std::max(pose, std::abs(c.pose[i]));
-      rate = std::max(rate, std::abs(c.rate[i]));
-      accel = std::max(accel, std::abs(c.accel[i]));
-    }
-    if (!lim.present) {
-      EXPECT_EQ(pose, 0.0) << what << " " << DofName(dof);
-      continue;
-    }
-    if (std::isfinite(lim.travel)) {
-      EXPECT_LE(pose, lim.travel * (1.0 + 1e-12)) << what << " " << DofName(dof);
-    }
-    EXPECT_LE(rate, lim.speed * (1.0 + 1e-9)) << what << " " << DofName(dof);
-    EXPECT_LE(accel, lim.accel * (1.0 + 1e-6)) << what << " " << DofName(dof);
-  }
+  test::ExpectActuatorsWithinLimits(platform, commands, dt, what);
 }
 
 struct Trial {
@@ -75,7 +57,7 @@ TEST(MpcTest, SpeedCushionInsideLimitsAndPreviewBeatsWashout) {
   EXPECT_FALSE(held.preview);
   EXPECT_TRUE(preview.preview);
   for (const CueingTrace* t : {&held, &preview}) {
-    ExpectWithinLimits(config.platform, t->commands, t->preview ? "preview" : "held");
+    ExpectWithinLimits(config.platform, t->commands, dt, t->preview ? "preview" : "held");
     EXPECT_EQ(t->mpc.fallbacks, 0);
     EXPECT_GT(t->mpc.solves, static_cast<std::int64_t>(head.size() / 10) - 1);
   }
@@ -111,7 +93,7 @@ TEST(MpcTest, FuzzedInputNeverBeyondALimit) {
           if (k == 9) ++nan_ticks;
         }
       }
-      ExpectWithinLimits(platform, commands, platform.name + " seed " + std::to_string(seed));
+      ExpectWithinLimits(platform, commands, 1e-3, platform.name + " seed " + std::to_string(seed));
       EXPECT_EQ(mpc.stats().fault_ticks, nan_ticks);
     }
   }
@@ -189,7 +171,7 @@ TEST(MpcTest, FuzzedInputNeverTiltsFasterThanTheThreshold) {
               }
             }
           }
-          ExpectWithinLimits(platform, commands, what);
+          ExpectWithinLimits(platform, commands, dt, what);
           // recursive feasibility in practice: no solve failed, even on this input
           EXPECT_EQ(mpc.stats().fallbacks, 0) << what;
         }
@@ -301,7 +283,7 @@ namespace {
 TEST(OfflineOptimumTest, SpeedCushionCeilingInsideLimitsAndNoWorseThanOnline) {
   auto [head, config, dt] = SpeedCushion();
   const CueingTrace best = RunOfflineOptimum(config, head, dt);
-  ExpectWithinLimits(config.platform, best.commands, "offline");
+  ExpectWithinLimits(config.platform, best.commands, dt, "offline");
   EXPECT_EQ(best.mpc.solves, 1);
   EXPECT_EQ(best.mpc.fallbacks, 0);
   config.algorithm = McaAlgorithm::kMpc;
