@@ -70,8 +70,8 @@ int HmdPeerCommand(const ParsedArgs& args) {
   hw::UdpAddress bound = *listen;
   bound.port = socket.local_port();
   const std::uint32_t stream = hw::NewHmdStreamId();
-  std::cout << "pwsim hmd-peer: listening on " << bound.ToString() << (key ? " (authenticated)" : "") << ", stream "
-            << stream << "\n" << std::flush;
+  std::cout << "pwsim hmd-peer: " << (key ? "authenticated link (--link-key), " : "") << "stream " << stream << "\n"
+            << "pwsim hmd-peer: listening on " << bound.ToString() << "\n" << std::flush;
 
   std::array<std::uint8_t, hw::kHmdMaxSize> reply{};
   std::uint32_t seq = 0;

@@ -41,18 +41,20 @@ using test::ChildProcess;
 const std::string kPwsim = std::getenv("PWSIM_E2E_PWSIM") != nullptr ? std::string(std::getenv("PWSIM_E2E_PWSIM"))
                                                                      : std::string(PWSIM_BINARY_DIR) + "/pwsim";
 
-/// The address and stream of a headset from its line "listening on ADDR[ (authenticated)], stream N".
+/// The address and stream of a headset, from its lines "stream N" (printed first) and
+/// "listening on HOST:PORT".
 struct Listening {
   UdpAddress address;
   std::uint32_t stream{0};
 };
-std::optional<Listening> ParseListening(const std::optional<std::string>& line) {
-  if (!line) return std::nullopt;
-  const std::size_t end = line->find_first_of(" ,");
-  const std::size_t at = line->find("stream ");
-  const auto address = ParseUdpAddress(line->substr(0, end));
-  if (!address || at == std::string::npos) return std::nullopt;
-  return Listening{*address, static_cast<std::uint32_t>(std::stoul(line->substr(at + 7)))};
+std::optional<Listening> WaitListening(ChildProcess& headset) {
+  const auto address_line = headset.WaitForLine("pwsim hmd-peer: listening on ");
+  const std::string out = headset.Output();
+  const std::size_t at = out.find("stream ");
+  if (!address_line || at == std::string::npos) return std::nullopt;
+  const auto address = ParseUdpAddress(*address_line);
+  if (!address) return std::nullopt;
+  return Listening{*address, static_cast<std::uint32_t>(std::stoul(out.substr(at + 7)))};
 }
 
 /// The session's end of the HMD link, with the core's rules.
@@ -146,7 +148,7 @@ void RestartIsReadmitted(bool authenticated) {
     return std::make_unique<ChildProcess>(args);
   };
   auto first = start("127.0.0.1:0");
-  const auto one = ParseListening(first->WaitForLine("pwsim hmd-peer: listening on "));
+  const auto one = WaitListening(*first);
   ASSERT_TRUE(one) << first->Output();
   session.socket.AcceptOnlyFrom(one->address);
   ASSERT_TRUE(session.RunUntil(one->address, [&] {
@@ -157,7 +159,7 @@ void RestartIsReadmitted(bool authenticated) {
   // Killed mid-session, started again on the same port: a new stream, its seq from 0.
   first->Kill();
   auto second = start(one->address.ToString());
-  const auto two = ParseListening(second->WaitForLine("pwsim hmd-peer: listening on "));
+  const auto two = WaitListening(*second);
   ASSERT_TRUE(two) << second->Output();
   ASSERT_NE(two->stream, one->stream);
   ASSERT_TRUE(session.RunUntil(one->address, [&] { return session.heads[two->stream] >= 5; })) << second->Output();
@@ -181,7 +183,7 @@ TEST(HmdPeerLink, AStrangersFirstMessageAdoptsNoOneTheSessionsHelloDoes) {
   TempDir tmp;
   const std::string report = (tmp.dir / "hmd.json").string();
   ChildProcess headset({kPwsim, "hmd-peer", "--listen", "127.0.0.1:0", "--adopt-first-peer", "--report", report});
-  const auto at = ParseListening(headset.WaitForLine("pwsim hmd-peer: listening on "));
+  const auto at = WaitListening(headset);
   ASSERT_TRUE(at) << headset.Output();
   // The stranger sends a well-formed camera pose first and waits for what comes back.
   SessionEnd stranger(std::nullopt);
@@ -218,7 +220,7 @@ TEST(HmdPeerLink, InAuthenticatedModeAStrangerWithoutTheKeyGetsNothingBack) {
   TempDir tmp;
   auto [path, key] = tmp.Key();
   ChildProcess headset({kPwsim, "hmd-peer", "--listen", "127.0.0.1:0", "--adopt-first-peer", "--link-key", path});
-  const auto at = ParseListening(headset.WaitForLine("pwsim hmd-peer: listening on "));
+  const auto at = WaitListening(headset);
   ASSERT_TRUE(at) << headset.Output();
   SessionEnd stranger(std::nullopt);  // plain: no key
   stranger.Send(at->address, CameraPoseMsg{});
