@@ -322,7 +322,15 @@ MpcModel BuildMpcModel(const MpcParams& params, const VestibularParams& vestibul
     for (int i = 0; i < m; ++i) {
       const auto s = static_cast<std::size_t>(i);
       const double sn = std::sqrt(params.weight_neutral * wt) / pose_scale[s];
-      if (sn > 0.0) add_cost(sn * lk.row(2 * i), sn * mk.row(2 * i));
+      if (sn > 0.0) {
+        const int row = add_cost(sn * lk.row(2 * i), sn * mk.row(2 * i));
+        const Dof dof = model.axes[s];
+        if (dof == Dof::kRoll || dof == Dof::kPitch) {  // neutral is the bank (MpcCueing::Solve)
+          model.bank_row.push_back(row);
+          model.bank_channel.push_back(dof == Dof::kPitch ? 1 : 0);
+          model.bank_scale.push_back(sn);
+        }
+      }
       const double sr = std::sqrt(params.weight_neutral_rate * wt) / speed[s];
       if (sr > 0.0) add_cost(sr * lk.row(2 * i + 1), sr * mk.row(2 * i + 1));
       Eigen::RowVectorXd effort = Eigen::RowVectorXd::Zero(nz);
@@ -452,7 +460,7 @@ void MpcCueing::Reset() {
   fallback_ = false;
   fault_run_ = 0;
   held_ = HeadMotion{};
-  vehicle_pitch_ = vehicle_roll_ = 0.0;
+  bank_ = {};
   follow_rate_ = {};
   stats_ = MpcStats{};
   command_ = McaCommand{};
@@ -602,12 +610,22 @@ void MpcCueing::FillActuatorRows() {
   }
 }
 
+void MpcCueing::SetBank(const HeadMotion& input) {
+  const BankParams& bank = washout_.params().bank;
+  for (std::size_t c = 0; c < 2; ++c) {
+    bank_[c] = bank.enabled ? std::clamp(input.attitude[c], -bank.max_angle, bank.max_angle) : 0.0;
+  }
+}
+
 void MpcCueing::Solve() {
   PredictVehicle();
   // cost: e = Fx x0 − scale ∘ ŷ_veh
   e_.noalias() = model_.cost_fx * x_;
   for (std::size_t r = 0; r < model_.ref_row.size(); ++r) {
     e_[model_.ref_row[r]] -= model_.ref_scale[r] * ref_(model_.ref_channel[r], model_.ref_block[r]);
+  }
+  for (std::size_t r = 0; r < model_.bank_row.size(); ++r) {  // the neutral pull, about the bank
+    e_[model_.bank_row[r]] -= model_.bank_scale[r] * bank_[static_cast<std::size_t>(model_.bank_channel[r])];
   }
   b_.noalias() = model_.cost_et * e_;
   if (!model_.actuator_rows.empty()) FillActuatorRows();
@@ -668,6 +686,7 @@ const McaCommand& MpcCueing::Step(const HeadMotion& raw) {
     if (tick_ == 0) {
       last_input_ = Channels(input);
       sustained_ = Sustained(input);
+      SetBank(input);
       Solve();
     }
     const auto block = std::min<std::int64_t>(tick_ / period_ticks_, model_.blocks - 1);
@@ -697,12 +716,11 @@ const McaCommand& MpcCueing::Step(const HeadMotion& raw) {
     }
     last_input_ = Channels(input);
     sustained_ = Sustained(input);
+    SetBank(input);
     Solve();
   }
   const auto ch = Channels(input);
   for (std::size_t c = 0; c < 6; ++c) input_sum_[c] += ch[c];
-  vehicle_roll_ += input.w[0] * dt_;
-  vehicle_pitch_ += -input.w[1] * dt_;
 
   DofArray target{}, target_rate{};
   for (int i = 0; i < m; ++i) {
@@ -737,8 +755,12 @@ const McaCommand& MpcCueing::Step(const HeadMotion& raw) {
     command_.rate[d] = limiter_.rate()[d];
     command_.accel[d] = limiter_.accel()[d];
   }
-  command_.tilt_pitch = platform_.Has(Dof::kPitch) ? command_.pose[Index(Dof::kPitch)] - vehicle_pitch_ : 0.0;
-  command_.tilt_roll = platform_.Has(Dof::kRoll) ? command_.pose[Index(Dof::kRoll)] - vehicle_roll_ : 0.0;
+  // what is not the vehicle's own attitude is tilt (not to be shown); the bank is the attitude
+  // the platform is centred on
+  command_.tilt_pitch = platform_.Has(Dof::kPitch) ? command_.pose[Index(Dof::kPitch)] - input.attitude[1] : 0.0;
+  command_.tilt_roll = platform_.Has(Dof::kRoll) ? command_.pose[Index(Dof::kRoll)] - input.attitude[0] : 0.0;
+  command_.bank_pitch = platform_.Has(Dof::kPitch) ? bank_[1] : 0.0;
+  command_.bank_roll = platform_.Has(Dof::kRoll) ? bank_[0] : 0.0;
   command_.tilt_rate_pitch =
       platform_.Has(Dof::kPitch) ? TiltCoordinationRate(command_.rate[Index(Dof::kPitch)], follow_rate_[1]) : 0.0;
   command_.tilt_rate_roll =

@@ -19,6 +19,9 @@
 // Cost (block k of length h_k, H the horizon; thresholds from mca.vestibular):
 //   Σ_k h_k/H · [ Σ_j w_j ((ŷ_plat,j − ŷ_veh,j)/threshold_j)²
 //                 + Σ_i w_n (p_i/P_i)² + w_r (v_i/V_i)² + w_e (u_i/A_i)² ]
+//   Neutral on roll and pitch is the bank: the vehicle's attitude (HeadMotion::attitude) at the
+//   solve, clamped to washout bank.max_angle_deg — a slope, a ramp or a banked road is a real,
+//   sustained tilt, presented as such (and its g·θ matches the vehicle's then).
 //   P_i the axis box's travel (π rad for an endless axis: a scale only), V_i and A_i the
 //   speed and acceleration of the axis's stage, or V̂, Â of the coupled group
 //   (mca/actuator_limiter.h).
@@ -181,6 +184,8 @@ struct MpcModel {
   std::vector<int> ref_row;             ///< perceived rows: cost row
   std::vector<int> ref_block, ref_channel;
   std::vector<double> ref_scale;
+  std::vector<int> bank_row, bank_channel;  ///< neutral-pull rows of roll (0) and pitch (1)
+  std::vector<double> bank_scale;
   // constraints  c_lo − Dx x0 ≤ C z ≤ c_hi − Dx x0; a tilt-band row's bounds (±τ) also
   // move by min(0, ω̂_f) below and max(0, ω̂_f) above and widen by μ (MpcCueing)
   Eigen::MatrixXd con_c, con_dx;
@@ -246,6 +251,7 @@ class MpcCueing {
   void Solve();
   void PredictVehicle();
   void FillActuatorRows();
+  void SetBank(const HeadMotion& input);
 
   MpcParams params_;
   VestibularParams vestibular_;
@@ -270,7 +276,7 @@ class MpcCueing {
   bool fallback_{false};
   std::int64_t fault_run_{0};
   HeadMotion held_;
-  double vehicle_pitch_{0.0}, vehicle_roll_{0.0};
+  std::array<double, 2> bank_{};     ///< roll, pitch the neutral pull is about: the attitude [rad]
   std::array<double, 2> follow_rate_{};  ///< ω_f of roll, pitch this tick [rad/s]
   std::array<double, 2> band_margin_{};  ///< μ = 1.5 A dt of roll, pitch [rad/s]
   // the constraints of this solve (the actuator rows change with the pose)

@@ -266,6 +266,13 @@ void AddMotionCueingStage(const Scene& scene, const std::vector<double>& t,
   if (planar) table.Add("vis_yaw_rad", visual.yaw);
   table.Add("vis_tilt_pitch_rad", Column(n, [&](std::size_t k) { return trace.commands[k].tilt_pitch; }));
   table.Add("vis_tilt_roll_rad", Column(n, [&](std::size_t k) { return trace.commands[k].tilt_roll; }));
+  // the vehicle's sustained attitude the platform presents (a slope, a ramp: shown by the visuals)
+  if (config.platform.Has(Dof::kPitch)) {
+    table.Add("plat_bank_pitch_rad", Column(n, [&](std::size_t k) { return trace.commands[k].bank_pitch; }));
+  }
+  if (config.platform.Has(Dof::kRoll)) {
+    table.Add("plat_bank_roll_rad", Column(n, [&](std::size_t k) { return trace.commands[k].bank_roll; }));
+  }
   AddVestibularColumns(trace, table);
 
   // summary.json
@@ -282,15 +289,21 @@ void AddMotionCueingStage(const Scene& scene, const std::vector<double>& t,
   mca_json["limits"] = LimitsJson(config.platform, report);
   mca_json["perceived"] = PerceivedJson(report.perceived);
   if (choice.compare) mca_json["comparison"] = ComparisonJson(config, head, dt, predictor, false);
-  double max_tilt = 0.0, max_roll_tilt = 0.0;
+  double max_tilt = 0.0, max_roll_tilt = 0.0, max_bank_pitch = 0.0, max_bank_roll = 0.0;
   for (const mca::McaCommand& c : trace.commands) {
     max_tilt = std::max(max_tilt, std::abs(c.tilt_pitch));
     max_roll_tilt = std::max(max_roll_tilt, std::abs(c.tilt_roll));
+    max_bank_pitch = std::max(max_bank_pitch, std::abs(c.bank_pitch));
+    max_bank_roll = std::max(max_bank_roll, std::abs(c.bank_roll));
   }
   mca_json["tilt"] = {{"max_pitch_deg", max_tilt / mca::kDegToRad},
                       {"rate_limit_degps", config.washout.tilt_pitch.max_rate / mca::kDegToRad},
                       {"pitch_rate_above_threshold", RateCuesJson(report.tilt_pitch)},
                       {"roll_rate_above_threshold", RateCuesJson(report.tilt_roll)}};
+  mca_json["tilt"]["max_bank_pitch_deg"] = max_bank_pitch / mca::kDegToRad;
+  mca_json["tilt"]["max_bank_roll_deg"] = max_bank_roll / mca::kDegToRad;
+  mca_json["tilt"]["band"] = "the platform's pitch and roll rates beyond or against the vehicle's own stay within "
+                             "the tilt-rate threshold (mca/mpc.h); bank: the vehicle's sustained attitude presented";
   if (planar) {
     mca_json["tilt"]["max_roll_deg"] = max_roll_tilt / mca::kDegToRad;
     mca_json["tilt"]["roll_rate_limit_degps"] = config.washout.tilt_roll.max_rate / mca::kDegToRad;

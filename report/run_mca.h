@@ -9,9 +9,13 @@
 //                                                       pose X_WV (O_V and θ); the eyes sit at
 //                                                       occupant.head_offset_m on it
 //   vis_tilt_pitch_rad, vis_tilt_roll_rad               tilt-coordination angle NOT to show
+//   plat_bank_pitch_rad, plat_bank_roll_rad             the vehicle's sustained attitude the
+//                                                       platform presents (a slope: shown)
 //   vest_{true,plat}_oto_{x,y,z}_mps2, vest_{true,plat}_scc_{x,y,z}_radps
 //   mca_fault                                           1 on ticks with non-finite input
-// summary["mca"] gets the platform, its use of the limits, tilt and consistency metrics;
+// summary["mca"] gets the platform, its use of the limits (per actuator, against the axis
+// boxes; within_limits from the actuator positions), tilt and bank, the consistency metrics,
+// the six-channel perceived error and the comparison of the algorithms on the trial;
 // DIR/mca.png (with .svg, .csv and .gp beside it, plot/plot.h) plots vehicle against platform
 // specific force and pitch rate.
 

@@ -72,3 +72,74 @@ TEST(CueingTest, SceneAt250HzMatches1kHz) {
 
 }  // namespace
 }  // namespace pwsim::mca
+
+namespace pwsim::mca {
+namespace {
+
+/// A chair at constant speed driving onto a cross-slope (roll ramped at 2 deg/s to φ₀), across
+/// it for 20 s, and off it again: the specific force of gravity at that attitude, the roll rate,
+/// and the attitude itself.
+std::vector<HeadMotion> CrossSlope(double slope_roll, double dt) {
+  std::vector<HeadMotion> out;
+  const double rate = 2.0 * kDegToRad;
+  const double ramp = slope_roll / rate;
+  const double total = 2.0 + ramp + 20.0 + ramp + 10.0;
+  for (int k = 0; k * dt < total; ++k) {
+    const double t = k * dt;
+    double roll = 0.0, roll_rate = 0.0;
+    if (t >= 2.0 && t < 2.0 + ramp) {
+      roll = (t - 2.0) * rate;
+      roll_rate = rate;
+    } else if (t >= 2.0 + ramp && t < 22.0 + ramp) {
+      roll = slope_roll;
+    } else if (t >= 22.0 + ramp && t < 22.0 + 2.0 * ramp) {
+      roll = slope_roll - (t - 22.0 - ramp) * rate;
+      roll_rate = -rate;
+    }
+    HeadMotion h;
+    h.attitude = {roll, 0.0};
+    h.fs = GravityAtAttitude(h.attitude);
+    h.w = {roll_rate, 0.0, 0.0};
+    out.push_back(h);
+  }
+  return out;
+}
+
+// Tests that a cross-slope is presented as the real, sustained tilt it is (item 4 of issue 39,
+// as road banking): on pw4dof, washout and MPC (no preview) alike, the platform rolls to the
+// slope's roll φ₀ = atan(0.05) within 0.15 deg while on it, reports it as bank (within 0.15 deg),
+// not as tilt coordination (|tilt_roll| < 0.15 deg, nothing for the visuals to remove), the
+// delivered lateral specific force is the vehicle's g sin φ₀ within 2 %, the tilt band is never
+// exceeded, every actuator stays within its limits, and the platform is back level afterwards.
+// With the washout's bank off, the same slope comes out of tilt coordination instead
+// (tilt_roll ≈ φ₀, bank 0): the two are apart.
+TEST(CueingTest, CrossSlopeIsPresentedAsBank) {
+  const double dt = 1e-3;
+  const double slope = std::atan(0.05);
+  const std::vector<HeadMotion> head = CrossSlope(slope, dt);
+  const double ramp = slope / (2.0 * kDegToRad);
+  const auto on_slope = static_cast<std::size_t>((2.0 + ramp + 15.0) / dt);
+  for (const McaAlgorithm algorithm : {McaAlgorithm::kWashout, McaAlgorithm::kMpc}) {
+    for (const bool bank : {true, false}) {
+      if (!bank && algorithm == McaAlgorithm::kMpc) continue;
+      McaConfig config;
+      config.algorithm = algorithm;
+      config.washout.bank.enabled = bank;
+      const CueingTrace trace = RunCueing(config, head, dt);
+      const std::string what = std::string(McaAlgorithmName(algorithm)) + (bank ? "" : " without bank");
+      const McaCommand& c = trace.commands[on_slope];
+      EXPECT_NEAR(c.pose[Index(Dof::kRoll)], slope, 0.15 * kDegToRad) << what;
+      EXPECT_NEAR(c.bank_roll, bank ? slope : 0.0, 0.15 * kDegToRad) << what;
+      EXPECT_NEAR(c.tilt_roll, bank ? 0.0 : slope, 0.15 * kDegToRad) << what;
+      EXPECT_NEAR(trace.delivered[on_slope].fs[1], kGravity * std::sin(slope), 0.02 * kGravity * std::sin(slope)) << what;
+      for (const McaCommand& command : trace.commands) {
+        ASSERT_LE(std::abs(command.tilt_rate_roll), 3.0 * kDegToRad * (1.0 + 1e-9) + 1e-9) << what;
+      }
+      test::ExpectActuatorsWithinLimits(config.platform, trace.commands, dt, what);
+      EXPECT_NEAR(trace.commands.back().pose[Index(Dof::kRoll)], 0.0, 0.1 * kDegToRad) << what;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace pwsim::mca
