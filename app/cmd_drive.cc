@@ -10,7 +10,8 @@
 // and the joystick -> platform command / HMD frame latencies in DIR/report.json.
 // A circuit scene (a wheelchair scene with `circuit:`) is driven the same way, always as a live
 // session (--can): joystick -> full-DoF chair through the circuit -> MCA -> supervisor -> CAN
-// (hardware/chair_drive_source.h), and report.json also carries the drive's training metrics
+// (hardware/chair_drive_source.h) on the scene's platform (pw4dof by default: five drives) or
+// --platform FILE's, and report.json also carries the drive's training metrics
 // (engine/training_metrics.h; DIR/training.md). --mca washout|mpc chooses the MCA over the
 // scene's for cars and chairs alike (the MPC holds the current input: no trial ahead live).
 // Wiring only.
@@ -59,8 +60,9 @@ const CommandSpec& DriveSpec() {
           {"no-realtime", "", "-", "", "step as fast as possible instead of at the clock rate"},
           {"out", "DIR", "-", "out/drive", "output folder (drive.csv; with --can: session.log, can.log, report.json, joystick.json)"},
           McaAlgorithmOptionSpec(),
+          PlatformOptionSpec(),
       },
-      "SCENE  a pwsim-scene/1 YAML file with kind: car, or a wheelchair scene with a circuit: section"};
+      "SCENE  a pwsim-scene/1 YAML file with kind: car, or a wheelchair scene with a circuit: section (on the PW platform pw4dof by default: 5 drives)"};
     // With --can (given explicitly) the drive runs as a live session on these links.
     const std::vector<OptionSpec> links = SessionLinkOptions();
     c.options.insert(c.options.end(), links.begin(), links.end());
@@ -110,23 +112,22 @@ std::unique_ptr<hw::JoystickSource> OpenJoystick(const std::string& spec, int ra
 void WriteJoystickReport(const hw::JoystickSource& joystick, std::uint64_t invalid_polls,
                          const std::filesystem::path& out);
 
-/// report.json's chair.mca: the algorithm of both MCAs and, for the MPC, that it holds the
-/// current input (no trial ahead live) and its solves and fallbacks to the washout.
-nlohmann::ordered_json MpcUseJson(mca::McaAlgorithm algorithm, const mca::MpcStats& pw4dof,
-                                  const mca::MpcStats& can) {
+/// report.json's chair.mca: the algorithm and, for the MPC, that it holds the current input (no
+/// trial ahead live) and its solves and fallbacks to the washout.
+nlohmann::ordered_json MpcUseJson(mca::McaAlgorithm algorithm, const mca::MpcStats& stats) {
   nlohmann::ordered_json j{{"algorithm", mca::McaAlgorithmName(algorithm)}};
   if (algorithm != mca::McaAlgorithm::kMpc) return j;
   j["preview"] = "none: the current input is held (live, no trial ahead)";
-  for (const auto& [key, stats] : {std::pair{"pw4dof", &pw4dof}, std::pair{"can", &can}}) {
-    j[key] = {{"solves", stats->solves}, {"fallbacks_to_washout", stats->fallbacks}, {"fault_ticks", stats->fault_ticks}};
-  }
+  j["solves"] = stats.solves;
+  j["fallbacks_to_washout"] = stats.fallbacks;
+  j["fault_ticks"] = stats.fault_ticks;
   return j;
 }
 
 /// The links opened (false, said on stderr, when one cannot be) and the output folder made.
-bool OpenDriveSession(const ParsedArgs& args, const Clock& clock, double duration, const std::filesystem::path& out,
-                      SessionSetup* setup) {
-  const std::string link_error = SetUpSession(args, clock, duration, setup);
+bool OpenDriveSession(const ParsedArgs& args, const Clock& clock, double duration, const mca::PlatformSpec& platform,
+                      const std::filesystem::path& out, SessionSetup* setup) {
+  const std::string link_error = SetUpSession(args, clock, duration, platform, setup);
   if (!link_error.empty()) {
     std::cerr << "pwsim drive: " << link_error << "\n";
     return false;
@@ -143,7 +144,7 @@ int DriveSession(const ParsedArgs& args, const vehicle::CarScene& scene, hw::Joy
     throw UsageError("car scene platform '" + mca_config.platform.name + "' lacks surge or yaw");
   SessionSetup setup;
   const std::filesystem::path out = args.Get("out");
-  if (!OpenDriveSession(args, scene.clock, duration, out, &setup)) return 1;
+  if (!OpenDriveSession(args, scene.clock, duration, mca_config.platform, out, &setup)) return 1;
   hw::CarDriveSource source(scene, mca_config, joystick);
   std::cout << "pwsim drive: car '" << scene.car.name << "' driven live by " << joystick.name() << ", mca "
             << mca::McaAlgorithmName(mca_config.algorithm) << "\n";
@@ -155,33 +156,29 @@ int DriveSession(const ParsedArgs& args, const vehicle::CarScene& scene, hw::Joy
 /// A circuit driven by a chair joystick as a live session: joystick -> chair -> MCA ->
 /// supervisor -> CAN, head pose -> HMD; report.json with the training metrics.
 int DriveChairSession(const ParsedArgs& args, const Scene& scene, const std::string& scene_path,
-                      hw::JoystickSource& joystick, double duration, std::optional<mca::McaAlgorithm> algorithm) {
+                      hw::JoystickSource& joystick, double duration, const mca::McaConfig& mca_config) {
   SessionSetup setup;
   const std::filesystem::path out = args.Get("out");
-  if (!OpenDriveSession(args, scene.clock, duration, out, &setup)) return 1;
+  if (!OpenDriveSession(args, scene.clock, duration, mca_config.platform, out, &setup)) return 1;
   // the metrics cover the drive up to the stop request (the park after it is not scored)
-  hw::ChairDriveSource source(scene, joystick, setup.config.run_ticks, algorithm);
-  const char* cueing = mca::McaAlgorithmName(source.session_mca().algorithm);
+  hw::ChairDriveSource source(scene, joystick, setup.config.run_ticks, mca_config);
+  const char* cueing = mca::McaAlgorithmName(source.mca().algorithm);
   std::cout << "pwsim drive: chair '" << scene.name << "' through its circuit, driven live by " << joystick.name()
-            << ", mca " << cueing << "\n  MCA on '" << source.pw4dof_mca().platform.name << "' (reported) and on '"
-            << source.session_mca().platform.name << "' (" << source.session_mca().platform_source
-            << ": the CAN drives, yaw -> q1, surge -> rail q2)\n";
+            << ", mca " << cueing << " on '" << source.mca().platform.name << "' (" << source.mca().platform_source
+            << ": the CAN drives, one per actuator)\n";
   TrainingMetrics training;
   const int status = RunAndReport("pwsim drive", args, setup, source, out, [&](nlohmann::ordered_json& j) {
     training = ComputeTrainingMetrics(*scene.circuit, source.trace(), scene.clock.dt());
     j["training"] = report::TrainingJson(training);
     nlohmann::ordered_json peak;
     for (mca::Dof d : mca::kAllDofs) {
-      if (source.pw4dof_mca().platform.Has(d)) peak[mca::DofName(d)] = source.pw4dof_peak()[mca::Index(d)];
+      if (source.mca().platform.Has(d)) peak[mca::DofName(d)] = source.peak()[mca::Index(d)];
     }
     j["chair"] = {{"scene", scene_path},
                   {"engine_ticks", source.trace().size()},
-                  {"pw4dof_platform", source.pw4dof_mca().platform.name},
-                  {"pw4dof_peak_command", peak},
-                  {"can_platform", source.session_mca().platform.name},
-                  {"can_axes", "yaw -> q1, surge -> rail q2"},
-                  {"mca", MpcUseJson(source.session_mca().algorithm, source.pw4dof_mpc_stats(),
-                                     source.session_mpc_stats())}};
+                  {"platform", source.mca().platform.name},
+                  {"peak_pose_command", peak},
+                  {"mca", MpcUseJson(source.mca().algorithm, source.mpc_stats())}};
   });
   report::WriteTrainingPage(training, "pwsim drive " + scene_path + " (" + joystick.name() + ")", out);
   std::cout << "  training: " << training.gates_passed << " of " << training.gates_total << " gates, "
@@ -223,12 +220,17 @@ int DriveCommand(const ParsedArgs& args) {
       throw UsageError("a chair drives a circuit live: give --joystick SPEC and --can (a live session)");
     const double duration = args.Has("duration") ? args.GetDouble("duration") : scene.duration();
     if (!(duration > 0.0 && duration <= 3600.0)) throw UsageError("option --duration: expected (0, 3600] s");
-    const std::optional<mca::McaAlgorithm> algorithm = McaAlgorithmOption(args);  // before any link opens
+    // the platform (the scene's, pw4dof by default, or --platform's) and the cueing (the scene's
+    // or --mca's), before any link opens
+    const std::optional<hw::PlatformChoice> platform = PlatformOption(args);
+    const mca::McaConfig mca_config =
+        hw::SessionMcaConfig(scene, McaAlgorithmOption(args), platform ? &*platform : nullptr);
     const std::unique_ptr<hw::JoystickSource> joystick = OpenJoystick(
         args.Get("joystick"), scene.clock.rate_hz, args.GetDouble("joystick-timeout-ms", 1.0, 10'000.0));
-    return DriveChairSession(args, scene, scene_path.string(), *joystick, duration, algorithm);
+    return DriveChairSession(args, scene, scene_path.string(), *joystick, duration, mca_config);
   }
   const vehicle::CarScene scene = vehicle::LoadCarScene(scene_path);
+  if (args.Has("platform")) throw UsageError("option --platform: a car scene drives its own platform (its platform: section)");
   hw::ControlMapping mapping;
   if (const SceneSection* s = scene.section("session")) {
     YamlMap map(s->node, s->file, "session", s->line);

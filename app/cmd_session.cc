@@ -46,6 +46,7 @@ using report::TrialTrack;
 /// --participant) a measured trial replayed as tracked (T_r) or as the model (T_m). The choice
 /// is written to OUT/trial.json so the ratings of a study can be traced to what was shown.
 hw::SessionStreams ChooseStreams(const ParsedArgs& args, const Scene& scene, const hw::SessionConfig& config,
+                                 const mca::McaConfig& mca_config, const hw::PlatformChoice* platform,
                                  const std::filesystem::path& out_dir, std::string* description) {
   nlohmann::ordered_json j;
   j["format"] = "pwsim-session-trial/1";
@@ -92,14 +93,15 @@ hw::SessionStreams ChooseStreams(const ParsedArgs& args, const Scene& scene, con
     const std::string label = "trial '" + trial.name + "' as " + TrialSourceName(source) +
                               (source == TrialSource::kMeasured ? " (tracked O_V)" : " (model driven by the measured x(t))");
     streams = hw::BuildTrackSessionStreams(scene, config, track, smooth_ticks, label, description,
-                                           McaAlgorithmOption(args));
+                                           McaAlgorithmOption(args), platform);
     j["source"] = TrialSourceName(source);
     j["trial"] = args.Get("trial");
   } else {
-    streams = hw::BuildSessionStreams(scene, config, description, McaAlgorithmOption(args));
+    streams = hw::BuildSessionStreams(scene, config, mca_config, description);
     j["source"] = "scene";
   }
   j["mca"] = streams.mca_algorithm;
+  j["platform"] = config.platform;
   j["description"] = *description;
   WriteFileAtomically(out_dir / "trial.json", j.dump(2) + "\n");
   return streams;
@@ -118,6 +120,7 @@ hw::SessionStreams CarStreams(const ParsedArgs& args, const vehicle::CarScene& s
   j["format"] = "pwsim-session-trial/1";
   j["source"] = "car scene";
   j["mca"] = streams.mca_algorithm;
+  j["platform"] = config.platform;
   j["description"] = *description;
   WriteFileAtomically(out_dir / "trial.json", j.dump(2) + "\n");
   return streams;
@@ -144,8 +147,9 @@ const CommandSpec& SessionSpec() {
           {"chair", "FILE", "-", "", "model chair for the model source (default: the trial's if identified, else Table I)"},
           {"smooth-ms", "MS", "ms", "20", "with --trial: half-width of the moving average on track derivatives"},
           McaAlgorithmOptionSpec(),
+          PlatformOptionSpec(),
       },
-      "SCENE  a pwsim-scene/1 YAML file (default: the paper's speed-cushion trial); kind: car drives seed 001's car"};
+      "SCENE  a pwsim-scene/1 YAML file (default: the paper's speed-cushion trial, on the PW platform pw4dof: 5 drives); kind: car drives seed 001's car on its rail + yaw (2 drives)"};
     const std::vector<OptionSpec> links = SessionLinkOptions();
     c.options.insert(c.options.begin(), links.begin(), links.end());
     return c;
@@ -182,8 +186,14 @@ int SessionCommand(const ParsedArgs& args) {
   const double scene_duration = is_car ? car_scene->duration : chair_scene->duration();
 
   const double duration = args.Has("duration") ? args.GetDouble("duration") : scene_duration;
+  // The platform the session drives: the scene's (a chair scene: pw4dof by default), or --platform's.
+  const std::optional<hw::PlatformChoice> platform = PlatformOption(args);
+  if (is_car && platform) throw UsageError("option --platform: a car scene drives its own platform (its platform: section)");
+  const mca::McaConfig mca_config = is_car ? mca::LoadCarMcaConfig(*car_scene)
+                                           : hw::SessionMcaConfig(*chair_scene, McaAlgorithmOption(args),
+                                                                  platform ? &*platform : nullptr);
   SessionSetup setup;
-  const std::string link_error = SetUpSession(args, clock, duration, &setup);
+  const std::string link_error = SetUpSession(args, clock, duration, mca_config.platform, &setup);
   if (!link_error.empty()) {
     std::cerr << "pwsim session: " << link_error << "\n";
     return 1;
@@ -195,7 +205,8 @@ int SessionCommand(const ParsedArgs& args) {
   std::filesystem::create_directories(out_dir);
   std::filesystem::remove(out_dir / "trial.json");
   const hw::SessionStreams streams = is_car ? CarStreams(args, *car_scene, config, out_dir, &source)
-                                              : ChooseStreams(args, *chair_scene, config, out_dir, &source);
+                                              : ChooseStreams(args, *chair_scene, config, mca_config,
+                                                              platform ? &*platform : nullptr, out_dir, &source);
   std::cout << "pwsim session: scene '" << scene_name << "', " << source << "\n";
   hw::StreamsSource streams_source(config, streams);
   return RunAndReport("pwsim session", args, setup, streams_source, out_dir);

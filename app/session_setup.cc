@@ -43,13 +43,25 @@ std::vector<OptionSpec> SessionLinkOptions() {
           {"frame-ms", "MS", "ms", "10", "visual frame period (HMD rate)"},
           {"hmd-timeout-ms", "MS", "ms", "250", "a frame without a head pose after it this long: HMD stale -> soft stop"},
           {"max-stop-s", "S", "s", "30", "give up waiting for the platform to park after this"},
+          {"drive-return-s", "S", "s", "5", "a drive whose feedback is lost is waited for this long to come back (re-admitted) before the session gives up"},
           {"rt-priority", "N", "-", "0", "run the loop SCHED_FIFO at this priority (0 = normal)"},
           {"drive-wait-ms", "MS", "ms", "0", "lockstep for hosts without real-time scheduling: each SYNC waits up to MS for the drives' answer to the last one (0 = strict real time)"},
           LinkKeyOptionSpec(),
   };
 }
 
-std::string SetUpSession(const ParsedArgs& args, const Clock& clock, double duration, SessionSetup* setup) {
+OptionSpec PlatformOptionSpec() {
+  return {"platform", "FILE", "-", "", "drive this platform (a pwsim-platform/1 file, e.g. scenes/platforms/car2dof.yaml) instead of the scene's"};
+}
+
+std::optional<hw::PlatformChoice> PlatformOption(const ParsedArgs& args) {
+  if (!args.Has("platform") || args.Get("platform").empty()) return std::nullopt;
+  const std::string file = args.Get("platform");
+  return hw::PlatformChoice{mca::ReadPlatformFile(file), file};
+}
+
+std::string SetUpSession(const ParsedArgs& args, const Clock& clock, double duration, const mca::PlatformSpec& platform,
+                         SessionSetup* setup) {
   hw::SessionConfig& config = setup->config;
   config.clock_rate_hz = clock.rate_hz;
   config.drive_cycle_ticks = TicksFromMs(args.GetDouble("drive-cycle-ms"), config.clock_rate_hz, "drive-cycle-ms");
@@ -62,6 +74,8 @@ std::string SetUpSession(const ParsedArgs& args, const Clock& clock, double dura
   const double timeout_ms = args.GetDouble("hmd-timeout-ms", 1.0, 60'000.0);
   config.hmd_timeout_ns = static_cast<std::int64_t>(timeout_ms * 1e6);
   config.max_stop_ticks = clock.TicksFor(args.GetDouble("max-stop-s", 0.01, 3600.0));
+  config.drive_return_ticks = clock.TicksFor(args.GetDouble("drive-return-s", 0.01, 3600.0));
+  config.SetPlatform(platform.name, platform.mechanism);  // its drives: one per actuator
   config.session_id = static_cast<std::uint32_t>(hw::MonotonicNs() & 0x7FFFFFFF);
   const std::string hmd_spec = args.Get("hmd");
   config.hmd_required = hmd_spec != "none";
@@ -114,6 +128,11 @@ int RunAndReport(const std::string& who, const ParsedArgs& args, SessionSetup& s
   AtomicFileWriter log(out_dir / "session.log");
   AtomicFileWriter can_log(out_dir / "can.log");
   InstallStopSignalHandlers();
+  std::cout << "  platform '" << config.platform << "': " << config.axis_count() << " drives (nodes";
+  for (int i = 0; i < config.axis_count(); ++i)
+    std::cout << (i == 0 ? " " : ", ") << static_cast<int>(config.master.axes[static_cast<std::size_t>(i)].node) << " "
+              << config.mechanism.actuator(i).name;
+  std::cout << ")\n";
   std::cout << "  CAN " << setup.bus.bus->name() << ", HMD "
             << (config.hmd_required ? std::to_string(setup.hmd.local_port()) + "->" + setup.hmd_peer.ToString()
                                     : "none")
@@ -127,6 +146,8 @@ int RunAndReport(const std::string& who, const ParsedArgs& args, SessionSetup& s
   io.hmd_peer = setup.hmd_peer;
   io.log = &log.stream();
   io.candump = &can_log.stream();
+  io.events = &std::cout;  // event lines other processes can wait for
+  io.events_prefix = who + ": event ";
   io.stop = &StopRequested();
   const long long rt = args.GetInt("rt-priority", 0, 99);
   io.rt_priority = static_cast<int>(rt);
@@ -148,7 +169,14 @@ int RunAndReport(const std::string& who, const ParsedArgs& args, SessionSetup& s
   }
 
   std::cout << who << ": " << report.final_state << (report.stop_reason.empty() ? "" : " after " + report.stop_reason)
-            << ", " << report.steps << " steps\n"
+            << " (by the drives' feedback), " << report.steps << " steps\n";
+  for (const hw::AxisReport& a : report.axes) {
+    std::cout << "  drive " << a.node << " " << a.actuator << ": " << a.state << ", at " << a.position << " " << a.unit
+              << ", " << a.velocity << " " << a.unit << "/s, last feedback " << a.feedback_age_ms << " ms before the end";
+    if (a.restarts + a.returns > 0) std::cout << ", restarted " << a.restarts + a.returns << "x, re-admitted " << a.readmissions << "x";
+    std::cout << "\n";
+  }
+  std::cout
             << "  cycle lateness p50 " << report.cycle_lateness_us.p50 << " us, p99 "
             << report.cycle_lateness_us.p99 << " us; period jitter p50 "
             << report.cycle_period_jitter_us.p50 << " us, p99 " << report.cycle_period_jitter_us.p99 << " us; "
@@ -163,12 +191,12 @@ int RunAndReport(const std::string& who, const ParsedArgs& args, SessionSetup& s
   }
   std::cout << "  refused datagrams from senders other than the peers: CAN " << report.can_rx_refused << ", HMD "
             << report.hmd_rx_refused << "\n"
-            << "  limits " << (report.limits_ok ? "respected" : "EXCEEDED") << "; "
+            << "  limits " << (report.limits_ok ? "respected" : "EXCEEDED") << " (commands), "
+            << (report.within_limits ? "respected" : "EXCEEDED") << " (measured); "
             << (out_dir / "session.log").string() << ", " << (out_dir / "report.json").string() << "\n";
-  // 0: parked at neutral; 4: a latched fault (at rest, drives disabled); 3: anything else
-  // (never started, timed out waiting to park, or a limit exceeded).
-  if (!report.limits_ok || report.parked_tick < 0) return 3;
-  return report.final_state == "parked" ? 0 : 4;
+  // hw::SessionReport::ExitStatus: 0 parked (by the drives' feedback) without drive trouble, 3 not
+  // parked or a limit exceeded, 4 fault, 5 feedback lost or quick stop, 6 parked after drive trouble.
+  return report.ExitStatus();
 }
 
 }  // namespace pwsim::app

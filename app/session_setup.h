@@ -15,13 +15,14 @@
 #include "app/cli.h"
 #include "engine/clock.h"
 #include "hardware/session_runner.h"
+#include "hardware/session_streams.h"
 #include "hardware/udp_socket.h"
 #include "mca/config.h"
 
 namespace pwsim::app {
 
 /// --can, --can-local, --hmd, --hmd-local, --drive-cycle-ms, --frame-ms, --hmd-timeout-ms,
-/// --max-stop-s, --rt-priority, --drive-wait-ms.
+/// --max-stop-s, --drive-return-s, --rt-priority, --drive-wait-ms.
 std::vector<OptionSpec> SessionLinkOptions();
 
 struct SessionSetup {
@@ -37,12 +38,21 @@ std::optional<mca::McaAlgorithm> McaAlgorithmOption(const ParsedArgs& args);
 /// The option's spec line for a command's table.
 OptionSpec McaAlgorithmOptionSpec();
 
-/// The configuration for `duration_s` of motion on `clock`, and the links opened. Returns "" or
-/// why a link could not be opened. @throws UsageError on bad options.
-std::string SetUpSession(const ParsedArgs& args, const Clock& clock, double duration_s, SessionSetup* setup);
+/// --platform FILE (pwsim session, drive): the platform over the scene's, or nothing when absent.
+/// @throws InputError (the file).
+std::optional<hw::PlatformChoice> PlatformOption(const ParsedArgs& args);
+OptionSpec PlatformOptionSpec();
+
+/// The configuration for `duration_s` of motion on `clock`, driving `platform`'s mechanism (one
+/// CiA 402 node per actuator), and the links opened. Returns "" or why a link could not be
+/// opened. @throws UsageError on bad options.
+std::string SetUpSession(const ParsedArgs& args, const Clock& clock, double duration_s, const mca::PlatformSpec& platform,
+                         SessionSetup* setup);
 
 /// Runs the session from `source`, writes OUT/session.log, can.log, report.json, prints the
-/// summary; returns the exit status (0 parked, 4 latched fault at rest, 3 otherwise).
+/// summary and each event line as it happens ("WHO: event TICK ..."); returns the exit status
+/// (hw::SessionReport::ExitStatus: 0 only when the drives' feedback shows the platform parked
+/// and no drive was lost, restarted, quick-stopped or faulted).
 /// `add_to_report`, when given, adds its sections to report.json after the run (e.g. a chair
 /// drive's training metrics).
 int RunAndReport(const std::string& who, const ParsedArgs& args, SessionSetup& setup, hw::SessionSource& source,

@@ -111,7 +111,7 @@ void BM_SafetySupervisorCycle(benchmark::State& state) {
   std::int64_t cycle = 0;
   for (auto _ : state) {
     const double t = static_cast<double>(cycle) * 0.004;
-    in.setpoint = std::array<double, 2>{0.2 * std::sin(0.8 * t), 0.3 * std::sin(1.3 * t)};
+    in.setpoint = AxisValues{0.2 * std::sin(0.8 * t), 0.3 * std::sin(1.3 * t)};
     benchmark::DoNotOptimize(sup.Step(cycle++, in));
   }
   state.SetItemsProcessed(state.iterations());
@@ -125,7 +125,7 @@ void BM_MasterCycle(benchmark::State& state) {
   std::int64_t cycle = 0;
   for (auto _ : state) {
     out.clear();
-    master.Cycle(cycle++, {0.1, 0.2}, &out);
+    master.Cycle(cycle++, AxisValues{0.1, 0.2}, &out);
     benchmark::DoNotOptimize(out.data());
   }
   state.SetItemsProcessed(state.iterations());

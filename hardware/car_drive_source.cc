@@ -45,8 +45,7 @@ void CarDriveSource::Fill(std::int64_t tick, bool drive, bool frame, std::int64_
   }
   const CarLiveTick& t = loop_.last();
   if (drive) {
-    in->setpoint = std::array<double, kPlatformAxes>{t.command.pose[mca::Index(mca::Dof::kYaw)],
-                                                     t.command.pose[mca::Index(mca::Dof::kSurge)]};
+    in->setpoint = t.command.pose;
   }
   if (frame) in->camera = CarEyePose(scene_, t.sample.state);
 }

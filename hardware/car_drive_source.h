@@ -1,8 +1,8 @@
 #pragma once
 // A car driven live by a joystick through a session: each session step polls the joystick,
 // steps the car (vehicle::NextCarSample via CarLiveLoop) over every engine tick since the last
-// step with that reading, and hands the session the MCA's rail + yaw command (yaw -> q1,
-// surge -> q2) on drive ticks and the driver's eye pose on frame ticks. The chair's live drive
+// step with that reading, and hands the session the MCA's rail + yaw pose command (the core's
+// inverse kinematics: yaw -> q1, surge -> q2) on drive ticks and the driver's eye pose on frame ticks. The chair's live drive
 // plugs in the same way (chair_drive_source.h).
 //
 // Joystick -> car controls (a two-pedal car with an automatic clutch, pure):

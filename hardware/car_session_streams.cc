@@ -5,6 +5,7 @@
 
 #include "hardware/car_drive_source.h"
 #include "hardware/car_live.h"
+#include "hardware/session_streams.h"
 #include "mca/config.h"
 #include "mca/cueing.h"
 #include "mca/rail_yaw.h"
@@ -41,6 +42,7 @@ SessionStreams BuildCarSessionStreams(const vehicle::CarScene& scene, const Sess
                                 "' lacks surge or yaw; the session drives seed 001's rail + yaw platform");
   }
   if (algorithm) mca::ChooseAlgorithm(*algorithm, mca_config);
+  CheckSessionPlatform(config, mca_config.platform);
   if (scene.clock.rate_hz != config.clock_rate_hz) {
     throw std::invalid_argument("scene clock " + std::to_string(scene.clock.rate_hz) +
                                 " Hz differs from the session clock " + std::to_string(config.clock_rate_hz) + " Hz");
@@ -56,11 +58,8 @@ SessionStreams BuildCarSessionStreams(const vehicle::CarScene& scene, const Sess
 
   SessionStreams streams;
   streams.mca_algorithm = mca::McaAlgorithmName(mca_config.algorithm);
-  for (std::size_t k = 0; k < trace.commands.size(); k += static_cast<std::size_t>(config.drive_cycle_ticks)) {
-    const auto& pose = trace.commands[k].pose;
-    streams.setpoints.push_back({pose[static_cast<std::size_t>(mca::Index(mca::Dof::kYaw))],
-                                 pose[static_cast<std::size_t>(mca::Index(mca::Dof::kSurge))]});
-  }
+  for (std::size_t k = 0; k < trace.commands.size(); k += static_cast<std::size_t>(config.drive_cycle_ticks))
+    streams.setpoints.push_back(trace.commands[k].pose);
   for (std::size_t k = 0; k < samples.size(); k += static_cast<std::size_t>(config.frame_ticks))
     streams.cameras.push_back(CarEyePose(scene, samples[k].state));
   if (description != nullptr) {

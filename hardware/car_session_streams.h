@@ -1,8 +1,8 @@
 #pragma once
 // The session's input streams from a car scene (kind: car): the car of engine/vehicle through
 // the scene's controls, the head motion at the driver's head through the MCA on the rail + yaw
-// platform (mca/rail_yaw.h), giving the platform setpoints (yaw -> q1, surge -> rail q2) per
-// drive cycle; the driver's eye pose (position, yaw, pitch, roll of the car) per frame.
+// platform (mca/rail_yaw.h), giving the MCA's pose command per drive cycle (the core's inverse
+// kinematics: yaw -> q1, surge -> rail q2); the driver's eye pose (position, yaw, pitch, roll of the car) per frame.
 
 #include <optional>
 #include <string>
@@ -15,8 +15,8 @@
 
 namespace pwsim::hw {
 
-/// @throws InputError (scene sections), std::invalid_argument (clock mismatch, or a scene
-/// platform without surge and yaw: the session drives seed 001's rail + yaw platform).
+/// @throws InputError (scene sections), std::invalid_argument (clock mismatch, a scene
+/// platform without surge and yaw, or a session configured for another platform's drives).
 /// `algorithm` (a command line's --mca) overrides the scene's mca.algorithm.
 SessionStreams BuildCarSessionStreams(const vehicle::CarScene& scene, const SessionConfig& config,
                                       std::string* description,

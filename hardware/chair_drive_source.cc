@@ -5,7 +5,6 @@
 
 #include "engine/check.h"
 #include "hardware/car_session_streams.h"
-#include "hardware/session_streams.h"
 
 namespace pwsim::hw {
 namespace {
@@ -24,14 +23,12 @@ JoystickInput ChairDeflectionFromJoystick(const JoystickSample& joystick) {
 }
 
 ChairDriveSource::ChairDriveSource(const Scene& scene, JoystickSource& joystick, std::int64_t max_ticks,
-                                   std::optional<mca::McaAlgorithm> algorithm)
+                                   const mca::McaConfig& mca)
     : scene_(scene),
       joystick_(joystick),
       runner_(scene.chair, *scene.circuit, scene.load_kg, scene.clock.dt(), scene.pitch_torque),
-      session_mca_(SessionMcaConfig(scene, algorithm)),
-      pw4dof_mca_(mca::LoadMcaConfig(scene, algorithm)),
-      session_cue_(session_mca_, scene.clock.dt()),
-      pw4dof_cue_(pw4dof_mca_, scene.clock.dt()) {
+      mca_(mca),
+      cue_(mca_, scene.clock.dt()) {
   PWSIM_DEMAND(scene.is_circuit() && max_ticks >= 0);
   max_ticks_ = max_ticks;
   trace_.reserve(static_cast<std::size_t>(max_ticks) + 1);
@@ -53,9 +50,8 @@ void ChairDriveSource::StepChair(const JoystickInput& deflection) {
   head_[1] = head_[2];
   head_[2] = mca::PointOnBody(BodyPose(s), scene_.occupant.head_offset);
   const mca::HeadMotion motion = mca::HeadMotionAt(head_[0], head_[1], head_[2], scene_.clock.dt());
-  session_cue_.Step(motion);
-  const mca::McaCommand& c = pw4dof_cue_.Step(motion);
-  for (std::size_t i = 0; i < c.pose.size(); ++i) pw4dof_peak_[i] = std::max(pw4dof_peak_[i], std::abs(c.pose[i]));
+  const mca::McaCommand& c = cue_.Step(motion);
+  for (std::size_t i = 0; i < c.pose.size(); ++i) peak_[i] = std::max(peak_[i], std::abs(c.pose[i]));
   if (chair_tick_ <= max_ticks_) Record();
 }
 
@@ -64,11 +60,7 @@ void ChairDriveSource::Fill(std::int64_t tick, bool drive, bool frame, std::int6
   if (!last_.valid) ++invalid_polls_;
   const JoystickInput deflection = ChairDeflectionFromJoystick(last_);
   while (chair_tick_ < tick) StepChair(deflection);
-  if (drive) {
-    const mca::McaCommand& c = session_cue_.command();
-    in->setpoint = std::array<double, kPlatformAxes>{c.pose[mca::Index(mca::Dof::kYaw)],
-                                                     c.pose[mca::Index(mca::Dof::kSurge)]};
-  }
+  if (drive) in->setpoint = cue_.command().pose;
   if (frame) {
     const FullChairSample& s = runner_.sample();
     in->camera = CarCameraPose(head_[2].p, s.planar.yaw, s.lm.pitch, s.roll);

@@ -3,13 +3,11 @@
 // car's twin: car_drive_source.h). Each session step polls the joystick and steps the full-DoF
 // chair through the circuit (engine/circuit.h CircuitRunner::AdvanceWith: walls, obstacles,
 // gates) over every engine tick since the last step with that reading; the head motion of each
-// tick goes through two MCAs per tick (mca::McaStepper: the scene's algorithm, or the command
-// line's --mca washout|mpc over it, mca::ChooseAlgorithm):
-//   - the scene's own platform (pw4dof: heave, roll, pitch, yaw; mca::LoadMcaConfig), as
-//     `pwsim run` of the circuit uses; its peak use per axis is reported;
-//   - the session's platform (SessionMcaConfig: seed 001's rail + yaw drives, the only drives
-//     `pwsim platform-sim` simulates), whose yaw and surge become the CiA 402 setpoints
-//     (yaw -> q1, surge -> rail q2), exactly as `pwsim session` maps a chair scene.
+// tick goes through the session's MCA (mca::McaStepper: the scene's algorithm, or the command
+// line's --mca washout|mpc over it, mca::ChooseAlgorithm) on the session's platform (the
+// scene's own, pw4dof by default: heave, roll, pitch and yaw on five drives; or --platform's),
+// whose pose command goes to the core (inverse kinematics -> the CiA 402 setpoints), exactly as
+// `pwsim session` runs a chair scene; its peak use per axis is reported.
 // Live there is no trial ahead: the MPC predicts with the current input held (no preview).
 // The head motion of tick k is differenced from the head poses of k-1, k, k+1
 // (mca::HeadMotionAt), so the MCA runs one engine tick (1 ms at 1 kHz) behind the chair.
@@ -43,10 +41,10 @@ class ChairDriveSource final : public SessionSource {
  public:
   /// @pre scene.is_circuit(); scene's clock = the session's; `joystick` outlives this;
   /// `max_ticks`: the trace keeps ticks 0..max_ticks (the drive; not the park after it);
-  /// `algorithm`: --mca over the scene's mca.algorithm, for both MCAs.
-  /// @throws InputError (scene), std::invalid_argument (an MPC that cannot start from rest).
-  ChairDriveSource(const Scene& scene, JoystickSource& joystick, std::int64_t max_ticks,
-                   std::optional<mca::McaAlgorithm> algorithm = std::nullopt);
+  /// `mca`: the session's MCA (SessionMcaConfig: the scene's platform or --platform's, the
+  /// scene's algorithm or --mca's).
+  /// @throws std::invalid_argument (an MPC that cannot start from rest).
+  ChairDriveSource(const Scene& scene, JoystickSource& joystick, std::int64_t max_ticks, const mca::McaConfig& mca);
   void Fill(std::int64_t tick, bool drive, bool frame, std::int64_t now_ns, SessionInputs* in) override;
   InputStamp input() const override { return {last_.input_seq, last_.input_ns}; }
   bool has_live_input() const override { return true; }
@@ -55,13 +53,11 @@ class ChairDriveSource final : public SessionSource {
 
   const FullChairSample& last_sample() const { return runner_.sample(); }
   const std::vector<TrainingTick>& trace() const { return trace_; }
-  const mca::McaConfig& session_mca() const { return session_mca_; }
-  const mca::McaConfig& pw4dof_mca() const { return pw4dof_mca_; }
-  /// The MPCs' solves and fallbacks (zero with the washout).
-  mca::MpcStats session_mpc_stats() const { return session_cue_.mpc_stats(); }
-  mca::MpcStats pw4dof_mpc_stats() const { return pw4dof_cue_.mpc_stats(); }
-  /// Largest |command| per axis of the scene platform's MCA so far [m | rad].
-  const mca::DofArray& pw4dof_peak() const { return pw4dof_peak_; }
+  const mca::McaConfig& mca() const { return mca_; }
+  /// The MPC's solves and fallbacks (zero with the washout).
+  mca::MpcStats mpc_stats() const { return cue_.mpc_stats(); }
+  /// Largest |pose command| per axis of the MCA so far [m | rad].
+  const mca::DofArray& peak() const { return peak_; }
   std::uint64_t invalid_polls() const { return invalid_polls_; }
 
  private:
@@ -71,13 +67,13 @@ class ChairDriveSource final : public SessionSource {
   const Scene& scene_;
   JoystickSource& joystick_;
   CircuitRunner runner_;
-  mca::McaConfig session_mca_, pw4dof_mca_;
-  mca::McaStepper session_cue_, pw4dof_cue_;
+  mca::McaConfig mca_;
+  mca::McaStepper cue_;
   std::array<mca::PointPose, 3> head_{};  ///< head at ticks k-2, k-1, k (k = chair_tick_)
   std::int64_t chair_tick_{0};            ///< the chair has been stepped up to this tick
   JoystickSample last_;
   std::uint64_t invalid_polls_{0};
-  mca::DofArray pw4dof_peak_{};
+  mca::DofArray peak_{};
   std::int64_t max_ticks_{0};
   std::vector<TrainingTick> trace_;
 };

@@ -23,20 +23,40 @@ const char* MasterPhaseName(MasterPhase phase) {
 Cia402Master::Cia402Master(MasterConfig config) : config_(config) {}
 
 int Cia402Master::AxisIndex(std::uint8_t node) const {
-  for (int i = 0; i < kPlatformAxes; ++i)
+  for (int i = 0; i < config_.axis_count; ++i)
     if (config_.axes[static_cast<std::size_t>(i)].node == node) return i;
   return -1;
 }
 
+template <class Pred>
+bool Cia402Master::All(Pred pred) const {
+  for (int i = 0; i < config_.axis_count; ++i)
+    if (!pred(axes_[static_cast<std::size_t>(i)])) return false;
+  return true;
+}
+
 bool Cia402Master::any_fault() const {
-  for (const AxisStatus& a : axes_)
-    if (a.fault) return true;
-  return false;
+  return !All([](const AxisStatus& a) { return !a.fault; });
+}
+
+bool Cia402Master::any_quick_stop() const {
+  return !All([](const AxisStatus& a) { return a.drive != DriveState::kQuickStopActive; });
+}
+
+bool Cia402Master::readmitting() const {
+  return !All([](const AxisStatus& a) { return !a.readmitting; });
+}
+
+std::uint64_t Cia402Master::restarts() const {
+  std::uint64_t n = 0;
+  for (int i = 0; i < config_.axis_count; ++i) n += axes_[static_cast<std::size_t>(i)].restarts;
+  return n;
 }
 
 void Cia402Master::RequestFaultReset() {
   fault_reset_requested_ = true;
-  for (AxisStatus& a : axes_) {
+  for (int i = 0; i < config_.axis_count; ++i) {
+    AxisStatus& a = axes_[static_cast<std::size_t>(i)];
     a.emcy_fault = false;
     a.fault = a.drive == DriveState::kFault || a.drive == DriveState::kFaultReactionActive;
   }
@@ -57,8 +77,28 @@ void Cia402Master::OnFrame(const CanFrame& frame) {
     case canopen::FrameKind::kHeartbeat: {
       NmtState s{};
       if (canopen::DecodeHeartbeat(frame, &node, &s)) {
-        a.nmt = s;
+        // Past the start-up (a boot-up during it is the answer to its reset-comm, or a node
+        // that rebooted before it was started: kStartNodes starts it either way).
+        const bool started = phase_ == MasterPhase::kEnabling || phase_ == MasterPhase::kRunning ||
+                             phase_ == MasterPhase::kDisabled ||
+                             (phase_ == MasterPhase::kStartNodes && readmitting());
+        if (s == NmtState::kBootUp && started) {
+          // The drive restarted: whatever it was doing is gone; its feedback is void.
+          ++a.restarts;
+          a.readmitting = true;
+          a.awaiting_boot = false;
+          a.drive = DriveState::kSwitchOnDisabled;
+          a.last_tpdo_cycle = -1;
+          a.fault = a.emcy_fault;
+        } else if (a.heartbeat_lost && started && !a.awaiting_boot && s != NmtState::kBootUp) {
+          // Back without a boot-up: its state is unknown. Reset it (Cycle sends the NMT).
+          ++a.returns;
+          a.readmitting = true;
+          a.awaiting_boot = true;
+        }
+        a.nmt = s == NmtState::kBootUp ? NmtState::kPreOperational : s;
         a.seen_heartbeat = true;
+        a.heartbeat_lost = false;
         a.last_heartbeat_cycle = cycle_;
       }
       break;
@@ -66,6 +106,7 @@ void Cia402Master::OnFrame(const CanFrame& frame) {
     case canopen::FrameKind::kTpdo1: {
       canopen::CspStatus s;
       if (canopen::DecodeCspStatus(frame, &node, &s)) {
+        a.statusword = s.statusword;
         a.drive = canopen::DecodeStatusword(s.statusword);
         a.position = static_cast<double>(s.position_actual) / c.counts_per_unit;
         a.last_tpdo_cycle = cycle_;
@@ -101,25 +142,39 @@ void Cia402Master::OnFrame(const CanFrame& frame) {
   }
 }
 
-void Cia402Master::Cycle(std::int64_t cycle, const std::array<double, kPlatformAxes>& setpoint,
-                         std::vector<CanFrame>* out) {
+void Cia402Master::Cycle(std::int64_t cycle, const AxisValues& setpoint, std::vector<CanFrame>* out) {
   cycle_ = cycle;
   heartbeats_ok_ = true;
   tpdos_fresh_ = true;
-  for (const AxisStatus& a : axes_) {
-    if (!a.seen_heartbeat || cycle - a.last_heartbeat_cycle > config_.heartbeat_timeout_cycles)
+  const auto n = static_cast<std::size_t>(config_.axis_count);
+  for (std::size_t k = 0; k < n; ++k) {
+    AxisStatus& a = axes_[k];
+    if (!a.seen_heartbeat || cycle - a.last_heartbeat_cycle > config_.heartbeat_timeout_cycles) {
       heartbeats_ok_ = false;
+      if (a.seen_heartbeat) a.heartbeat_lost = true;
+    }
     if (a.last_tpdo_cycle < 0 || cycle - a.last_tpdo_cycle > config_.tpdo_timeout_cycles)
       tpdos_fresh_ = false;
   }
   if (cycle % config_.heartbeat_period_cycles == 0)
     out->push_back(canopen::EncodeHeartbeat(config_.master_node, NmtState::kOperational));
 
-  auto all = [&](auto pred) {
-    for (const AxisStatus& a : axes_)
-      if (!pred(a)) return false;
-    return true;
-  };
+  // A drive that came back: start it again (unless the session is ending).
+  if (!disable_requested_ && (phase_ == MasterPhase::kEnabling || phase_ == MasterPhase::kRunning)) {
+    for (std::size_t k = 0; k < n; ++k) {
+      AxisStatus& a = axes_[k];
+      if (!a.readmitting) continue;
+      if (a.awaiting_boot) {
+        // once per heartbeat period until its boot-up arrives
+        if ((cycle - a.last_heartbeat_cycle) % config_.heartbeat_period_cycles == 0)
+          out->push_back(canopen::EncodeNmt(canopen::NmtCommand::kResetComm, config_.axes[k].node));
+      } else if (a.nmt != NmtState::kOperational) {
+        phase_ = MasterPhase::kStartNodes;
+        phase_start_ = cycle;
+      }
+    }
+  }
+
   switch (phase_) {
     case MasterPhase::kResetComm:
       for (AxisStatus& a : axes_) a.seen_heartbeat = false;
@@ -128,7 +183,7 @@ void Cia402Master::Cycle(std::int64_t cycle, const std::array<double, kPlatformA
       phase_start_ = cycle;
       break;
     case MasterPhase::kWaitBoot:
-      if (all([](const AxisStatus& a) { return a.seen_heartbeat; })) {
+      if (All([](const AxisStatus& a) { return a.seen_heartbeat; })) {
         phase_ = MasterPhase::kStartNodes;
         phase_start_ = cycle;
       } else if (cycle - phase_start_ > config_.boot_timeout_cycles) {
@@ -136,31 +191,39 @@ void Cia402Master::Cycle(std::int64_t cycle, const std::array<double, kPlatformA
       }
       break;
     case MasterPhase::kStartNodes:
-      if (all([](const AxisStatus& a) { return a.nmt == NmtState::kOperational; })) {
+      if (All([](const AxisStatus& a) { return a.nmt == NmtState::kOperational; })) {
         phase_ = MasterPhase::kEnabling;
         phase_start_ = cycle;
+      } else if (All([](const AxisStatus& a) { return !a.readmitting; })) {
+        out->push_back(canopen::EncodeNmt(canopen::NmtCommand::kStart, 0));  // the start-up: all
       } else {
-        out->push_back(canopen::EncodeNmt(canopen::NmtCommand::kStart, 0));
+        for (std::size_t k = 0; k < n; ++k)  // a re-admission: the nodes that need it
+          if (axes_[k].nmt != NmtState::kOperational && !axes_[k].awaiting_boot)
+            out->push_back(canopen::EncodeNmt(canopen::NmtCommand::kStart, config_.axes[k].node));
       }
       break;
     default:
       break;
   }
 
+  auto enabled = [](const AxisStatus& a) { return a.drive == DriveState::kOperationEnabled; };
+  // While re-admitting, the other drives keep answering SYNCs holding their positions.
   const bool streaming = phase_ == MasterPhase::kEnabling || phase_ == MasterPhase::kRunning ||
-                         phase_ == MasterPhase::kDisabled;
+                         phase_ == MasterPhase::kDisabled ||
+                         (phase_ == MasterPhase::kStartNodes && readmitting());
   if (streaming) {
     if (disable_requested_ && phase_ != MasterPhase::kDisabled) phase_ = MasterPhase::kDisabled;
-    if (phase_ == MasterPhase::kEnabling &&
-        all([](const AxisStatus& a) { return a.drive == DriveState::kOperationEnabled; })) {
+    if (phase_ == MasterPhase::kEnabling && All(enabled)) {
       phase_ = MasterPhase::kRunning;
+      for (std::size_t k = 0; k < n; ++k) {
+        if (axes_[k].readmitting) ++axes_[k].readmissions;
+        axes_[k].readmitting = false;
+      }
     }
-    if (phase_ == MasterPhase::kRunning &&
-        !all([](const AxisStatus& a) { return a.drive == DriveState::kOperationEnabled; })) {
+    if (phase_ == MasterPhase::kRunning && !All(enabled)) {
       phase_ = MasterPhase::kEnabling;  // a drive dropped out (quick stop, fault): hold, re-walk
     }
-    for (int i = 0; i < kPlatformAxes; ++i) {
-      const auto k = static_cast<std::size_t>(i);
+    for (std::size_t k = 0; k < n; ++k) {
       AxisStatus& a = axes_[k];
       canopen::CspCommand cmd;
       if (phase_ == MasterPhase::kRunning) {
@@ -171,8 +234,8 @@ void Cia402Master::Cycle(std::int64_t cycle, const std::array<double, kPlatformA
                                   : a.last_target_counts;
       } else {
         // Hold where the drive is while walking the state machine.
-        cmd.target_position = static_cast<std::int32_t>(
-            std::round(a.position * config_.axes[k].counts_per_unit));
+        const double counts = std::round(a.position * config_.axes[k].counts_per_unit);
+        cmd.target_position = std::abs(counts) < 2.0e9 ? static_cast<std::int32_t>(counts) : a.last_target_counts;
         if (phase_ == MasterPhase::kDisabled) {
           cmd.controlword = canopen::controlword::kShutdown;
         } else if (a.drive == DriveState::kFault) {
@@ -187,8 +250,7 @@ void Cia402Master::Cycle(std::int64_t cycle, const std::array<double, kPlatformA
       last_controlword_[k] = cmd.controlword;
       out->push_back(canopen::EncodeCspCommand(config_.axes[k].node, cmd));
     }
-    if (fault_reset_requested_ &&
-        all([](const AxisStatus& a) { return a.drive != DriveState::kFault; }))
+    if (fault_reset_requested_ && All([](const AxisStatus& a) { return a.drive != DriveState::kFault; }))
       fault_reset_requested_ = false;
   }
   // SYNC after the RPDOs: the drives latch this cycle's targets on it.

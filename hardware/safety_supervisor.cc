@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace pwsim::hw {
 namespace {
@@ -28,12 +29,13 @@ void BrakeStep(const AxisLimits& lim, double dt, AxisMotion* m) {
 
 bool StopsInside(const AxisLimits& lim, double dt, const AxisMotion& start) {
   AxisMotion m = start;
-  if (std::abs(m.p) > lim.workspace) return false;
+  auto outside = [&](double p) { return p < lim.min || p > lim.max; };
+  if (outside(m.p)) return false;
   const double s0 = Sign(m.v) != 0.0 ? Sign(m.v) : -Sign(m.a);
   if (s0 == 0.0) return true;
   for (int k = 0; k < 100000; ++k) {
     BrakeStep(lim, dt, &m);
-    if (std::abs(m.p) > lim.workspace) return false;
+    if (outside(m.p)) return false;
     if (Sign(m.v) != s0 && std::abs(m.a) <= lim.jerk * dt) return true;
     if (Sign(m.v) != s0 && Sign(m.v) != 0.0 && k > 0) {
       // Reversing with residual acceleration: keep braking until it settles.
@@ -53,7 +55,7 @@ bool LimitedStep(const AxisLimits& lim, const AxisLimits& space, double dt, doub
     c.v = (target - m->p) / dt;
     c.a = (c.v - m->v) / dt;
     const double jerk = (c.a - m->a) / dt;
-    if (std::abs(c.p) <= space.workspace && std::abs(c.v) <= lim.velocity &&
+    if (c.p >= space.min && c.p <= space.max && std::abs(c.v) <= lim.velocity &&
         std::abs(c.a) <= lim.accel && std::abs(jerk) <= lim.jerk && StopsInside(space, dt, c)) {
       *m = c;
       return false;
@@ -96,20 +98,25 @@ bool LimitedStep(const AxisLimits& lim, const AxisLimits& space, double dt, doub
 
 std::string ValidateSafetyConfig(const SafetyConfig& c) {
   if (!(c.dt > 0.0 && c.dt < 0.1)) return "dt: expected a drive cycle in (0, 0.1) s";
-  for (std::size_t i = 0; i < 2; ++i) {
+  if (c.axis_count < 1 || c.axis_count > kMaxDriveAxes)
+    return "axis_count: expected 1.." + std::to_string(kMaxDriveAxes);
+  for (std::size_t i = 0; i < static_cast<std::size_t>(c.axis_count); ++i) {
     const AxisLimits& a = c.axes[i];
-    const std::string axis = i == 0 ? "yaw" : "rail";
-    if (!(a.workspace > 0.0 && a.workspace <= a.hard_limit))
-      return axis + ".workspace: expected in (0, hard_limit]";
-    if (!(a.velocity > 0.0 && a.accel > 0.0 && a.jerk > 0.0))
-      return axis + ": velocity, accel and jerk limits must be > 0";
+    const std::string axis = "axis " + std::to_string(i + 1);
+    if (!(std::isfinite(a.hard_min) && std::isfinite(a.hard_max) && a.hard_min <= a.min && a.min < a.max &&
+          a.max <= a.hard_max))
+      return axis + ": expected finite hard_min <= min < max <= hard_max";
+    if (!(a.velocity > 0.0 && a.accel > 0.0 && a.jerk > 0.0 && std::isfinite(a.velocity) &&
+          std::isfinite(a.accel) && std::isfinite(a.jerk)))
+      return axis + ": velocity, accel and jerk limits must be finite and > 0";
     const AxisLimits& s = c.soft_stop[i];
     if (!(s.velocity > 0.0 && s.velocity <= a.velocity && s.accel > 0.0 && s.accel <= a.accel &&
           s.jerk > 0.0 && s.jerk <= a.jerk))
       return axis + " soft stop: limits must be > 0 and within the axis limits";
-    if (std::abs(c.neutral[i]) > a.workspace) return axis + ".neutral: outside the workspace";
+    if (!(c.neutral[i] >= a.min && c.neutral[i] <= a.max)) return axis + ".neutral: outside [min, max]";
   }
   if (c.stale_setpoint_cycles < 1) return "stale_setpoint_cycles: expected >= 1";
+  if (!(c.park_position_tolerance > 0.0)) return "park_position_tolerance: expected > 0";
   return "";
 }
 
@@ -141,31 +148,53 @@ void SafetySupervisor::BeginStop(std::int64_t cycle, SupervisorState next, std::
   if (next == SupervisorState::kSoftStop &&
       (state_ == SupervisorState::kSoftStop || state_ == SupervisorState::kParked))
     return;
-  if (next == SupervisorState::kFault && state_ == SupervisorState::kParked) {
-    state_ = next;
-    reason_ = why;
-    event_cycle_ = cycle;
-    return;
-  }
   state_ = next;
   reason_ = why;
   event_cycle_ = cycle;
 }
 
-std::array<double, 2> SafetySupervisor::Step(std::int64_t cycle, const SafetyInputs& in) {
+void SafetySupervisor::PlanStop() {
+  const auto n = static_cast<std::size_t>(config_.axis_count);
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  double vn = kInf, an = kInf, jn = kInf;  // normalised limits [1/s, 1/s^2, 1/s^3]
+  for (std::size_t i = 0; i < n; ++i) {
+    const double d = std::abs(motion_[i].p - config_.neutral[i]);
+    if (d <= config_.park_position_tolerance) continue;
+    const AxisLimits& s = config_.soft_stop[i];
+    vn = std::min(vn, s.velocity / d);
+    an = std::min(an, s.accel / d);
+    jn = std::min(jn, s.jerk / d);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const AxisLimits& s = config_.soft_stop[i];
+    AxisLimits& l = stop_limits_[i];
+    l = s;
+    const double d = std::abs(motion_[i].p - config_.neutral[i]);
+    if (d > config_.park_position_tolerance) {
+      // never below a millionth of the axis's own comfort limits (a zero limit cannot move)
+      l.velocity = std::clamp(d * vn, 1e-6 * s.velocity, s.velocity);
+      l.accel = std::clamp(d * an, 1e-6 * s.accel, s.accel);
+      l.jerk = std::clamp(d * jn, 1e-6 * s.jerk, s.jerk);
+    }
+  }
+}
+
+AxisValues SafetySupervisor::Step(std::int64_t cycle, const SafetyInputs& in) {
+  const auto n = static_cast<std::size_t>(config_.axis_count);
   // Validate the setpoint.
-  std::optional<std::array<double, 2>> target;
+  std::optional<AxisValues> target;
   if (in.setpoint) {
     bool finite = true;
-    for (double v : *in.setpoint) finite = finite && std::isfinite(v);
+    for (std::size_t i = 0; i < n; ++i) finite = finite && std::isfinite((*in.setpoint)[i]);
     if (!finite) {
       ++counters_.nonfinite;
     } else {
-      std::array<double, 2> t = *in.setpoint;
-      for (std::size_t i = 0; i < 2; ++i) {
-        const double w = config_.axes[i].workspace;
-        if (std::abs(t[i]) > w) {
-          t[i] = std::clamp(t[i], -w, w);
+      AxisValues t{};
+      for (std::size_t i = 0; i < n; ++i) {
+        const AxisLimits& l = config_.axes[i];
+        t[i] = (*in.setpoint)[i];
+        if (t[i] < l.min || t[i] > l.max) {
+          t[i] = std::clamp(t[i], l.min, l.max);
           ++counters_.clamped;
         }
       }
@@ -180,12 +209,15 @@ std::array<double, 2> SafetySupervisor::Step(std::int64_t cycle, const SafetyInp
     ++counters_.missing;
   }
 
+  AxisValues measured{};
+  for (std::size_t i = 0; i < n; ++i) measured[i] = in.measured[i];
+  holding_ = false;
   if (state_ == SupervisorState::kIdle) {
-    for (std::size_t i = 0; i < 2; ++i) motion_[i] = {in.measured[i], 0.0, 0.0};
+    for (std::size_t i = 0; i < n; ++i) motion_[i] = {measured[i], 0.0, 0.0};
     if (in.drives_ready && target && !in.stop_requested && !in.drive_fault && !in.bus_off) {
       state_ = SupervisorState::kRunning;  // start from where the platform is
     } else {
-      return in.measured;
+      return measured;
     }
   }
 
@@ -199,16 +231,35 @@ std::array<double, 2> SafetySupervisor::Step(std::int64_t cycle, const SafetyInp
       BeginStop(cycle, SupervisorState::kSoftStop, "drive heartbeat lost");
     else if (!in.tpdos_fresh)
       BeginStop(cycle, SupervisorState::kSoftStop, "drive feedback stale");
+    else if (in.drive_restarted)
+      BeginStop(cycle, SupervisorState::kSoftStop, "drive restarted");
+    else if (in.drive_quick_stop)
+      BeginStop(cycle, SupervisorState::kSoftStop, "drive quick stop");
+    else if (!in.drives_enabled)
+      BeginStop(cycle, SupervisorState::kSoftStop, "drive not operation enabled");
     else if (!in.hmd_ok)
       BeginStop(cycle, SupervisorState::kSoftStop, "HMD link stale");
     else if (in.stop_requested)
       BeginStop(cycle, SupervisorState::kSoftStop, "stop requested");
   }
 
-  std::array<double, 2> out{};
+  // Drives that do not follow: track the measured positions at rest, move nothing, park not.
+  if (!in.drives_enabled) {
+    holding_ = true;
+    ++counters_.held;
+    for (std::size_t i = 0; i < n; ++i) motion_[i] = {measured[i], 0.0, 0.0};
+    if (state_ == SupervisorState::kParked) state_ = SupervisorState::kSoftStop;
+    return measured;
+  }
+
+  AxisValues out{};
   const bool running = state_ == SupervisorState::kRunning;
+  // Planned again every cycle from the current distances: along the straight line the limits
+  // come out the same each cycle (d_i·min_j v_j/d_j is constant when every d shrinks by the same
+  // factor), and an axis that overshot (braking from motion) gets the room it now needs.
+  if (!running && state_ != SupervisorState::kParked) PlanStop();
   bool at_rest = true;
-  for (std::size_t i = 0; i < 2; ++i) {
+  for (std::size_t i = 0; i < n; ++i) {
     AxisMotion& m = motion_[i];
     bool braking = false;
     if (running) {
@@ -218,12 +269,12 @@ std::array<double, 2> SafetySupervisor::Step(std::int64_t cycle, const SafetyInp
     } else if (state_ == SupervisorState::kParked) {
       // hold
     } else {
-      AxisLimits lim = config_.soft_stop[i];
+      AxisLimits lim = stop_limits_[i];
       // Start from the running state's limits if it is moving harder than comfort allows.
       lim.accel = std::max(lim.accel, std::min(std::abs(m.a), config_.axes[i].accel));
       lim.velocity = std::max(lim.velocity, std::min(std::abs(m.v), config_.axes[i].velocity));
-      lim.jerk = std::abs(m.a) > config_.soft_stop[i].accel ? config_.axes[i].jerk
-                                                            : config_.soft_stop[i].jerk;
+      // (beyond rounding: the plan's limits move by ulps from cycle to cycle)
+      lim.jerk = std::abs(m.a) > stop_limits_[i].accel * (1.0 + 1e-9) ? config_.axes[i].jerk : stop_limits_[i].jerk;
       const AxisLimits& space = config_.axes[i];  // the stop-inside check keeps full limits
       LimitedStep(lim, space, config_.dt, config_.neutral[i], &m, &braking);
       if (std::abs(m.p - config_.neutral[i]) > config_.park_position_tolerance ||

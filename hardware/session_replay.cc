@@ -8,7 +8,10 @@
 namespace pwsim::hw {
 void AppendInputLines(std::int64_t tick, const SessionInputs& in, LogLines* lines) {
   lines->Line('T').Int(tick).Int(in.now_ns).Int(in.scheduled_ns);
-  if (in.setpoint) lines->Line('M').Int(tick).Num((*in.setpoint)[0]).Num((*in.setpoint)[1]);
+  if (in.setpoint) {
+    lines->Line('M').Int(tick);
+    for (double x : *in.setpoint) lines->Num(x);
+  }
   if (in.camera) lines->Line('K').Int(tick).PoseNums(*in.camera);
   if (in.stop_request) lines->Line('X').Int(tick);
   for (const RxFrame& r : in.can) lines->Line('C').Int(r.rx_ns).Frame(r.frame);
@@ -66,7 +69,10 @@ ReplayResult ReplaySessionLog(std::istream& log) {
     ++number;
     if (line.empty()) continue;
     if (line[0] == '#') {
-      if (!core && line.rfind("# pwsim-session-log/1", 0) == 0) {
+      if (!core && line.rfind("# pwsim-session-log/", 0) == 0) {
+        if (line.rfind(std::string(kSessionLogMagic) + " ", 0) != 0)
+          return fail(number, "a session log of another format ('" + line.substr(0, line.find(' ', 2)) +
+                                  "'): this pwsim replays '" + kSessionLogMagic + "' logs");
         std::string error;
         auto config = SessionConfig::FromHeader(line, &error);
         if (!config) return fail(number, error);
@@ -74,7 +80,7 @@ ReplayResult ReplaySessionLog(std::istream& log) {
       }
       continue;
     }
-    if (!core) return fail(number, "no '# pwsim-session-log/1' header before the first record");
+    if (!core) return fail(number, std::string("no '") + kSessionLogMagic + "' header before the first record");
     const auto parts = SplitWords(line);
     const char kind = line[0];
     if (line.size() < 2 || line[1] != ' ') return fail(number, "expected '<kind> ...'");
@@ -94,9 +100,10 @@ ReplayResult ReplaySessionLog(std::istream& log) {
         break;
       }
       case 'M': {
-        std::array<double, 2> sp{};
-        if (parts.size() != 4 || !ParseF64(parts[2], &sp[0]) || !ParseF64(parts[3], &sp[1]))
-          return fail(number, "bad M record");
+        mca::DofArray sp{};
+        if (parts.size() != 2 + sp.size()) return fail(number, "bad M record (expected tick and 6 pose numbers)");
+        for (std::size_t k = 0; k < sp.size(); ++k)
+          if (!ParseF64(parts[2 + k], &sp[k])) return fail(number, "bad M record");
         in.setpoint = sp;
         break;
       }

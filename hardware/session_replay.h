@@ -13,7 +13,8 @@
 
 namespace pwsim::hw {
 
-/// The input lines for one step (T, M, K, X, C, H), in the order Replay reads them.
+/// The input lines for one step (T, M, K, X, C, H), in the order Replay reads them; the line
+/// formats are in session_core.h.
 void AppendInputLines(std::int64_t tick, const SessionInputs& in, LogLines* lines);
 void AppendInputLines(std::int64_t tick, const SessionInputs& in, std::vector<std::string>* lines);
 

@@ -63,23 +63,24 @@ void WaitUntil(std::int64_t deadline_ns, ICanBus& bus, UdpSocket* hmd, SessionIn
 /// Which axes answered the last SYNC with a TPDO1 (scans the frames received so far).
 class AnswerTracker {
  public:
-  explicit AnswerTracker(const MasterConfig& master) {
-    for (std::size_t k = 0; k < nodes_.size(); ++k) nodes_[k] = master.axes[k].node;
+  explicit AnswerTracker(const MasterConfig& master) : count_(static_cast<std::size_t>(master.axis_count)) {
+    for (std::size_t k = 0; k < count_; ++k) nodes_[k] = master.axes[k].node;
   }
   void Scan(const std::vector<RxFrame>& can) {
     for (; cursor_ < can.size(); ++cursor_) {
       std::uint8_t node = 0;
       if (canopen::Classify(can[cursor_].frame, &node) != canopen::FrameKind::kTpdo1) continue;
-      for (std::size_t k = 0; k < nodes_.size(); ++k)
+      for (std::size_t k = 0; k < count_; ++k)
         if (node == nodes_[k]) answered_ |= 1U << k;
     }
   }
-  bool all() const { return answered_ == (1U << nodes_.size()) - 1; }
+  bool all() const { return answered_ == (1U << count_) - 1; }
   void NewSync() { answered_ = 0; }
   void InputsCleared() { cursor_ = 0; }
 
  private:
-  std::array<std::uint8_t, kPlatformAxes> nodes_{};
+  std::size_t count_{0};
+  std::array<std::uint8_t, kMaxDriveAxes> nodes_{};
   unsigned answered_{0};
   std::size_t cursor_{0};
 };
@@ -122,7 +123,7 @@ SessionReport RunSession(const SessionConfig& config, SessionSource& source, con
   InputLatency to_hmd(static_cast<std::size_t>(last_tick / config.frame_ticks + 1000));
   std::optional<CandumpWriter> dump;
   if (io.candump != nullptr) dump.emplace(*io.candump, "can0");
-  if (io.log != nullptr) *io.log << "# pwsim-session-log/1 " << config.ToHeader() << "\n";
+  if (io.log != nullptr) *io.log << kSessionLogMagic << " " << config.ToHeader() << "\n";
   const std::int64_t ns_per_tick = 1'000'000'000LL / config.clock_rate_hz;
   const std::int64_t start = MonotonicNs() + 2'000'000;  // first tick 2 ms from now
   // A step that wakes more than half a drive cycle late (the process was not scheduled) does
@@ -134,7 +135,7 @@ SessionReport RunSession(const SessionConfig& config, SessionSource& source, con
   std::int64_t slip_ns = 0;
   std::int64_t slips = 0;
   AnswerTracker answers(config.master);
-  bool drives_answering = false;  // both axes answered a SYNC: lockstep waits from then on
+  bool drives_answering = false;  // every axis answered a SYNC: lockstep waits from then on
   std::int64_t last_sync_ns = start;
   SessionInputs in;
   in.can.reserve(256);
@@ -186,6 +187,10 @@ SessionReport RunSession(const SessionConfig& config, SessionSource& source, con
       AppendInputLines(tick, in, &lines);
       for (std::string_view l : lines) *io.log << l << '\n';
       for (std::string_view l : out.log) *io.log << l << '\n';
+    }
+    if (io.events != nullptr) {
+      for (std::string_view l : out.log)
+        if (!l.empty() && l[0] == 'E') *io.events << io.events_prefix << l.substr(2) << '\n' << std::flush;
     }
     // Reset for the next step, keeping the vectors' capacity.
     in.can.clear();

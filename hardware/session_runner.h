@@ -22,9 +22,9 @@
 namespace pwsim::hw {
 
 struct SessionStreams {
-  /// MCA setpoint per drive tick (index tick / drive_cycle_ticks); held at the last value
-  /// after the end.
-  std::vector<std::array<double, kPlatformAxes>> setpoints;
+  /// The MCA's pose command per drive tick (index tick / drive_cycle_ticks); held at the last
+  /// value after the end. The core turns it into actuator setpoints (inverse kinematics).
+  std::vector<mca::DofArray> setpoints;
   /// Camera pose per frame tick (index tick / frame_ticks); held after the end.
   std::vector<Pose> cameras;
   /// The cueing that made the setpoints ("washout", "mpc"; mca::McaAlgorithmName), for the record.
@@ -71,9 +71,13 @@ struct RunnerIo {
   UdpAddress hmd_peer;
   std::ostream* log{nullptr};   ///< session log (replayable); may be null
   std::ostream* candump{nullptr};  ///< candump -l style log of all bus traffic; may be null
+  /// Each event line of the core (E lines: supervisor and master states, drive events) as it
+  /// happens, after `events_prefix` (other processes can wait for them); may be null.
+  std::ostream* events{nullptr};
+  std::string events_prefix;
   const std::atomic<bool>* stop{nullptr};  ///< set by a signal handler: graceful soft stop
   int rt_priority{0};           ///< > 0: try SCHED_FIFO at this priority and lock memory
-  /// > 0: lockstep with the drives for hosts without real-time scheduling: once both axes
+  /// > 0: lockstep with the drives for hosts without real-time scheduling: once every axis
   /// answered a SYNC, each drive step first waits (up to this long after the last SYNC) for
   /// their TPDO1 answering it. A late answer then slips the schedule instead of tripping the
   /// TPDO watchdog; a drive that does not answer within the bound ends the waiting (until

@@ -18,26 +18,38 @@ Pose CameraPose(double x, double z, double pitch) {
   return p;
 }
 
-mca::McaConfig SessionMcaConfig(const Scene& scene, std::optional<mca::McaAlgorithm> algorithm) {
+mca::McaConfig SessionMcaConfig(const Scene& scene, std::optional<mca::McaAlgorithm> algorithm,
+                                const PlatformChoice* platform) {
   mca::McaConfig mca_config = mca::LoadMcaConfig(scene);
-  // The hardware link drives the 2-DoF rail + yaw platform of seed 001. A scene platform with
-  // both axes is used as given; otherwise (e.g. the 4-DoF PW platform) the MCA is re-targeted
-  // to the car platform, and the description says so.
-  std::string note;
-  if (scene.section("platform") == nullptr || !mca_config.platform.Has(mca::Dof::kSurge) ||
-      !mca_config.platform.Has(mca::Dof::kYaw)) {
-    if (scene.section("platform") != nullptr)
-      note = " (scene platform '" + mca_config.platform.name + "' lacks surge or yaw: replaced)";
-    mca_config.platform = mca::MakeCar2DofPlatform();
-    mca_config.platform_source = "built-in car 2-DoF (seed 001)" + note;
+  if (platform != nullptr) {
+    mca_config.platform = platform->spec;
+    mca_config.platform_source = platform->source;
+    // the scene's algorithm is checked again on this platform (the MPC's start from rest)
+    if (!algorithm) mca::ChooseAlgorithm(mca_config.algorithm, mca_config);
   }
   if (algorithm) mca::ChooseAlgorithm(*algorithm, mca_config);
   return mca_config;
 }
 
-SessionStreams BuildSessionStreams(const Scene& scene, const SessionConfig& config,
-                                   std::string* description, std::optional<mca::McaAlgorithm> algorithm) {
-  const mca::McaConfig mca_config = SessionMcaConfig(scene, algorithm);
+void CheckSessionPlatform(const SessionConfig& config, const mca::PlatformSpec& platform) {
+  const mca::Mechanism& m = platform.mechanism;
+  bool same = m.actuator_count() == config.mechanism.actuator_count();
+  for (int i = 0; same && i < m.actuator_count(); ++i)
+    same = m.actuator(i).name == config.mechanism.actuator(i).name && m.actuator(i).kind == config.mechanism.actuator(i).kind;
+  if (!same)
+    throw std::invalid_argument("the session drives platform '" + config.platform + "' (" +
+                                std::to_string(config.mechanism.actuator_count()) + " actuators), the MCA cues '" +
+                                platform.name + "' (" + std::to_string(m.actuator_count()) + ")");
+}
+
+SessionStreams BuildSessionStreams(const Scene& scene, const SessionConfig& config, std::string* description,
+                                   std::optional<mca::McaAlgorithm> algorithm) {
+  return BuildSessionStreams(scene, config, SessionMcaConfig(scene, algorithm), description);
+}
+
+SessionStreams BuildSessionStreams(const Scene& scene, const SessionConfig& config, const mca::McaConfig& mca_config,
+                                   std::string* description) {
+  CheckSessionPlatform(config, mca_config.platform);
   if (scene.clock.rate_hz != config.clock_rate_hz) {
     throw std::invalid_argument("scene clock " + std::to_string(scene.clock.rate_hz) +
                                 " Hz differs from the session clock " +
@@ -52,20 +64,18 @@ SessionStreams BuildSessionStreams(const Scene& scene, const SessionConfig& conf
 
   SessionStreams streams;
   streams.mca_algorithm = mca::McaAlgorithmName(mca_config.algorithm);
-  for (std::size_t k = 0; k < trace.commands.size(); k += static_cast<std::size_t>(config.drive_cycle_ticks)) {
-    const auto& pose = trace.commands[k].pose;
-    streams.setpoints.push_back({pose[static_cast<std::size_t>(mca::Index(mca::Dof::kYaw))],
-                                 pose[static_cast<std::size_t>(mca::Index(mca::Dof::kSurge))]});
-  }
+  for (std::size_t k = 0; k < trace.commands.size(); k += static_cast<std::size_t>(config.drive_cycle_ticks))
+    streams.setpoints.push_back(trace.commands[k].pose);
   for (std::size_t k = 0; k < samples.size(); k += static_cast<std::size_t>(config.frame_ticks)) {
     const mca::HeadPose h = mca::HeadPoseFromChair(samples[k], scene.occupant.head_offset);
     streams.cameras.push_back(CameraPose(h.x, h.z, h.pitch));
   }
   if (description != nullptr) {
     *description = std::string("MCA (mca::RunCueing, ") + mca::McaAlgorithmName(mca_config.algorithm) + ") on platform '" + mca_config.platform.name + "' (" +
-                   mca_config.platform_source + "), " + std::to_string(samples.size()) +
+                   mca_config.platform_source + ", " + std::to_string(config.mechanism.actuator_count()) +
+                   " drives), " + std::to_string(samples.size()) +
                    " chair ticks -> " + std::to_string(streams.setpoints.size()) +
-                   " setpoints, " + std::to_string(streams.cameras.size()) + " camera poses";
+                   " pose commands, " + std::to_string(streams.cameras.size()) + " camera poses";
   }
   return streams;
 }

@@ -33,7 +33,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (canopen::DecodeCspStatus(f, &node, &s)) (void)canopen::DecodeStatusword(s.statusword);
     master.OnFrame(f);
     out.clear();
-    master.Cycle(cycle++, {0.0, 0.0}, &out);
+    master.Cycle(cycle++, AxisValues{}, &out);
     for (const CanFrame& x : out)
       if (!IsValidFrame(x)) std::abort();
   }

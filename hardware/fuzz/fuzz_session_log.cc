@@ -11,7 +11,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     pwsim::hw::SessionConfig c;
     c.run_ticks = 40;
     c.max_stop_ticks = 100;
-    return "# pwsim-session-log/1 " + c.ToHeader() + "\n";
+    return std::string(pwsim::hw::kSessionLogMagic) + " " + c.ToHeader() + "\n";
   }();
   std::string text = header;
   text.append(reinterpret_cast<const char*>(data), size);

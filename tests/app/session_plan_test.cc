@@ -42,6 +42,15 @@ const std::string kPwsim = std::string(PWSIM_BINARY_DIR) + "/pwsim";
 const fs::path kTrial = fs::path(PWSIM_SOURCE_DIR) / "assets/trials-demo/v1.20_m0_cushion_r1";
 const fs::path kScene = fs::path(PWSIM_SOURCE_DIR) / "scenes/speed_cushion.yaml";
 
+/// The session's configuration for `scene`: its clock and its platform's drives (pw4dof: 5).
+hw::SessionConfig ConfigFor(const Scene& scene) {
+  hw::SessionConfig config;
+  config.clock_rate_hz = scene.clock.rate_hz;
+  const mca::PlatformSpec platform = hw::SessionMcaConfig(scene).platform;
+  config.SetPlatform(platform.name, platform.mechanism);
+  return config;
+}
+
 Chair ModelChair(const MeasuredTrial& trial) {
   return trial.chair.gm && trial.chair.lm ? trial.chair : MakeTableOneChair();
 }
@@ -73,8 +82,7 @@ TEST(TrialTrack, MeasuredTrackIsTheMocapAndModelDiffers) {
 TEST(TrackStreams, OneSetpointPerDriveCycleAndTheTicksMustMatch) {
   const Scene scene = LoadScene(kScene);
   const MeasuredTrial trial = ReadMeasuredTrial(kTrial);
-  hw::SessionConfig config;
-  config.clock_rate_hz = scene.clock.rate_hz;
+  const hw::SessionConfig config = ConfigFor(scene);
   const double dt = 1.0 / config.clock_rate_hz;
   const mca::SagittalTrack track = TrialTrack(trial, TrialSource::kMeasured, ModelChair(trial), dt);
   std::string description;
@@ -129,7 +137,9 @@ int RunSession(const fs::path& dir, const std::string& out_name, const std::vect
   probe = hw::UdpSocket();  // free the port for platform-sim
   int fds[2];
   if (::pipe(fds) != 0) return -11;
-  const pid_t platform = Spawn({kPwsim, "platform-sim", "--listen", "127.0.0.1:" + port, "--idle-exit", "1", "--adopt-first-peer"},
+  // the scene's platform: pw4dof, five drives
+  const pid_t platform = Spawn({kPwsim, "platform-sim", "--platform", std::string(PWSIM_SOURCE_DIR) + "/scenes/platforms/pw4dof.yaml",
+                                "--listen", "127.0.0.1:" + port, "--idle-exit", "1", "--adopt-first-peer"},
                                dir / "platform.err", fds[1]);
   ::close(fds[1]);
   // event: platform-sim's first line says it is listening
@@ -160,18 +170,24 @@ int RunPlannedSession(const fs::path& dir, const std::string& participant, int i
                     outputs);
 }
 
-/// The setpoints a session logged (its "M tick yaw rail" lines), as written.
-std::vector<std::array<std::string, 3>> LoggedSetpoints(const fs::path& log_file) {
-  std::vector<std::array<std::string, 3>> rows;
+/// The pose commands a session logged (its "M tick surge sway heave roll pitch yaw" lines), as
+/// written: the tick, then the six numbers.
+std::vector<std::array<std::string, 7>> LoggedSetpoints(const fs::path& log_file) {
+  std::vector<std::array<std::string, 7>> rows;
   std::ifstream log(log_file);
   for (std::string line; std::getline(log, line);) {
     if (line.rfind("M ", 0) != 0) continue;
     std::istringstream in(line.substr(2));
-    std::array<std::string, 3> row;
-    in >> row[0] >> row[1] >> row[2];
+    std::array<std::string, 7> row;
+    for (std::string& x : row) in >> x;
     rows.push_back(row);
   }
   return rows;
+}
+
+/// The logged pose command is `pose`, bit for bit.
+void ExpectLogged(const std::array<std::string, 7>& row, const mca::DofArray& pose) {
+  for (std::size_t k = 0; k < pose.size(); ++k) ASSERT_EQ(row[k + 1], FormatDouble(pose[k])) << "tick " << row[0] << " axis " << k;
 }
 
 TEST(SessionPlan, EachPlannedTrialReplaysItsConditionsSource) {
@@ -203,8 +219,7 @@ TEST(SessionPlan, EachPlannedTrialReplaysItsConditionsSource) {
     EXPECT_EQ(j["source"], TrialSourceName(source));
 
     // every logged setpoint is the planned source's, bit for bit
-    hw::SessionConfig config;
-    config.clock_rate_hz = scene.clock.rate_hz;
+    const hw::SessionConfig config = ConfigFor(scene);
     const double dt = 1.0 / config.clock_rate_hz;
     const hw::SessionStreams streams = hw::BuildTrackSessionStreams(
         scene, config, TrialTrack(trial, source, ModelChair(trial), dt), 20, "", nullptr);
@@ -212,18 +227,11 @@ TEST(SessionPlan, EachPlannedTrialReplaysItsConditionsSource) {
     const hw::SessionStreams other = hw::BuildTrackSessionStreams(
         scene, config, TrialTrack(trial, other_source, ModelChair(trial), dt), 20, "", nullptr);
     int discriminating = 0;  // logged setpoints the other source would have made differently
-    std::ifstream log(out / "session.log");
-    std::string line;
     int compared = 0;
-    while (std::getline(log, line)) {
-      if (line.rfind("M ", 0) != 0) continue;
-      std::istringstream in(line.substr(2));
-      long long tick = 0;
-      std::string yaw, rail;
-      in >> tick >> yaw >> rail;
+    for (const auto& row : LoggedSetpoints(out / "session.log")) {
+      const long long tick = std::stoll(row[0]);
       const auto i = std::min(static_cast<std::size_t>(tick / config.drive_cycle_ticks), streams.setpoints.size() - 1);
-      ASSERT_EQ(yaw, FormatDouble(streams.setpoints[i][0])) << line;
-      ASSERT_EQ(rail, FormatDouble(streams.setpoints[i][1])) << line;
+      ExpectLogged(row, streams.setpoints[i]);
       if (other.setpoints[std::min(i, other.setpoints.size() - 1)] != streams.setpoints[i]) ++discriminating;
       ++compared;
     }
@@ -269,18 +277,16 @@ TEST(SessionMca, OptionReachesTheLoop) {
   EXPECT_EQ(j["mca"], "mpc");
 
   const Scene scene = LoadScene(kScene);
-  hw::SessionConfig config;
-  config.clock_rate_hz = scene.clock.rate_hz;
+  const hw::SessionConfig config = ConfigFor(scene);
   const hw::SessionStreams mpc = hw::BuildSessionStreams(scene, config, nullptr, mca::McaAlgorithm::kMpc);
   const hw::SessionStreams washout = hw::BuildSessionStreams(scene, config, nullptr);
   EXPECT_EQ(mpc.mca_algorithm, "mpc");
   EXPECT_EQ(washout.mca_algorithm, "washout");
   int compared = 0, discriminating = 0;
-  for (const auto& [tick_text, yaw, rail] : LoggedSetpoints(dir / "out" / "session.log")) {
-    const long long tick = std::stoll(tick_text);
+  for (const auto& row : LoggedSetpoints(dir / "out" / "session.log")) {
+    const long long tick = std::stoll(row[0]);
     const auto i = std::min(static_cast<std::size_t>(tick / config.drive_cycle_ticks), mpc.setpoints.size() - 1);
-    ASSERT_EQ(yaw, FormatDouble(mpc.setpoints[i][0])) << tick;
-    ASSERT_EQ(rail, FormatDouble(mpc.setpoints[i][1])) << tick;
+    ExpectLogged(row, mpc.setpoints[i]);
     if (washout.setpoints[std::min(i, washout.setpoints.size() - 1)] != mpc.setpoints[i]) ++discriminating;
     ++compared;
   }

@@ -21,8 +21,8 @@ TEST(CarSessionStreams, SeedDriveGivesSetpointsInsideTheRailAndYawingCameras) {
   EXPECT_EQ(streams.cameras.size(), (ticks + 9) / 10);
   double rail = 0.0, yaw = 0.0;
   for (const auto& s : streams.setpoints) {
-    yaw = std::max(yaw, std::abs(s[0]));
-    rail = std::max(rail, std::abs(s[1]));
+    yaw = std::max(yaw, std::abs(s[mca::Index(mca::Dof::kYaw)]));
+    rail = std::max(rail, std::abs(s[mca::Index(mca::Dof::kSurge)]));
   }
   EXPECT_LE(rail, 0.6 + 1e-9);
   EXPECT_GT(rail, 0.05);

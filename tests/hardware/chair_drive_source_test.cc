@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "hardware/rnet_joystick.h"
+#include "hardware/session_streams.h"
 
 namespace pwsim::hw {
 namespace {
@@ -36,7 +37,7 @@ TEST(ChairDeflectionFromJoystick, ForwardIsYTurnIsLeftAndLossReleases) {
 }
 
 struct Drive {
-  std::vector<std::array<double, kPlatformAxes>> setpoints;
+  std::vector<mca::DofArray> setpoints;
   std::vector<Pose> cameras;
   double x{0.0};
   std::size_t trace{0};
@@ -45,7 +46,7 @@ struct Drive {
 Drive DriveCourse(const Scene& scene, std::int64_t ticks) {
   RnetLogJoystick log(ReadCandumpFile(std::filesystem::path(PWSIM_SOURCE_DIR) / "assets/rnet/joystick_synthetic.log"),
                       scene.clock.rate_hz, {-1, 100}, "log");
-  ChairDriveSource source(scene, log, ticks);
+  ChairDriveSource source(scene, log, ticks, SessionMcaConfig(scene));
   Drive d;
   for (std::int64_t tick = 0; tick <= ticks; tick += 2) {  // session steps every 2 ticks
     SessionInputs in;
@@ -62,29 +63,29 @@ Drive DriveCourse(const Scene& scene, std::int64_t ticks) {
   return d;
 }
 
-// Tests that the recorded R-Net log drives the chair forward along the course, the rail follows
-// the surge (setpoints within the car platform's rail), every tick is in the trace, and the same
-// drive gives the same bits.
-TEST(ChairDriveSource, TheRnetLogDrivesTheChairAndTheRailDeterministically) {
+// Tests that the recorded R-Net log drives the chair forward along the course, the MCA's pose
+// command on the PW platform (the scene's pw4dof) tilts it (pitch from the surge acceleration)
+// within its travel and never asks for the axes the platform lacks, every tick is in the trace,
+// and the same drive gives the same bits.
+TEST(ChairDriveSource, TheRnetLogDrivesTheChairAndThePlatformDeterministically) {
   const Scene scene = LoadScene(std::filesystem::path(PWSIM_SOURCE_DIR) / "scenes/circuit_course.yaml");
   const Drive a = DriveCourse(scene, 4000);
   EXPECT_GT(a.x, 0.5);
   EXPECT_EQ(a.trace, 4001u);
-  double peak_rail = 0.0;
+  double peak_pitch = 0.0;
   for (const auto& s : a.setpoints) {
-    ASSERT_TRUE(std::isfinite(s[0]) && std::isfinite(s[1]));
-    peak_rail = std::max(peak_rail, std::abs(s[1]));
+    for (double x : s) ASSERT_TRUE(std::isfinite(x));
+    ASSERT_EQ(s[mca::Index(mca::Dof::kSurge)], 0.0);  // pw4dof moves heave, roll, pitch, yaw
+    ASSERT_EQ(s[mca::Index(mca::Dof::kSway)], 0.0);
+    peak_pitch = std::max(peak_pitch, std::abs(s[mca::Index(mca::Dof::kPitch)]));
   }
-  EXPECT_GT(peak_rail, 0.01) << "the chair's surge should move the rail";
-  EXPECT_LE(peak_rail, 0.6);
+  EXPECT_GT(peak_pitch, 1e-3) << "the chair's acceleration should tilt the platform";
+  EXPECT_LE(peak_pitch, 15.0 * mca::kDegToRad);
   // the camera is the head: 1.25 m above O_V, ahead of it by 0.05 m on the course's axis
   EXPECT_NEAR(a.cameras.front().p[2], 1.25, 0.05);
   const Drive b = DriveCourse(scene, 4000);
   ASSERT_EQ(a.setpoints.size(), b.setpoints.size());
-  for (std::size_t i = 0; i < a.setpoints.size(); ++i) {
-    ASSERT_EQ(a.setpoints[i][0], b.setpoints[i][0]) << i;
-    ASSERT_EQ(a.setpoints[i][1], b.setpoints[i][1]) << i;
-  }
+  for (std::size_t i = 0; i < a.setpoints.size(); ++i) ASSERT_EQ(a.setpoints[i], b.setpoints[i]) << i;
 }
 
 }  // namespace

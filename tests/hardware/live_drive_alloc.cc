@@ -8,6 +8,7 @@
 #include "engine/check.h"
 #include "hardware/car_drive_source.h"
 #include "hardware/chair_drive_source.h"
+#include "hardware/session_streams.h"
 #include "hardware/rnet_joystick.h"
 
 namespace pwsim::hw {
@@ -42,8 +43,8 @@ long ChairDriveFillAllocations(std::atomic<bool>& counting, std::atomic<long>& a
   const Scene scene = LoadScene(std::filesystem::path(PWSIM_SOURCE_DIR) / "scenes/circuit_course.yaml");
   RnetLogJoystick log(ReadCandumpFile(std::filesystem::path(PWSIM_SOURCE_DIR) / "assets/rnet/joystick_synthetic.log"),
                       scene.clock.rate_hz, {-1, 100}, "log");
-  ChairDriveSource source(scene, log, 4200, algorithm);
-  if (algorithm) PWSIM_DEMAND(source.pw4dof_mca().algorithm == *algorithm && source.session_mca().algorithm == *algorithm);
+  ChairDriveSource source(scene, log, 4200, SessionMcaConfig(scene, algorithm));
+  if (algorithm) PWSIM_DEMAND(source.mca().algorithm == *algorithm);
   SessionInputs in;
   counting = false;
   allocations = 0;
@@ -54,7 +55,7 @@ long ChairDriveFillAllocations(std::atomic<bool>& counting, std::atomic<long>& a
   }
   *distance = source.last_sample().distance;
   if (algorithm == mca::McaAlgorithm::kMpc) {
-    PWSIM_DEMAND(source.pw4dof_mpc_stats().solves > 400 && source.session_mpc_stats().solves > 400);
+    PWSIM_DEMAND(source.mpc_stats().solves > 400);
   }
   return allocations.load();
 }

@@ -72,6 +72,18 @@ TEST(SessionAlloc, AWholeSessionStepsWithoutAllocating) {
   EXPECT_TRUE(rr.ok) << rr.message;
 }
 
+// The PW platform's five drives: inverse kinematics of every pose command, forward kinematics
+// of every measurement, five RPDOs a cycle: still nothing allocated in the step.
+TEST(SessionAlloc, AWholeSessionOnTheFiveDrivesOfThePwPlatformStepsWithoutAllocating) {
+  World w(3000, mca::ReadPlatformFile(std::filesystem::path(PWSIM_SOURCE_DIR) / "scenes/platforms/pw4dof.yaml"));
+  const long n = StepAllocations(w);
+  ASSERT_TRUE(w.core->done());
+  const SessionReport r = w.core->Report();
+  EXPECT_EQ(r.final_state, "parked");
+  EXPECT_GT(r.peak_abs_measured_pose[mca::Index(mca::Dof::kPitch)], 0.01);
+  EXPECT_EQ(n, 0) << "allocations inside SessionCore::Step";
+}
+
 TEST(SessionAlloc, FaultsAndStopsStepWithoutAllocating) {
   // Each stop path writes its own log lines (supervisor reason, finishing, master phases).
   const std::vector<std::pair<const char*, std::function<void(World&)>>> cases = {

@@ -1,9 +1,12 @@
 // End to end on loopback: `pwsim session`, `pwsim platform-sim` and `pwsim hmd-peer` as three
-// processes. Checks the visual-platform skew, that no limit is ever exceeded (commands in the
-// session's report, positions in the simulated drives' report), a clean soft stop to neutral
-// when a peer vanishes, that the session log replays bit for bit, and that each link takes
-// datagrams from its peer only: a fourth process (this test) sending well-formed spoofed frames
-// and commands to every socket moves nothing and is counted.
+// processes. Checks the visual-platform skew, that no limit is ever exceeded (commands and
+// measurements in the session's report, every actuator's states in the simulated drives'
+// report), a clean soft stop to neutral when the headset vanishes, the truth about the drives
+// (platform-sim killed mid-motion: a non-zero exit and a report of what the drives last did;
+// platform-sim restarted: re-admitted, parked, exit 6), the PW platform's five drives, that the
+// session log replays bit for bit, and that each link takes datagrams from its peer only: a
+// fourth process (this test) sending well-formed spoofed frames and commands to every socket
+// moves nothing and is counted.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <fcntl.h>
@@ -102,24 +105,9 @@ class Child {
 
   /// Blocks until a line starting with `prefix` has been written; returns the rest of it, or
   /// nullopt when the child closed its output (or the guard ran out) first.
-  std::optional<std::string> WaitForLine(const std::string& prefix) {
-    std::unique_lock<std::mutex> lock(mutex_);
-    std::optional<std::string> found;
-    changed_.wait_for(lock, std::chrono::duration<double>(kGuardS), [&] {
-      std::size_t at = 0;
-      for (;;) {
-        const std::size_t end = output_.find('\n', at);
-        if (end == std::string::npos) break;
-        if (output_.compare(at, prefix.size(), prefix) == 0) {
-          found = output_.substr(at + prefix.size(), end - at - prefix.size());
-          return true;
-        }
-        at = end + 1;
-      }
-      return eof_;
-    });
-    return found;
-  }
+  std::optional<std::string> WaitForLine(const std::string& prefix) { return Wait(prefix, false); }
+  /// The same for a line containing `text` anywhere; returns the whole line.
+  std::optional<std::string> WaitForLineContaining(const std::string& text) { return Wait(text, true); }
 
   /// Waits for the exit (pidfd readable) up to `seconds`; returns the exit code, -2 for a
   /// signal, or -1 (then kills it) when the guard ran out.
@@ -146,6 +134,29 @@ class Child {
     return output_;
   }
 
+ private:
+  std::optional<std::string> Wait(const std::string& text, bool anywhere) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    std::optional<std::string> found;
+    changed_.wait_for(lock, std::chrono::duration<double>(kGuardS), [&] {
+      std::size_t at = 0;
+      for (;;) {
+        const std::size_t end = output_.find('\n', at);
+        if (end == std::string::npos) break;
+        const std::string_view line(output_.data() + at, end - at);
+        if (anywhere ? line.find(text) != std::string_view::npos : line.rfind(text, 0) == 0) {
+          found = std::string(anywhere ? line : line.substr(text.size()));
+          return true;
+        }
+        at = end + 1;
+      }
+      return eof_;
+    });
+    return found;
+  }
+
+ public:
+
   void Signal(int signal) {
     if (pid_ > 0 && status_ == kRunning) ::kill(pid_, signal);
   }
@@ -167,9 +178,17 @@ nlohmann::json ReadJson(const fs::path& file) {
   return nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
 }
 
+const std::string kPw4Dof = std::string(PWSIM_SOURCE_DIR) + "/scenes/platforms/pw4dof.yaml";
+const std::string kCar2Dof = std::string(PWSIM_SOURCE_DIR) + "/scenes/platforms/car2dof.yaml";
+
 struct E2e {
   fs::path dir;
   std::string outputs;
+  /// platform-sim's --platform (empty: its default, the car) and the session's --platform
+  /// (empty: the scene's own; a car scene takes none).
+  std::string sim_platform;
+  std::string session_platform;
+  std::vector<std::string> session_extra;  ///< more session options
   explicit E2e(const std::string& name)
       : dir(fs::temp_directory_path() / ("pwsim_e2e_" + name + "_" + std::to_string(::getpid()))) {
     fs::remove_all(dir);
@@ -211,6 +230,7 @@ struct E2e {
                                    "udp:" + ports.session_can, "--idle-exit", "1", "--report",
                                    (dir / "platform.json").string()};
     ps.insert(ps.end(), platform_extra.begin(), platform_extra.end());
+    if (!sim_platform.empty()) ps.insert(ps.end(), {"--platform", sim_platform});
     std::vector<std::string> hp = {kPwsim, "hmd-peer", "--listen", "127.0.0.1:0", "--peer", "udp:" + ports.session_hmd,
                                    "--clock-offset-ms", "25", "--duration", "300", "--report",
                                    (dir / "hmd.json").string()};
@@ -219,7 +239,8 @@ struct E2e {
     Child platform(ps);
     Child hmd(hp);
     const std::optional<std::string> can_at = platform.WaitForLine("pwsim platform-sim: listening on ");
-    const std::optional<std::string> hmd_at = hmd.WaitForLine("pwsim hmd-peer: listening on ");
+    std::optional<std::string> hmd_at = hmd.WaitForLine("pwsim hmd-peer: listening on ");
+    if (hmd_at) hmd_at = hmd_at->substr(0, hmd_at->find(','));  // "HOST:PORT, stream N"
     const bool peers_ready = can_at && hmd_at && !ports.session_can.empty() && !ports.session_hmd.empty();
     if (peers_ready) {
       ports.platform = *can_at;
@@ -228,6 +249,8 @@ struct E2e {
       args.insert(args.end(), {"--can", "udp:" + *can_at, "--can-local", ports.session_can, "--hmd", "udp:" + *hmd_at,
                      "--hmd-local", ports.session_hmd, "--duration", std::to_string(duration_s),
                      "--max-stop-s", "10", "--drive-wait-ms", "1000", "--out", (dir / "out").string()});
+      if (!session_platform.empty()) args.insert(args.end(), {"--platform", session_platform});
+      args.insert(args.end(), session_extra.begin(), session_extra.end());
       Child session(args);
       if (during) during(platform, hmd, session, ports);
       r.session = session.Wait(kGuardS);
@@ -245,21 +268,40 @@ struct E2e {
   const std::string& Outputs() const { return outputs; }
 };
 
+/// No limit exceeded: the session's commands (finite differences) and its measurements (every
+/// drive's position inside its stroke, its speed within the tolerance), each command inside the
+/// actuator's stroke, and the simulated drives' own account (every actuator's states on every
+/// substep against its stroke and speed; acceleration and force are the servo's own: the car's
+/// seed-001 plant overshoots a commanded acceleration at its limit by a few per cent).
 void ExpectWithinLimits(const E2e::Result& r) {
   ASSERT_TRUE(r.report.is_object());
   EXPECT_TRUE(r.report["limits_ok"].get<bool>());
-  EXPECT_LE(r.report["peak_abs_command"][1].get<double>(), 0.55);
-  EXPECT_LE(r.report["peak_abs_command_velocity"][1].get<double>(), 2.45);
-  EXPECT_LE(r.report["peak_abs_command_accel"][1].get<double>(), 12.005 * (1 + 1e-6));
-  if (r.platform_report.is_object()) {
-    EXPECT_LE(r.platform_report["peak_abs_position"][0].get<double>(), 0.5236);
-    EXPECT_LE(r.platform_report["peak_abs_position"][1].get<double>(), 0.6);
+  EXPECT_TRUE(r.report["within_limits"].get<bool>());
+  for (const auto& d : r.report["drives"]) {
+    EXPECT_GE(d["command"]["min"].get<double>(), d["stroke"][0].get<double>()) << d.dump();
+    EXPECT_LE(d["command"]["max"].get<double>(), d["stroke"][1].get<double>()) << d.dump();
+    EXPECT_LE(d["command"]["peak_velocity"].get<double>(), d["speed"].get<double>() * (1 + 1e-9)) << d.dump();
   }
+  if (r.platform_report.is_object()) {
+    const auto& exceeded = r.platform_report["limits_exceeded"];
+    for (const char* key : {"stroke", "speed"}) EXPECT_FALSE(exceeded[key].get<bool>()) << key;
+  }
+}
+
+/// A drive's entry in report.json by its actuator's name.
+const nlohmann::json& Drive(const nlohmann::json& report, const std::string& actuator) {
+  for (const auto& d : report["drives"])
+    if (d["actuator"] == actuator) return d;
+  static const nlohmann::json none;
+  return none;
 }
 
 TEST(SessionEndToEnd, ThreeProcessesOnLoopbackStayInStepAndInsideTheLimits) {
   if (!fs::exists(kPwsim)) GTEST_SKIP() << kPwsim << " not built";
+  // The chair scene on the car's rail + yaw (2 drives): hmd-peer, the headset stand-in, rides the
+  // commanded yaw and rail (CAMERA_POSE), so the compensation is checked where it rides exactly.
   E2e e("normal");
+  e.sim_platform = e.session_platform = kCar2Dof;
   const E2e::Result r = e.Run({}, {}, 2.0);
   ASSERT_EQ(r.session, 0) << e.Outputs();
   EXPECT_EQ(r.hmd, 0) << e.Outputs();
@@ -267,7 +309,9 @@ TEST(SessionEndToEnd, ThreeProcessesOnLoopbackStayInStepAndInsideTheLimits) {
   ExpectWithinLimits(r);
   EXPECT_EQ(r.report["final_state"], "parked");
   EXPECT_EQ(r.report["stop_reason"], "stop requested");
-  EXPECT_GT(r.report["peak_abs_command"][1].get<double>(), 0.01) << "the platform should move";
+  EXPECT_EQ(r.report["exit_status"].get<int>(), 0);
+  EXPECT_EQ(r.report["platform"], "car2dof");
+  EXPECT_GT(Drive(r.report, "rail")["command"]["max"].get<double>(), 0.01) << "the platform should move";
   // Skew between the visual frame reaching the headset and the drives taking the same tick.
   // Only the median is asserted: the tail measures how the host schedules three processes
   // (docs/hardware.md has measured figures), which a test on a shared machine cannot promise.
@@ -277,8 +321,10 @@ TEST(SessionEndToEnd, ThreeProcessesOnLoopbackStayInStepAndInsideTheLimits) {
   // hmd-peer runs 25 ms ahead; the NTP-style estimate is within half its sample's round trip.
   EXPECT_NEAR(r.report["clock_offset_ns"].get<double>(), 25e6,
               0.5 * r.report["clock_rtt_ns"].get<double>() + 1e3);
-  // Parked at neutral on the drives' side too.
+  // Parked at neutral on the drives' side too, and the session says where they were.
   EXPECT_NEAR(r.platform_report["final_position"][1].get<double>(), 0.0, 2e-3);
+  EXPECT_NEAR(Drive(r.report, "rail")["last"]["position"].get<double>(),
+              r.platform_report["final_position"][1].get<double>(), 1e-5);  // disabled: it may settle a little
   // Motion compensation: the headset reports its head in the room, carried by the platform;
   // with the measured platform pose removed, the seated head stays put: x within 1 cm for the
   // median pose. (A pose the headset stamps late, because it was not scheduled, is compensated
@@ -313,6 +359,7 @@ TEST(SessionEndToEnd, ThreeProcessesOnLoopbackStayInStepAndInsideTheLimits) {
 TEST(SessionEndToEnd, HeadsetVanishingLeadsToACleanSoftStop) {
   if (!fs::exists(kPwsim)) GTEST_SKIP() << kPwsim << " not built";
   E2e e("hmd_gone");
+  e.sim_platform = e.session_platform = kCar2Dof;
   const E2e::Result r = e.Run({}, {"--exit-after", "1.2"}, 5.0);
   ASSERT_EQ(r.session, 0) << e.Outputs();
   ExpectWithinLimits(r);
@@ -322,24 +369,131 @@ TEST(SessionEndToEnd, HeadsetVanishingLeadsToACleanSoftStop) {
   EXPECT_NEAR(r.platform_report["final_position"][1].get<double>(), 0.0, 2e-3) << e.Outputs();
 }
 
-TEST(SessionEndToEnd, PlatformVanishingLeadsToASoftStopAndACleanExit) {
+// platform-sim killed (SIGKILL) mid-motion on the PW platform: the session soft-stops on its own
+// trajectory, waits --drive-return-s for the drives, and ends without a "parked": a non-zero
+// exit (5) and a report of what the drives last did (positions away from neutral, how long ago,
+// their state). Synchronised on events: the drives enabled, a second of frames shown.
+TEST(SessionEndToEnd, PlatformSimKilledMidMotionExitsNonZeroAndReportsWhatTheDrivesLastDid) {
   if (!fs::exists(kPwsim)) GTEST_SKIP() << kPwsim << " not built";
-  E2e e("platform_gone");
-  const E2e::Result r = e.Run({"--exit-after", "1.2"}, {}, 5.0);
+  E2e e("platform_killed");
+  e.sim_platform = kPw4Dof;
+  e.session_extra = {"--drive-return-s", "0.5"};
+  bool killed = false;
+  const E2e::Result r = e.Run({}, {}, 5.0, [&](Child& platform, Child& hmd, Child& session, const E2e::Ports&) {
+    if (platform.WaitForLine("pwsim platform-sim: operation enabled") && hmd.WaitForLine("pwsim hmd-peer: 100 frames")) {
+      platform.Signal(SIGKILL);
+      killed = true;
+    }
+    (void)session;
+  });
+  ASSERT_TRUE(killed) << e.Outputs();
+  EXPECT_EQ(r.session, 5) << e.Outputs();
+  ASSERT_TRUE(r.report.is_object()) << e.Outputs();
+  EXPECT_EQ(r.report["exit_status"].get<int>(), 5);
+  EXPECT_EQ(r.report["final_state"], "feedback-lost") << e.Outputs();
+  EXPECT_EQ(r.report["stop_reason"], "drive feedback stale") << e.Outputs();
+  EXPECT_EQ(r.report["parked_tick"].get<int>(), -1);
+  EXPECT_GE(r.report["drive_events"]["feedback_lost"].get<int>(), 1);
+  ASSERT_EQ(r.report["drives"].size(), 5u);
+  double away = 0.0;
+  for (const auto& d : r.report["drives"]) {
+    EXPECT_GE(d["last"]["feedback_age_ms"].get<double>(), 500.0) << d.dump();
+    EXPECT_EQ(d["last"]["state"], "operation enabled") << d.dump();  // what it said last
+    if (d["actuator"] != "yaw")
+      away = std::max(away, std::abs(d["last"]["position"].get<double>() - 0.5008));  // neutral leg length
+  }
+  EXPECT_GT(away, 1e-3) << "killed mid-motion: a leg away from neutral\n" << r.report["drives"].dump();
+  EXPECT_NE(e.Outputs().find("pwsim session: feedback-lost after drive feedback stale"), std::string::npos);
+  Child replay({kPwsim, "replay", (e.dir / "out" / "session.log").string()});
+  EXPECT_EQ(replay.Wait(kGuardS), 0) << replay.Output();
+}
+
+// platform-sim killed mid-motion and started again on the same port: its boot-ups make the
+// session's master run the start-up again and SYNCs resume; the platform ramps from where the
+// new drives are to neutral and parks. Exit 6 (parked after drive trouble), re-admissions in the
+// report, every limit kept by both platform-sims, the log replays.
+TEST(SessionEndToEnd, ARestartedPlatformSimIsReadmittedAndParks) {
+  if (!fs::exists(kPwsim)) GTEST_SKIP() << kPwsim << " not built";
+  E2e e("platform_restart");
+  e.sim_platform = kPw4Dof;
+  e.session_extra = {"--drive-return-s", "60"};
+  bool restarted = false, readmitted = false;
+  int second = -1;
+  nlohmann::json second_report;
+  std::string second_output;
+  const E2e::Result r = e.Run({}, {}, 5.0, [&](Child& platform, Child& hmd, Child& session, const E2e::Ports& p) {
+    if (!platform.WaitForLine("pwsim platform-sim: operation enabled") || !hmd.WaitForLine("pwsim hmd-peer: 100 frames"))
+      return;
+    platform.Signal(SIGKILL);
+    if (!session.WaitForLineContaining("event ") || !session.WaitForLineContaining("drive feedback lost")) return;
+    // the new process on the same address, taking frames from the session only
+    Child again({kPwsim, "platform-sim", "--platform", kPw4Dof, "--listen", p.platform, "--peer", "udp:" + p.session_can,
+                 "--idle-exit", "1", "--report", (e.dir / "platform2.json").string()});
+    restarted = again.WaitForLine("pwsim platform-sim: listening on ").has_value();
+    readmitted = session.WaitForLineContaining("re-admitted (operation enabled)").has_value();
+    session.Wait(kGuardS);
+    second = again.Wait(kGuardS);
+    second_output = again.Output();
+    second_report = ReadJson(e.dir / "platform2.json");
+  });
+  ASSERT_TRUE(restarted) << e.Outputs() << second_output;
+  EXPECT_TRUE(readmitted) << e.Outputs();
+  EXPECT_EQ(r.session, 6) << e.Outputs();
+  EXPECT_EQ(second, 0) << second_output;
+  ASSERT_TRUE(r.report.is_object()) << e.Outputs();
+  EXPECT_EQ(r.report["final_state"], "parked");
+  EXPECT_EQ(r.report["exit_status"].get<int>(), 6);
+  EXPECT_EQ(r.report["drive_events"]["restarts"].get<int>(), 5);
+  EXPECT_EQ(r.report["drive_events"]["readmissions"].get<int>(), 5);
+  EXPECT_TRUE(r.report["limits_ok"].get<bool>());
+  EXPECT_TRUE(r.report["within_limits"].get<bool>());
+  ASSERT_TRUE(second_report.is_object()) << second_output;
+  EXPECT_GT(second_report["syncs"].get<int>(), 5) << "SYNCs resumed to the new process";
+  for (const char* key : {"stroke", "speed"}) EXPECT_FALSE(second_report["limits_exceeded"][key].get<bool>()) << key;
+  for (const auto& d : second_report["actuators"])
+    EXPECT_EQ(d["state"], "ready to switch on") << d.dump();  // parked, then disabled by the session
+  Child replay({kPwsim, "replay", (e.dir / "out" / "session.log").string()});
+  EXPECT_EQ(replay.Wait(kGuardS), 0) << replay.Output();
+}
+
+// The PW platform's five drives behind platform-sim: the speed cushion's pitch and heave reach
+// them (the session's forward kinematics of their measured positions, and platform-sim's own of
+// its actual ones), no actuator limit is exceeded on either side, the session parks by the drives'
+// feedback (exit 0) and the log replays.
+TEST(SessionEndToEnd, FiveDrivesOfThePwPlatformFollowTheChairsCueing) {
+  if (!fs::exists(kPwsim)) GTEST_SKIP() << kPwsim << " not built";
+  E2e e("pw4dof");
+  e.sim_platform = kPw4Dof;
+  const E2e::Result r = e.Run({}, {}, 3.0);
   ASSERT_EQ(r.session, 0) << e.Outputs();
   ExpectWithinLimits(r);
-  EXPECT_EQ(r.report["stop_reason"], "drive feedback stale") << e.Outputs();
+  EXPECT_EQ(r.report["platform"], "pw4dof");
   EXPECT_EQ(r.report["final_state"], "parked");
+  ASSERT_EQ(r.report["drives"].size(), 5u);
+  EXPECT_EQ(r.report["drives"][0]["actuator"], "yaw");
+  EXPECT_EQ(r.report["drives"][4]["node"].get<int>(), 5);
+  // 3 s of the speed cushion: the chair accelerates, the platform pitches up to ~0.05 rad
+  EXPECT_GT(r.report["peak_abs_measured_pose"]["pitch"].get<double>(), 0.02) << r.report.dump();
+  EXPECT_GT(r.report["peak_abs_measured_pose"]["heave"].get<double>(), 1e-7);
+  EXPECT_LT(r.report["fk_residual_tracking_max"].get<double>(), 1e-4);
+  ASSERT_TRUE(r.platform_report.is_object()) << e.Outputs();
+  EXPECT_EQ(r.platform_report["actuators"].size(), 5u);
+  EXPECT_GT(r.platform_report["actuators"][1]["stroke_use"].get<double>(), 0.05);
+  Child replay({kPwsim, "replay", (e.dir / "out" / "session.log").string()});
+  EXPECT_EQ(replay.Wait(kGuardS), 0) << replay.Output();
 }
 
 TEST(SessionEndToEnd, DriveFaultOverTheLinkLatchesAFaultAndStopsAtRest) {
   if (!fs::exists(kPwsim)) GTEST_SKIP() << kPwsim << " not built";
   E2e e("drive_fault");
+  e.sim_platform = e.session_platform = kCar2Dof;
   const E2e::Result r = e.Run({"--fault-at", "1.2"}, {}, 5.0);
   ASSERT_EQ(r.session, 4) << e.Outputs();  // 4 = latched fault, at rest
   ExpectWithinLimits(r);
   EXPECT_EQ(r.report["stop_reason"], "drive fault") << e.Outputs();
   EXPECT_EQ(r.report["final_state"], "fault");
+  EXPECT_EQ(r.report["exit_status"].get<int>(), 4);
+  EXPECT_EQ(Drive(r.report, "rail")["last"]["state"], "fault");
   EXPECT_EQ(r.platform_report["rail_state"], "fault");
   EXPECT_LT(std::abs(r.platform_report["final_velocity"][1].get<double>()), 1e-3);
 }
@@ -401,6 +555,7 @@ TEST(SessionEndToEnd, SpoofedFramesAndCommandsFromAnotherSenderMoveNothingAndAre
   // The spoofer is this test process: its own socket, on the same host as every peer (the
   // hardest case for an address check: only the port differs).
   const fs::path platform_candump = e.dir / "platform.candump";
+  e.sim_platform = e.session_platform = kCar2Dof;  // the spoofs address the car's nodes
   const E2e::Result r = e.Run({"--candump", platform_candump.string()}, {}, 60.0, [&](Child& platform, Child& hmd, Child& session, const E2e::Ports& p) {
     session_can = p.session_can;
     // Events: both drives are enabled and following the session, and the headset has shown
@@ -446,7 +601,7 @@ TEST(SessionEndToEnd, SpoofedFramesAndCommandsFromAnotherSenderMoveNothingAndAre
   EXPECT_EQ(r.platform_report["refused_datagrams"].get<int>(), static_cast<int>(spoofs.to_platform.size()));
   EXPECT_LT(r.platform_report["peak_abs_position"][0].get<double>(), 0.01);
   EXPECT_LT(r.platform_report["peak_abs_position"][1].get<double>(),
-            r.report["peak_abs_command"][1].get<double>() + 0.005);
+            Drive(r.report, "rail")["command"]["max"].get<double>() + 0.005);
   EXPECT_EQ(r.platform_report["peer"], session_can);
   std::ifstream can_log(e.dir / "out" / "can.log");
   int syncs_sent = 0;
@@ -496,7 +651,7 @@ TEST(SessionEndToEnd, RnetJoystickLogDrivesTheCarLiveWithLatenciesInTheReport) {
   ASSERT_EQ(r.session, 0) << e.Outputs();
   ExpectWithinLimits(r);
   EXPECT_EQ(r.report["final_state"], "parked");
-  EXPECT_GT(r.report["peak_abs_command"][1].get<double>(), 0.05) << "the joystick should move the platform";
+  EXPECT_GT(Drive(r.report, "rail")["command"]["max"].get<double>(), 0.05) << "the joystick should move the platform";
   // 370 valid joystick frames; a reading superseded before any output (two frames released in
   // one late step) is not counted, so at most 370.
   for (const char* key : {"joystick_to_platform_command_ms", "joystick_to_hmd_frame_ms"}) {
@@ -532,8 +687,11 @@ TEST(SessionEndToEnd, SdlScriptedJoystickDrivesTheCarLive) {
   ASSERT_EQ(r.session, 0) << e.Outputs();
   ExpectWithinLimits(r);
   EXPECT_EQ(r.report["final_state"], "parked");
-  EXPECT_GT(r.report["peak_abs_command"][1].get<double>(), 0.05) << "the joystick should move the platform";
-  EXPECT_GT(r.report["peak_abs_command"][0].get<double>(), 0.001) << "and turn it";
+  EXPECT_GT(Drive(r.report, "rail")["command"]["max"].get<double>(), 0.05) << "the joystick should move the platform";
+  EXPECT_GT(std::max(Drive(r.report, "yaw")["command"]["max"].get<double>(),
+                     -Drive(r.report, "yaw")["command"]["min"].get<double>()),
+            0.001)
+      << "and turn it";
   // six changes of the scripted deflection after the first reading: 7 readings
   EXPECT_EQ(r.report["joystick_to_platform_command_ms"]["n"].get<int>(), 7) << e.Outputs();
   EXPECT_EQ(r.report["joystick_to_hmd_frame_ms"]["n"].get<int>(), 7) << e.Outputs();
@@ -556,12 +714,13 @@ void ExpectTrainingMetrics(const nlohmann::json& report) {
 
 // The chair's live drive: a scripted joystick on SDL's virtual joystick drives the full-DoF
 // chair through the doorway of the shipped course (circuit_course.yaml) through `pwsim drive`,
-// with platform-sim and hmd-peer behind it; report.json carries the joystick latencies and the
+// with platform-sim (the PW platform's five drives) and hmd-peer behind it; report.json carries the joystick latencies and the
 // training metrics, and the drive replays bit for bit.
 TEST(SessionEndToEnd, SdlScriptedJoystickDrivesTheChairThroughACircuit) {
   if (!fs::exists(kPwsim)) GTEST_SKIP() << kPwsim << " not built";
   ::setenv("SDL_VIDEODRIVER", "dummy", 1);  // inherited by the children
   E2e e("chair_sdl");
+  e.sim_platform = kPw4Dof;  // the circuit scene's own platform: five drives
   const E2e::Result r =
       e.Run({}, {}, 7.0, nullptr,
             {kPwsim, "drive", std::string(PWSIM_SOURCE_DIR) + "/scenes/circuit_course.yaml", "--joystick",
@@ -569,7 +728,8 @@ TEST(SessionEndToEnd, SdlScriptedJoystickDrivesTheChairThroughACircuit) {
   ASSERT_EQ(r.session, 0) << e.Outputs();
   ExpectWithinLimits(r);
   EXPECT_EQ(r.report["final_state"], "parked");
-  EXPECT_GT(r.report["peak_abs_command"][1].get<double>(), 0.05) << "the chair's surge should move the rail";
+  EXPECT_EQ(r.report["platform"], "pw4dof");
+  EXPECT_GT(r.report["peak_abs_measured_pose"]["pitch"].get<double>(), 0.005) << "the chair's surge pitches the platform";
   // four changes of the scripted deflection after the first reading: 5 readings
   EXPECT_EQ(r.report["joystick_to_platform_command_ms"]["n"].get<int>(), 5) << e.Outputs();
   EXPECT_EQ(r.report["joystick_to_hmd_frame_ms"]["n"].get<int>(), 5) << e.Outputs();
@@ -585,7 +745,7 @@ TEST(SessionEndToEnd, SdlScriptedJoystickDrivesTheChairThroughACircuit) {
   EXPECT_EQ(t["joystick"]["commands"].get<int>(), 2);  // forward, then the reverse
   EXPECT_EQ(t["joystick"]["forward_reversals"].get<int>(), 1);
   EXPECT_EQ(t["joystick"]["turn_reversals"].get<int>(), 0);
-  EXPECT_GT(r.report["chair"]["pw4dof_peak_command"]["pitch"].get<double>(), 0.0);
+  EXPECT_GT(r.report["chair"]["peak_pose_command"]["pitch"].get<double>(), 0.0);
   EXPECT_TRUE(fs::exists(e.dir / "out" / "training.md"));
   Child replay({kPwsim, "replay", (e.dir / "out" / "session.log").string()});
   EXPECT_EQ(replay.Wait(kGuardS), 0) << replay.Output();
@@ -595,6 +755,7 @@ TEST(SessionEndToEnd, SdlScriptedJoystickDrivesTheChairThroughACircuit) {
 TEST(SessionEndToEnd, RnetJoystickLogDrivesTheChairThroughACircuit) {
   if (!fs::exists(kPwsim)) GTEST_SKIP() << kPwsim << " not built";
   E2e e("chair_rnet");
+  e.sim_platform = kPw4Dof;  // the circuit scene's own platform: five drives
   const E2e::Result r =
       e.Run({}, {}, 4.5, nullptr,
             {kPwsim, "drive", std::string(PWSIM_SOURCE_DIR) + "/scenes/circuit_course.yaml", "--joystick",
@@ -619,13 +780,14 @@ TEST(SessionEndToEnd, RnetJoystickLogDrivesTheChairThroughACircuit) {
 }
 
 // The chair's live drive with the model-predictive cueing (--mca mpc): the recorded R-Net log
-// drives the chair through circuit_course, both MCAs (the scene's pw4dof, reported, and the
-// rail + yaw on the CAN) are MPCs holding the current input (no trial ahead live); the session
-// ends parked inside every limit, report.json names the algorithm, the held input and the
-// solves without a fallback, and the drive replays bit for bit; an unknown --mca is refused.
+// drives the chair through circuit_course on its own platform (pw4dof, five drives behind
+// platform-sim), the MPC holding the current input (no trial ahead live); the session ends
+// parked inside every limit, report.json names the algorithm, the held input and the solves
+// without a fallback, and the drive replays bit for bit; an unknown --mca is refused.
 TEST(SessionEndToEnd, RnetJoystickLogDrivesTheChairThroughACircuitWithTheMpc) {
   if (!fs::exists(kPwsim)) GTEST_SKIP() << kPwsim << " not built";
   E2e e("chair_rnet_mpc");
+  e.sim_platform = kPw4Dof;  // the circuit scene's own platform: five drives
   const E2e::Result r =
       e.Run({}, {}, 4.5, nullptr,
             {kPwsim, "drive", std::string(PWSIM_SOURCE_DIR) + "/scenes/circuit_course.yaml", "--joystick",
@@ -633,17 +795,15 @@ TEST(SessionEndToEnd, RnetJoystickLogDrivesTheChairThroughACircuitWithTheMpc) {
   ASSERT_EQ(r.session, 0) << e.Outputs();
   ExpectWithinLimits(r);
   EXPECT_EQ(r.report["final_state"], "parked");
-  EXPECT_GT(r.report["peak_abs_command"][1].get<double>(), 0.01) << "the chair's surge should move the rail";
+  EXPECT_GT(r.report["peak_abs_measured_pose"]["pitch"].get<double>(), 0.001) << "the chair's surge pitches the platform";
   ExpectTrainingMetrics(r.report);
   const nlohmann::json& mca = r.report["chair"]["mca"];
   ASSERT_TRUE(mca.is_object()) << r.report.dump();
   EXPECT_EQ(mca["algorithm"], "mpc");
   EXPECT_NE(mca["preview"].get<std::string>().find("held"), std::string::npos);
-  for (const char* platform : {"pw4dof", "can"}) {
-    EXPECT_GT(mca[platform]["solves"].get<int>(), 400) << platform;  // 100 a second over > 4.5 s
-    EXPECT_EQ(mca[platform]["fallbacks_to_washout"].get<int>(), 0) << platform;
-  }
-  EXPECT_GT(r.report["chair"]["pw4dof_peak_command"]["pitch"].get<double>(), 0.0);
+  EXPECT_GT(mca["solves"].get<int>(), 400);  // 100 a second over > 4.5 s
+  EXPECT_EQ(mca["fallbacks_to_washout"].get<int>(), 0);
+  EXPECT_GT(r.report["chair"]["peak_pose_command"]["pitch"].get<double>(), 0.0);
   Child replay({kPwsim, "replay", (e.dir / "out" / "session.log").string()});
   EXPECT_EQ(replay.Wait(kGuardS), 0) << replay.Output();
   // an unknown --mca is refused before any link opens (usage error: exit 2)

@@ -1,7 +1,10 @@
 #pragma once
-// Test harness for the session core: the simulated drives on an in-process bus and a scripted
-// headset, on a fake clock (1 ms ticks from kT0). Whole sessions run in milliseconds.
+// Test harness for the session core: the simulated drives of a platform (one CiA 402 node per
+// actuator of its mechanism: the car's 2 by default, the PW platform's 5, ...) on an in-process
+// bus and a scripted headset riding the platform, on a fake clock (1 ms ticks from kT0). Whole
+// sessions run in milliseconds.
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -12,21 +15,43 @@
 #include <string_view>
 #include <vector>
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include "hardware/can_bus.h"
 #include "hardware/session.h"
 #include "hardware/simulated_drives.h"
+#include "mca/platform.h"
 
 namespace pwsim::hw::session_testing {
 
+/// The platform top's motion for a pose x, in closed form with Eigen (independent of the core's
+/// PlatformMotion): X_BP(x) · X_BP(0)^-1 with X_BP = Rz(yaw) Trans(s, w, h0 + z) Ry(-pitch) Rx(roll).
+inline Pose RidePose(const mca::DofArray& x, double h0) {
+  using mca::Dof;
+  using mca::Index;
+  const Eigen::Matrix3d r = (Eigen::AngleAxisd(x[Index(Dof::kYaw)], Eigen::Vector3d::UnitZ()) *
+                             Eigen::AngleAxisd(-x[Index(Dof::kPitch)], Eigen::Vector3d::UnitY()) *
+                             Eigen::AngleAxisd(x[Index(Dof::kRoll)], Eigen::Vector3d::UnitX()))
+                                .toRotationMatrix();
+  const Eigen::Matrix3d rz = Eigen::AngleAxisd(x[Index(Dof::kYaw)], Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Vector3d t = rz * Eigen::Vector3d(x[Index(Dof::kSurge)], x[Index(Dof::kSway)], h0 + x[Index(Dof::kHeave)]) -
+                            r * Eigen::Vector3d(0.0, 0.0, h0);
+  const Eigen::Quaterniond q(r);
+  Pose p;
+  p.p = {t.x(), t.y(), t.z()};
+  p.q = {q.x(), q.y(), q.z(), q.w()};
+  return p;
+}
+
 struct World {
+  mca::PlatformSpec platform;
   SessionConfig cfg;
   std::unique_ptr<SessionCore> core;
   InProcessBus hub;
   std::unique_ptr<ICanBus> master_bus = hub.Connect("session");
   std::unique_ptr<ICanBus> drive_bus = hub.Connect("drives");
-  SimulatedDrives drives;
+  SimulatedDrives drives{cfg.mechanism};
   std::vector<RxDatagram> to_session;
   bool hmd_alive = true;
   std::int64_t hmd_delay_ns = 350'000;
@@ -39,19 +64,44 @@ struct World {
   std::function<void(bool)> around_step;
   static constexpr std::int64_t kT0 = 5'000'000'000;
 
-  explicit World(std::int64_t run_ticks = 3000) {
-    cfg.run_ticks = run_ticks;
+  /// The car (seed 001, 2 drives) by default, or `spec`'s mechanism.
+  explicit World(std::int64_t run_ticks = 3000, const mca::PlatformSpec& spec = mca::MakeCar2DofPlatform())
+      : platform(spec), cfg(Configured(spec, run_ticks)) {
     core = std::make_unique<SessionCore>(cfg);
-    log.push_back("# pwsim-session-log/1 " + cfg.ToHeader());
+    log.push_back(std::string(kSessionLogMagic) + " " + cfg.ToHeader());
+  }
+  static SessionConfig Configured(const mca::PlatformSpec& spec, std::int64_t run_ticks) {
+    SessionConfig c;
+    c.run_ticks = run_ticks;
+    c.SetPlatform(spec.name, spec.mechanism);
+    return c;
   }
 
   bool still = false;  ///< setpoints at neutral (the platform never moves)
+  /// Amplitude of the test motion on each axis the platform moves, as a fraction of the axis
+  /// box's travel (a free axis: 0.05 rad).
+  double fraction = 0.25;
 
-  std::array<double, 2> Setpoint(std::int64_t t) const {
-    if (still) return {0.0, 0.0};
-    const double s = static_cast<double>(t) / 1000.0;
-    return {0.05 * std::sin(0.9 * s), 0.25 * std::sin(1.1 * s)};
+  /// The MCA pose command at time t [ms]: neutral during the start-up (the first 0.2 s), then
+  /// a slow sinusoid on every axis the mechanism moves, each at its own frequency (0.5 .. 1.3
+  /// rad/s), faded in over 1.5 s (6u^5 - 15u^4 + 10u^3: continuous up to the acceleration, so the
+  /// jerk stays finite), as a cueing starts from rest.
+  mca::DofArray PoseAt(double t_ms) const {
+    mca::DofArray x{};
+    if (still) return x;
+    const double s = t_ms / 1000.0;
+    const double u = std::clamp((s - 0.2) / 1.5, 0.0, 1.0);
+    const double window = u * u * u * (10.0 - 15.0 * u + 6.0 * u * u);
+    for (mca::Dof d : mca::kAllDofs) {
+      const auto k = static_cast<std::size_t>(mca::Index(d));
+      if (!cfg.mechanism.Moves(d)) continue;
+      const double travel = platform.limits(d).travel;
+      const double amplitude = std::isfinite(travel) && travel > 0.0 ? fraction * travel : 0.05;
+      x[k] = window * amplitude * std::sin((0.5 + 0.16 * static_cast<double>(k)) * s);
+    }
+    return x;
   }
+  mca::DofArray Setpoint(std::int64_t t) const { return PoseAt(static_cast<double>(t)); }
 
   /// The scripted headset: one-way delay hmd_delay_ns each way, 1 us to answer.
   void HeadsetReceives(std::span<const std::uint8_t> bytes, std::int64_t sent) {
@@ -62,7 +112,10 @@ struct World {
     if (const auto* cam = std::get_if<CameraPoseMsg>(&m.body)) {
       Pose head;
       head.p = {0.0, 0.0, 1.2};
-      r.body = HeadPoseMsg{rx, ComposePose(PlatformPose(cam->platform[0], cam->platform[1]), head), cam->frame, rx};
+      // the head rides the simulated platform: its pose by the drives' own forward kinematics
+      // of their actual positions, composed in closed form
+      const Pose ride = RidePose(drives.measured_pose(), cfg.mechanism.pivot_height());
+      r.body = HeadPoseMsg{rx, ComposePose(ride, head), cam->frame, rx};
     } else if (const auto* ping = std::get_if<PingMsg>(&m.body)) {
       r.body = PongMsg{ping->t0, rx, rx + 1000};
     } else {
@@ -135,10 +188,18 @@ struct World {
     for (const auto& l : log) s += l + "\n";
     return s;
   }
+  /// Every simulated actuator stayed inside its stroke and speed (its actual states, sampled on
+  /// every substep of the simulation), against the mechanism's limits (an unlimited rotary stage:
+  /// the session's range).
   void ExpectPlatformInsideLimits() const {
-    const auto& peak = drives.peak_abs_position();
-    EXPECT_LE(peak[0], cfg.safety.axes[0].hard_limit);
-    EXPECT_LE(peak[1], cfg.safety.axes[1].hard_limit);
+    for (int i = 0; i < cfg.axis_count(); ++i) {
+      const ActuatorMeasurement m = drives.measurement(i);
+      const AxisLimits& l = cfg.safety.axes[static_cast<std::size_t>(i)];
+      const mca::ActuatorLimits& a = cfg.mechanism.actuator(i).limits;
+      EXPECT_GE(m.q_min, l.hard_min) << cfg.mechanism.actuator(i).name;
+      EXPECT_LE(m.q_max, l.hard_max) << cfg.mechanism.actuator(i).name;
+      EXPECT_LE(m.peak_speed, a.speed) << cfg.mechanism.actuator(i).name;
+    }
   }
 };
 
