@@ -267,10 +267,12 @@ TEST(SessionPw4Dof, HeaveRollPitchAndYawReachTheFiveDrivesWithinEveryActuatorLim
     EXPECT_LT(sim_peak[mca::Index(d)], 1e-6) << mca::DofName(d);  // the column holds them
   }
   // The four legs stay consistent within 1e-5 m while they track the MCA; the soft stop from this
-  // motion (every axis braked by its own profile, then along one straight line to neutral:
-  // safety_supervisor.h) leaves them a few millimetres apart at worst.
+  // motion (synchronised, but braking from motion first: safety_supervisor.h) leaves them under a
+  // millimetre apart (measured 0.43 mm).
+  RecordProperty("fk_residual_tracking_max_m", std::to_string(r.fk_residual_tracking_max));
+  RecordProperty("fk_residual_max_m", std::to_string(r.fk_residual_max));
   EXPECT_LT(r.fk_residual_tracking_max, 1e-5);
-  EXPECT_LT(r.fk_residual_max, 5e-3);
+  EXPECT_LT(r.fk_residual_max, 1e-3);
   w.ExpectPlatformInsideLimits();
   for (int i = 0; i < 5; ++i) EXPECT_NEAR(w.drives.position(i), w.cfg.safety.neutral[static_cast<std::size_t>(i)], 2e-3);
   // Motion compensation on every axis: the head rides the platform (its pose in the room moves
