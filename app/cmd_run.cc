@@ -87,6 +87,7 @@ const CommandSpec& RunSpec() {
           {"mca", "washout|mpc|offline", "-", "", "motion cueing: the washout, the MPC, or the offline ceiling (the whole trial optimised at once); overrides the scene's mca.algorithm"},
           {"mca-preview", "", "-", "", "the MPC previews the trial ahead (mca.mpc.preview)"},
           {"no-mca-compare", "", "-", "", "skip summary.json's mca.comparison (the trial through the washout, the MPC and the offline ceiling)"},
+          {"platform", "FILE", "-", "", "a pwsim-platform/1 file instead of the scene's platform (scenes/platforms/*.yaml)"},
       },
       "SCENE  a pwsim-scene/1 YAML file (default: the paper's speed-cushion trial); kind: car runs seed 001's car; a circuit: section runs the full-DoF chair through it"};
   return spec;
@@ -112,6 +113,7 @@ int RunCommand(const ParsedArgs& args) {
   }
   mca_choice.preview = args.Flag("mca-preview");
   mca_choice.compare = !args.Flag("no-mca-compare");
+  if (args.Has("platform")) mca_choice.platform = std::filesystem::path(args.Get("platform"));
 
   // Read once: the scene may come from a pipe (a sweep task reads its scene from a FIFO).
   const YamlDocument scene_document = LoadYamlFile(scene_path);

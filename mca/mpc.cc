@@ -16,6 +16,8 @@ constexpr std::array<const char*, 3> kAxisNames{"x", "y", "z"};
 /// Share of each actuator's half-stroke, speed and acceleration kept free in the QP's actuator
 /// rows for the error of their linearisation about the solve's pose (header).
 constexpr double kActuatorMargin = 0.05;
+/// Sequential-QP passes of the offline ceiling (its actuator rows about its own plan).
+constexpr int kRelinearisations = 2;
 
 /// Exact zero-order-hold discretisation of ẋ = A x + B u over h: exp([[A, B], [0, 0]] h).
 void DiscretizeZoh(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b, double h, Eigen::MatrixXd& phi,
@@ -537,26 +539,44 @@ void MpcCueing::PredictVehicle() {
   }
 }
 
-void MpcCueing::FillActuatorRows() {
-  // q ≈ q0 + J (p − p0) about the platform's pose now: rows J p (+ c_g J v), J v, J u
+void MpcCueing::FillActuatorRows(const std::vector<DofArray>* about) {
+  // q ≈ q0 + J (p − p0) about the platform's pose now (or, `about`, each block's own pose):
+  // rows J p (+ c_g J v), J v, J u
   const Mechanism& mechanism = platform_.mechanism;
-  const DofArray& p0 = limiter_.pose();
-  const ActuatorVector& q0 = limiter_.position();
-  mechanism.Jacobian(p0, &jacobian_);
+  const DofArray& now = limiter_.pose();
+  const ActuatorVector& q_now = limiter_.position();
+  mechanism.Jacobian(now, &jacobian_);
+  if (about != nullptr) {  // the offline ceiling only (allocates)
+    block_jacobians_.resize(about->size());
+    block_positions_.resize(about->size());
+    for (std::size_t kb = 0; kb < about->size(); ++kb) {
+      mechanism.Jacobian((*about)[kb], &block_jacobians_[kb]);
+      block_positions_[kb] = q_now;
+      if (!mechanism.Inverse((*about)[kb], &block_positions_[kb])) {
+        block_jacobians_[kb] = jacobian_;  // not computable: about the present pose
+        block_positions_[kb] = q_now;
+      }
+    }
+  }
   const auto m = static_cast<int>(model_.axes.size());
   const double c = model_.envelope_c;
   const double keep = 1.0 - model_.actuator_margin;
   for (const MpcModel::ActuatorRow& row : model_.actuator_rows) {
     const Eigen::Index r = row.row;
     const int i = row.actuator;
+    const auto kb = static_cast<std::size_t>(row.block);
+    const bool own = about != nullptr && (*about)[kb] != now;
+    const ActuatorJacobian& jac = own ? block_jacobians_[kb] : jacobian_;
+    const DofArray& p0 = own ? (*about)[kb] : now;
+    const double q0 = own ? block_positions_[kb][i] : q_now[i];
     con_c_.row(r).setZero();
     con_dx_.row(r).setZero();
-    double jp0 = 0.0, w0 = 0.0;  // J p0 and the actuator's rate now, J v0
+    double jp0 = 0.0, w0 = 0.0;  // J p0, and the actuator's rate now J v0
     for (int a = 0; a < m; ++a) {
       const auto d = static_cast<std::size_t>(Index(model_.axes[static_cast<std::size_t>(a)]));
-      const double j = jacobian_(i, static_cast<Eigen::Index>(d));
+      const double j = jac(i, static_cast<Eigen::Index>(d));
       jp0 += j * p0[d];
-      w0 += j * x_[2 * a + 1];
+      w0 += jacobian_(i, static_cast<Eigen::Index>(d)) * x_[2 * a + 1];
       if (j == 0.0) continue;
       const Eigen::Index b = row.block * m + a;
       switch (row.kind) {
@@ -585,12 +605,12 @@ void MpcCueing::FillActuatorRows() {
         // present value (braking never makes it grow)
         // (the envelope's present value q0 + c_g w0 also bounds where braking takes q itself)
         const double margin = (1.0 - keep) * 0.5 * (lim.max - lim.min);
-        const double envelope = q0[i] + c * w0;
+        const double envelope = q_now[i] + c * w0;
         const bool stroke = row.kind == MpcModel::ActuatorRowKind::kStroke;
-        const double low = stroke ? std::min(q0[i], envelope) : envelope;
-        const double high = stroke ? std::max(q0[i], envelope) : envelope;
-        con_lo_[r] = std::min(lim.min + margin, low) - q0[i] + jp0;
-        con_hi_[r] = std::max(lim.max - margin, high) - q0[i] + jp0;
+        const double low = stroke ? std::min(q_now[i], envelope) : envelope;
+        const double high = stroke ? std::max(q_now[i], envelope) : envelope;
+        con_lo_[r] = std::min(lim.min + margin, low) - q0 + jp0;
+        con_hi_[r] = std::max(lim.max - margin, high) - q0 + jp0;
         break;
       }
       case MpcModel::ActuatorRowKind::kSpeed:
@@ -628,21 +648,22 @@ void MpcCueing::Solve() {
     e_[model_.bank_row[r]] -= model_.bank_scale[r] * bank_[static_cast<std::size_t>(model_.bank_channel[r])];
   }
   b_.noalias() = model_.cost_et * e_;
-  if (!model_.actuator_rows.empty()) FillActuatorRows();
-  dx_.noalias() = con_dx_ * x_;
-  for (Eigen::Index r = 0; r < c_lo_.size(); ++r) {
-    const auto s = static_cast<std::size_t>(r);
-    c_lo_[r] = con_lo_[r] - dx_[r];
-    c_hi_[r] = con_hi_[r] - dx_[r];
-    if (model_.con_tilt_block[s] >= 0) {  // the tilt band about ω̂_f, widened by μ
-      const auto channel = static_cast<std::size_t>(model_.con_tilt_channel[s]);
-      const double follow = rate_ref_(model_.con_tilt_channel[s], model_.con_tilt_block[s]);
-      c_lo_[r] += std::min(0.0, follow) - band_margin_[channel];
-      c_hi_[r] += std::max(0.0, follow) + band_margin_[channel];
+  QpStatus status = SolveQp(nullptr);
+  // the offline ceiling's one plan spans the trial: its actuator rows linearised about the
+  // plan itself, block by block, and solved again (sequential QP)
+  for (int pass = 0; params_.whole_trial && !model_.actuator_rows.empty() && status.ok && pass < kRelinearisations;
+       ++pass) {
+    const auto m = static_cast<int>(model_.axes.size());
+    block_poses_.assign(static_cast<std::size_t>(model_.blocks), limiter_.pose());
+    for (int kb = 0; kb < model_.blocks; ++kb) {
+      for (int a = 0; a < m; ++a) {
+        const Eigen::Index b = kb * m + a;
+        block_poses_[static_cast<std::size_t>(kb)][static_cast<std::size_t>(Index(model_.axes[static_cast<std::size_t>(a)]))] =
+            model_.axis_pos_c.row(b).dot(z_) + model_.axis_pos_dx.row(b).dot(x_);
+      }
     }
+    status = SolveQp(&block_poses_);
   }
-  const QpStatus status = active_set_ ? active_set_->Solve(b_, model_.z_lo, model_.z_hi, c_lo_, c_hi_, z_)
-                                      : alglib_->Solve(b_, model_.z_lo, model_.z_hi, c_lo_, c_hi_, z_);
   ++stats_.solves;
   stats_.iterations += status.iterations;
   const auto m = static_cast<Eigen::Index>(model_.axes.size());
@@ -655,6 +676,24 @@ void MpcCueing::Solve() {
     u_.setZero();
     z_.setZero();
   }
+}
+
+QpStatus MpcCueing::SolveQp(const std::vector<DofArray>* about) {
+  if (!model_.actuator_rows.empty()) FillActuatorRows(about);
+  dx_.noalias() = con_dx_ * x_;
+  for (Eigen::Index r = 0; r < c_lo_.size(); ++r) {
+    const auto s = static_cast<std::size_t>(r);
+    c_lo_[r] = con_lo_[r] - dx_[r];
+    c_hi_[r] = con_hi_[r] - dx_[r];
+    if (model_.con_tilt_block[s] >= 0) {  // the tilt band about ω̂_f, widened by μ
+      const auto channel = static_cast<std::size_t>(model_.con_tilt_channel[s]);
+      const double follow = rate_ref_(model_.con_tilt_channel[s], model_.con_tilt_block[s]);
+      c_lo_[r] += std::min(0.0, follow) - band_margin_[channel];
+      c_hi_[r] += std::max(0.0, follow) + band_margin_[channel];
+    }
+  }
+  return active_set_ ? active_set_->Solve(b_, model_.z_lo, model_.z_hi, c_lo_, c_hi_, z_)
+                     : alglib_->Solve(b_, model_.z_lo, model_.z_hi, c_lo_, c_hi_, z_);
 }
 
 bool MpcCueing::StartIsFeasible() {

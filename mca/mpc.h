@@ -250,7 +250,8 @@ class MpcCueing {
  private:
   void Solve();
   void PredictVehicle();
-  void FillActuatorRows();
+  void FillActuatorRows(const std::vector<DofArray>* about);
+  QpStatus SolveQp(const std::vector<DofArray>* about);
   void SetBank(const HeadMotion& input);
 
   MpcParams params_;
@@ -283,6 +284,9 @@ class MpcCueing {
   Eigen::MatrixXd con_c_, con_dx_;
   Eigen::VectorXd con_lo_, con_hi_;
   ActuatorJacobian jacobian_;
+  std::vector<DofArray> block_poses_;            ///< the offline plan's pose per block
+  std::vector<ActuatorJacobian> block_jacobians_;
+  std::vector<ActuatorVector> block_positions_;
   // scratch
   Eigen::MatrixXd ref_;               ///< 6 × blocks: predicted vehicle perceived outputs
   Eigen::MatrixXd rate_ref_;          ///< 2 × blocks: predicted ω̂_f of roll, pitch at block ends

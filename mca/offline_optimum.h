@@ -3,8 +3,11 @@
 // the trial known in advance. It is the MPC's problem (mca/mpc.h: the same perceived-motion
 // cost, weights, limits, brake-to-stop and tilt-rate constraints) with one horizon spanning
 // the trial, blocks of `block_s`, solved once from rest by the same dual active set (one big
-// QP), and the plan followed open loop through the platform limiter. Not real time (seconds
-// per trial); the washout and the online MPC are measured against it (scripts/mca-compare.sh).
+// QP), and the plan followed open loop through the limiter in actuator space. On a mechanism
+// with legs the actuator rows are linearised first about neutral, then twice more about the
+// plan itself, block by block (sequential QP: a plan that spans the trial moves far from any
+// one pose). Not real time (seconds per trial); the washout and the online MPC are measured
+// against it (summary.json's mca.comparison, scripts/mca-figures.sh).
 //
 //   CueingTrace best = RunOfflineOptimum(config, truth, dt);
 

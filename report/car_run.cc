@@ -80,7 +80,9 @@ void AddCarCueing(const vehicle::CarScene& scene, const std::vector<CarSample>& 
     head[k].fs = m.fs;
     head[k].w = m.w;
   }
-  const bool rail_yaw = config.platform.Has(Dof::kSurge) && config.platform.Has(Dof::kYaw);
+  // the rail + yaw chain: a platform with surge and yaw and nothing else
+  bool rail_yaw = config.platform.Has(Dof::kSurge) && config.platform.Has(Dof::kYaw);
+  for (Dof dof : {Dof::kSway, Dof::kHeave, Dof::kRoll, Dof::kPitch}) rail_yaw = rail_yaw && !config.platform.Has(dof);
   const mca::CueingTrace trace = choice.offline ? mca::RunOfflineOptimum(config, head, dt, rail_yaw)
                                  : rail_yaw     ? mca::RunRailYawCueing(config, head, dt)
                                                 : mca::RunCueing(config, head, dt);

@@ -196,6 +196,10 @@ void AddVestibularColumns(const mca::CueingTrace& trace, TrialTable& table) {
 }
 
 void McaChoice::Apply(mca::McaConfig& config) const {
+  if (platform) {
+    config.platform = mca::ReadPlatformFile(*platform);
+    config.platform_source = platform->string();
+  }
   if (algorithm) config.algorithm = *algorithm;
   if (preview) config.mpc.preview = true;
 }

@@ -76,6 +76,9 @@ struct McaChoice {
   bool preview{false};   ///< the MPC previews the trial (mca.mpc.preview)
   bool offline{false};   ///< the offline ceiling instead (mca/offline_optimum.h)
   bool compare{true};    ///< summary["mca"]["comparison"]: washout, MPC and ceiling on this trial
+  /// A pwsim-platform/1 file instead of the scene's platform (its axis boxes and mechanism;
+  /// the scene's mca: settings stay). @throws InputError from Apply for a bad file.
+  std::optional<std::filesystem::path> platform;
   /// Applies the choice to a loaded configuration.
   void Apply(mca::McaConfig& config) const;
 };

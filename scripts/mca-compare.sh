@@ -2,7 +2,7 @@
 # Washout vs online MPC (held input, and with the trial previewed) vs the offline optimum on the
 # speed cushion and the car's launch and lane change: `pwsim run --mca ...` for each, then
 # scripts/mca_compare.py writes the table of docs/mca.md (perceived-motion RMS error per axis,
-# false cues, workspace used, MPC fallbacks) and the figure docs/images/mca_compare.png; then
+# false cues, actuator stroke used, MPC fallbacks) and the figure docs/images/mca_compare.png; then
 # `pwsim omct --mca washout|mpc` on the PW 4-DoF and the car rail + yaw platforms for the OMCT
 # gain and phase table (the MPC with the held input).
 #   scripts/mca-compare.sh [BUILD_DIR] [OUT_DIR]
@@ -19,7 +19,7 @@ for scene in speed_cushion car_launch car_lane_change; do
       mpc-preview) args=(--mca mpc --mca-preview) ;;
       offline) args=(--mca offline) ;;
     esac
-    (cd "$root" && "$build/pwsim" run "scenes/$scene.yaml" --no-video "${args[@]}" --out "$out/$scene/$mode" > /dev/null)
+    (cd "$root" && "$build/pwsim" run "scenes/$scene.yaml" --no-video --no-mca-compare "${args[@]}" --out "$out/$scene/$mode" > /dev/null)
     echo "mca-compare: $scene $mode done"
   done
 done

@@ -24,7 +24,7 @@ def main(out: Path) -> None:
                 axes.append((group, axis, label, unit))
         print(f"\n**{scene}** (platform {summaries['washout']['platform']['name']})\n")
         head = ["algorithm"] + [f"RMS {l} [{u}]" for _, _, l, u in axes] + \
-               ["wrong-sign cues (count, s)", "tilt rate > threshold [s]", "workspace used (max of axes)",
+               ["wrong-sign cues (count, s)", "tilt rate > threshold [s]", "stroke used (max of actuators)",
                 "within limits", "fallbacks"]
         print("| " + " | ".join(head) + " |")
         print("|" + "---|" * len(head))
@@ -38,12 +38,9 @@ def main(out: Path) -> None:
             fc = s["false_cues"]
             cells.append(f"{fc['wrong_sign_count']}, {fc['wrong_sign_duration_s']:.2f}")
             cells.append(f"{fc['tilt_rate_duration_s']:.2f}" if "tilt_rate_duration_s" in fc else "–")
-            usage = s["platform"]["usage"]
-            worst = max(usage, key=lambda u: u["pose_fraction_of_limit"])
-            cells.append(f"{100 * worst['pose_fraction_of_limit']:.0f} % ({worst['dof']})")
-            within = all(u["pose_fraction_of_limit"] <= 1 + 1e-9 and u["rate_fraction_of_limit"] <= 1 + 1e-9
-                         and u["accel_fraction_of_limit"] <= 1 + 1e-6 for u in usage)
-            cells.append("yes" if within else "NO")
+            worst = max(s["actuators"], key=lambda u: u["stroke_use"])
+            cells.append(f"{100 * worst['stroke_use']:.0f} % ({worst['name']})")
+            cells.append("yes" if s["limits"]["within_limits"] else "NO")
             cells.append(str(s["algorithm"].get("fallbacks_to_washout", "–")))
             print("| " + " | ".join(cells) + " |")
 
