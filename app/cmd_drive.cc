@@ -112,12 +112,12 @@ std::unique_ptr<hw::JoystickSource> OpenJoystick(const std::string& spec, int ra
 void WriteJoystickReport(const hw::JoystickSource& joystick, std::uint64_t invalid_polls,
                          const std::filesystem::path& out);
 
-/// report.json's chair.mca: the algorithm and, for the MPC, that it holds the current input (no
-/// trial ahead live) and its solves and fallbacks to the washout.
+/// report.json's chair.mca: the algorithm and, for the MPC, how it predicts without a trial ahead
+/// (live: the present input's transients decay, mca/mpc.h) and its solves and fallbacks to the washout.
 nlohmann::ordered_json MpcUseJson(mca::McaAlgorithm algorithm, const mca::MpcStats& stats) {
   nlohmann::ordered_json j{{"algorithm", mca::McaAlgorithmName(algorithm)}};
   if (algorithm != mca::McaAlgorithm::kMpc) return j;
-  j["preview"] = "none: the current input is held (live, no trial ahead)";
+  j["preview"] = "none: the present input's transients decay (live, no trial ahead)";
   j["solves"] = stats.solves;
   j["fallbacks_to_washout"] = stats.fallbacks;
   j["fault_ticks"] = stats.fault_ticks;

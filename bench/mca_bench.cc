@@ -1,6 +1,7 @@
-// MCA steps per second (goal: >= 5 million/s on one core).
+// MCA steps per second (goal of the per-axis limiter: >= 5 million/s on one core; the limiter in
+// actuator space costs more on coupled legs, docs/mca.md "Benchmark").
 // BM_McaStepPw4Dof: one ClassicalWashout::Step on the 4-DoF PW platform (heave, roll, pitch and
-// yaw channels, pitch and roll tilt coordination, four limiters) over the head motion of the
+// yaw channels, pitch and roll tilt coordination, the turntable and four legs) over the head motion of the
 // speed-cushion trial, replayed in a loop. BM_McaStepCar2Dof: the same on the 2-DoF car
 // platform. BM_VestibularStep: otolith and canals on three axes each (analysis path).
 

@@ -125,6 +125,14 @@ ActuatorLimiter::ActuatorLimiter(const PlatformSpec& platform, double dt, std::a
     }
     stages_.push_back(s);
   }
+  // the axes the coupled group's positions depend on: the legs' and the coupled stages'
+  coupled_or_leg_axes_ = mechanism_.leg_axes();
+  for (int i : coupled_) {
+    const Actuator& a = mechanism_.actuator(i);
+    if (a.kind == ActuatorKind::kLeg) continue;
+    coupled_or_leg_axes_[At(a.dof)] = true;
+    coupled_stage_axes_any_ = true;
+  }
   // the coupled axes and Â_a, V̂_a at neutral
   if (!coupled_.empty()) {
     mechanism_.Jacobian(DofArray{}, &jacobian_);
@@ -180,16 +188,20 @@ bool ActuatorLimiter::StageLimits(Dof dof, DofLimits* limits, double* centre) co
 }
 
 bool ActuatorLimiter::CoupledPositions(const DofArray& pose, ActuatorVector* q) const {
-  const DofArray x = Masked(pose, mechanism_.moved_axes());
+  // the independent stages' axes are left out (at 0): no leg depends on them (the constructor's
+  // coupling test), so the floor frame is the identity unless a coupled stage moves it
+  const DofArray x = Masked(pose, coupled_or_leg_axes_);
   const Frame plate = MakeFrame(x, pivot_height_);
-  const Frame floor = MakeFrame(Masked(x, stage_axes_), 0.0);
+  const bool floor_moves = coupled_stage_axes_any_;
+  const Frame floor = floor_moves ? MakeFrame(Masked(x, stage_axes_), 0.0) : Frame{Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero()};
   for (int i : coupled_) {
     const Actuator& a = mechanism_.actuator(i);
     if (a.kind != ActuatorKind::kLeg) {
       (*q)[i] = x[At(a.dof)];
       continue;
     }
-    const Eigen::Vector3d leg = plate.r * a.plate_anchor + plate.t - (floor.r * a.base_anchor + floor.t);
+    const Eigen::Vector3d leg = floor_moves ? Eigen::Vector3d(plate.r * a.plate_anchor + plate.t - (floor.r * a.base_anchor + floor.t))
+                                            : Eigen::Vector3d(plate.r * a.plate_anchor + plate.t - a.base_anchor);
     const double length = leg.norm();
     if (!(length > 0.0) || !std::isfinite(length)) return false;
     (*q)[i] = length;
@@ -314,27 +326,31 @@ void ActuatorLimiter::Step(const DofArray& target, const DofArray& target_rate,
       desired = std::clamp(desired, -cap, cap);
       candidate[d] = std::clamp(desired, windows[d].lo, windows[d].hi);
     }
-    // the candidate's change of rate, scaled to the linearised actuator accelerations
-    mechanism_.Jacobian(pose_, &jacobian_);
-    double scale = 1.0;
-    for (int i : coupled_) {
-      double change = 0.0;
-      for (std::size_t d = 0; d < kDofCount; ++d) {
-        if (coupled_axes_[d]) change += jacobian_(i, static_cast<Eigen::Index>(d)) * (candidate[d] - current[d]);
-      }
-      const double allowed = mechanism_.actuator(i).limits.accel * dt_;
-      if (std::abs(change) > allowed) scale = std::min(scale, allowed / std::abs(change));
-    }
-    if (scale < 1.0) {
-      for (std::size_t d = 0; d < kDofCount; ++d) {
-        if (coupled_axes_[d]) candidate[d] = current[d] + scale * (candidate[d] - current[d]);
-      }
-    }
     DofArray chosen_pose = brake_pose;
     ActuatorVector chosen_q = next_q;
     DofArray trial_pose;
     ActuatorVector trial_q = next_q;
-    if (CoupledFeasible(candidate, &windows, &trial_pose, &trial_q)) {
+    bool taken = CoupledFeasible(candidate, &windows, &trial_pose, &trial_q);
+    if (!taken) {
+      // the candidate's change of rate, scaled to the linearised actuator accelerations
+      mechanism_.Jacobian(pose_, &jacobian_);
+      double scale = 1.0;
+      for (int i : coupled_) {
+        double change = 0.0;
+        for (std::size_t d = 0; d < kDofCount; ++d) {
+          if (coupled_axes_[d]) change += jacobian_(i, static_cast<Eigen::Index>(d)) * (candidate[d] - current[d]);
+        }
+        const double allowed = mechanism_.actuator(i).limits.accel * dt_;
+        if (std::abs(change) > allowed) scale = std::min(scale, allowed / std::abs(change));
+      }
+      if (scale < 1.0) {
+        for (std::size_t d = 0; d < kDofCount; ++d) {
+          if (coupled_axes_[d]) candidate[d] = current[d] + scale * (candidate[d] - current[d]);
+        }
+        taken = CoupledFeasible(candidate, &windows, &trial_pose, &trial_q);
+      }
+    }
+    if (taken) {
       chosen_pose = trial_pose;
       chosen_q = trial_q;
     } else {

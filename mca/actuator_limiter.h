@@ -171,6 +171,8 @@ class ActuatorLimiter {
   // the rotations' structure, for CoupledPositions
   double pivot_height_{0.0};
   DofMask stage_axes_{};
+  DofMask coupled_or_leg_axes_{};      ///< the axes the coupled group's positions depend on
+  bool coupled_stage_axes_any_{false};  ///< a stage in the coupled group (the legs' floor moves)
   // state
   DofArray pose_{}, pose_prev_{}, rate_{}, accel_{};
   ActuatorVector q_, q_prev_, q_rate_, q_accel_;

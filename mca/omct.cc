@@ -158,7 +158,7 @@ OmctPoint RunOmctPoint(const OmctTest& test, double frequency, const McaConfig& 
     return RunOmctPoint(test, frequency, config.washout, config.platform, options);
   }
   MpcParams held = config.mpc;
-  held.preview = false;  // the OMCT's sinusoid is the input: the current input is held
+  held.preview = false;  // the OMCT's sinusoid is the input, known up to now: no preview, no vehicle model
   MpcCueing mpc(held, config.washout, config.vestibular, config.platform, 1.0 / options.rate_hz);
   return MeasurePoint(test, frequency, config.platform, options,
                       [&mpc](const HeadMotion& m) -> const McaCommand& { return mpc.Step(m); });

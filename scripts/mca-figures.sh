@@ -3,8 +3,8 @@
 # scenes/*.yaml on its own platform and on stewart6dof, through `pwsim run --mca mpc` (the MPC
 # without preview, as a live session runs it; its summary.json carries the comparison with the
 # washout and the offline ceiling on the same trial) and `pwsim run --mca washout`. Then
-# scripts/mca_figures.py collects the summaries (OUT/cueing.csv, OUT/actuators.csv, OUT/table.md)
-# and gnuplot draws, each figure naming its data and the commit:
+# scripts/mca_figures.py collects the summaries (OUT/cueing.csv, OUT/actuators.csv, OUT/table.md;
+# the CSVs copied beside the figures) and gnuplot draws, each figure naming its data and commit:
 #   docs/images/mca_cueing_error.png   perceived-motion error (six-channel RMS), washout / MPC / ceiling
 #   docs/images/mca_cueing_xcorr.png   cross-correlation peak and its lag (the delay), same
 #   docs/images/mca_cueing_stroke.png  each actuator's stroke use against what the axis boxes ask
@@ -15,7 +15,10 @@ build=${1:-$root/build}
 out=${2:-$root/out/mca-figures}
 images=${3:-$root/docs/images}
 commit=$(git -C "$root" rev-parse --short HEAD)
-if ! git -C "$root" diff --quiet HEAD -- mca report app scenes 2>/dev/null; then commit="$commit+uncommitted"; fi
+# the cueing code or the scenes differing from the commit
+if ! git -C "$root" diff --quiet HEAD -- mca report/run_mca.cc report/run_mca.h report/car_run.cc scenes; then
+  commit="$commit+uncommitted"
+fi
 mkdir -p "$out" "$images"
 for scene in "$root"/scenes/*.yaml; do
   name=$(basename "$scene" .yaml)
@@ -31,4 +34,6 @@ for scene in "$root"/scenes/*.yaml; do
 done
 python3 "$root/scripts/mca_figures.py" "$out" "$commit"
 gnuplot -e "dir='$out'; images='$images'; commit='$commit'" "$root/scripts/mca_figures.gp"
-echo "mca-figures: wrote $out/table.md, $out/cueing.csv, $out/actuators.csv and $images/mca_cueing_{error,xcorr,stroke}.png (pwsim $commit)"
+cp "$out/cueing.csv" "$images/mca_cueing.csv"  # the figures' data beside them
+cp "$out/actuators.csv" "$images/mca_cueing_actuators.csv"
+echo "mca-figures: wrote $out/table.md, $images/mca_cueing{,_actuators}.csv and $images/mca_cueing_{error,xcorr,stroke}.png (pwsim $commit)"

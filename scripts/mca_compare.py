@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 
 SCENES = ["speed_cushion", "car_launch", "car_lane_change"]
-MODES = [("washout", "washout"), ("mpc", "MPC, held input"), ("mpc-preview", "MPC, preview"),
+MODES = [("washout", "washout"), ("mpc", "MPC, no preview"), ("mpc-preview", "MPC, preview"),
          ("offline", "offline optimum")]
 AXES = [("otolith", "x", "f_x", "m/s²"), ("otolith", "y", "f_y", "m/s²"), ("otolith", "z", "f_z", "m/s²"),
         ("canals", "x", "ω_x", "deg/s"), ("canals", "y", "ω_y", "deg/s"), ("canals", "z", "ω_z", "deg/s")]
@@ -48,7 +48,7 @@ def main(out: Path) -> None:
 
 
 OMCT_PLATFORMS = ["pw4dof", "car2dof"]
-OMCT_MODES = [("washout", "washout"), ("mpc", "MPC, held input")]
+OMCT_MODES = [("washout", "washout"), ("mpc", "MPC, no preview")]
 OMCT_FREQUENCIES = [0.251, 1.0, 3.98]  # rad/s, OMCT frequencies 10^(k/5), k = -3, 0, 3
 
 
