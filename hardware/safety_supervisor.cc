@@ -46,7 +46,7 @@ bool StopsInside(const AxisLimits& lim, double dt, const AxisMotion& start) {
 }
 
 bool LimitedStep(const AxisLimits& lim, const AxisLimits& space, double dt, double target,
-                 AxisMotion* m, bool* braking) {
+                 AxisMotion* m, bool* braking, double target_velocity) {
   *braking = false;
   // 1. Pass-through when the target is reachable within every limit.
   {
@@ -66,8 +66,10 @@ bool LimitedStep(const AxisLimits& lim, const AxisLimits& space, double dt, doub
   const double d = target - m->p;
   const double a_eff = 0.5 * lim.accel;
   const double lambda = std::min(4.0, 0.5 * lim.jerk / std::max(lim.accel, 1e-9));
-  const double v_des = Sign(d) * std::min({lim.velocity, std::sqrt(2.0 * a_eff * std::abs(d)),
-                                           lambda * std::abs(d)});
+  // the target's own velocity fed forward: a moving target is caught up with, not trailed by v/λ
+  const double v_des = std::clamp(target_velocity + Sign(d) * std::min({lim.velocity, std::sqrt(2.0 * a_eff * std::abs(d)),
+                                                                       lambda * std::abs(d)}),
+                                  -lim.velocity, lim.velocity);
   const double a_des = std::clamp(2.0 * lambda * (v_des - m->v), -lim.accel, lim.accel);
   double lo = m->a - lim.jerk * dt;
   double hi = m->a + lim.jerk * dt;
@@ -201,6 +203,11 @@ AxisValues SafetySupervisor::Step(std::int64_t cycle, const SafetyInputs& in) {
       target = t;
     }
   }
+  // the target's velocity (finite difference of consecutive valid setpoints), fed forward by
+  // the tracking
+  AxisValues target_velocity{};
+  if (target && missing_run_ == 0 && state_ == SupervisorState::kRunning)
+    for (std::size_t i = 0; i < n; ++i) target_velocity[i] = ((*target)[i] - last_setpoint_[i]) / config_.dt;
   if (target) {
     missing_run_ = 0;
     last_setpoint_ = *target;
@@ -264,7 +271,7 @@ AxisValues SafetySupervisor::Step(std::int64_t cycle, const SafetyInputs& in) {
     bool braking = false;
     if (running) {
       const double t = target ? (*target)[i] : last_setpoint_[i];  // hold through short gaps
-      if (LimitedStep(config_.axes[i], config_.axes[i], config_.dt, t, &m, &braking))
+      if (LimitedStep(config_.axes[i], config_.axes[i], config_.dt, t, &m, &braking, target_velocity[i]))
         ++counters_.rate_limited;
     } else if (state_ == SupervisorState::kParked) {
       // hold

@@ -120,10 +120,11 @@ struct SafetyCounters {
   std::uint64_t held{0};          ///< cycles following the measured positions (drives not enabled)
 };
 
-/// One axis, one cycle: the jerk-limited step toward `target` under `lim` (range [min, max]
-/// from `space`). Returns true when the output is not exactly the target (limited).
+/// One axis, one cycle: the jerk-limited step toward `target` moving at `target_velocity` (fed
+/// forward, so that a moving target is caught up with rather than trailed by v/λ) under `lim`
+/// (range [min, max] from `space`). Returns true when the output is not exactly the target.
 bool LimitedStep(const AxisLimits& lim, const AxisLimits& space, double dt, double target,
-                 AxisMotion* m, bool* braking);
+                 AxisMotion* m, bool* braking, double target_velocity = 0.0);
 /// True when a jerk-limited stop from `m` keeps lim.min <= p <= lim.max.
 bool StopsInside(const AxisLimits& lim, double dt, const AxisMotion& m);
 

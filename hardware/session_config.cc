@@ -67,12 +67,12 @@ SafetyConfig SafetyConfigFor(const mca::Mechanism& mechanism, double dt) {
     }
     l.velocity = a.limits.speed;
     l.accel = a.limits.accel;
-    l.jerk = 10.0 * a.limits.accel;
+    l.jerk = 2.0 * a.limits.accel / dt;  // the acceleration may swing across its range in a cycle
     AxisLimits& s = c.soft_stop[k];
     s = l;
     s.velocity = 0.25 * l.velocity;
     s.accel = 0.1 * l.accel;
-    s.jerk = 0.1 * l.jerk;
+    s.jerk = a.limits.accel * 1.0;  // [1/s]: the soft stop's acceleration swings in 0.1 s
     c.neutral[k] = q0;
   }
   return c;

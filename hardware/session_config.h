@@ -21,8 +21,12 @@ inline constexpr const char* kSessionLogMagic = "# pwsim-session-log/2";
 ///     session's own range, neutral ± 30° (the car's yaw: seed 001's is "theoretically infinite");
 ///   [min, max] = the hard range less a margin of 1/24 of it at each end (the car's rail:
 ///     ±0.6 m -> ±0.55 m), 1° for an unlimited rotary stage (±29°);
-///   velocity, accel = the actuator's speed and acceleration; jerk = 10 × accel per second;
-///   soft stop: 1/4 of the speed, 1/10 of the acceleration and of the jerk;
+///   velocity, accel = the actuator's speed and acceleration; jerk = 2 accel / dt: the
+///     acceleration may swing across its whole range in one drive cycle, as the MCA's own actuator
+///     limiter does (bang-bang at the limits: a tighter jerk makes the supervisor rate-limit
+///     feasible cues and trail them, by 22 mm on pw4dof's legs with accel / (2 dt));
+///   soft stop: 1/4 of the speed, 1/10 of the acceleration, jerk = the acceleration per second
+///     (the soft stop's acceleration swings in 0.1 s);
 ///   neutral = the actuator's position at the neutral pose (inverse kinematics).
 SafetyConfig SafetyConfigFor(const mca::Mechanism& mechanism, double dt);
 /// One axis per actuator: node 1 + index, 10^6 counts per m or rad.
