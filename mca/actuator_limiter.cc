@@ -19,16 +19,22 @@ struct Frame {
 };
 
 Frame MakeFrame(const DofArray& x, double height) {
-  const double cz = std::cos(x[At(Dof::kYaw)]), sz = std::sin(x[At(Dof::kYaw)]);
-  const double cy = std::cos(x[At(Dof::kPitch)]), sy = std::sin(x[At(Dof::kPitch)]);
-  const double cx = std::cos(x[At(Dof::kRoll)]), sx = std::sin(x[At(Dof::kRoll)]);
-  Eigen::Matrix3d rz, ry, rx;
-  rz << cz, -sz, 0.0, sz, cz, 0.0, 0.0, 0.0, 1.0;
-  ry << cy, 0.0, -sy, 0.0, 1.0, 0.0, sy, 0.0, cy;
-  rx << 1.0, 0.0, 0.0, 0.0, cx, -sx, 0.0, sx, cx;
+  // Ry(−θ) Rx(φ) in closed form, then Rz(ψ) (skipped at ψ = 0)
+  const double yaw = x[At(Dof::kYaw)], pitch = x[At(Dof::kPitch)], roll = x[At(Dof::kRoll)];
+  const double cy = std::cos(pitch), sy = std::sin(pitch);
+  const double cx = std::cos(roll), sx = std::sin(roll);
   Frame f;
-  f.r = rz * (ry * rx);
-  f.t = rz * Eigen::Vector3d(x[At(Dof::kSurge)], x[At(Dof::kSway)], height + x[At(Dof::kHeave)]);
+  f.r << cy, -sy * sx, -sy * cx,  //
+      0.0, cx, -sx,               //
+      sy, cy * sx, cy * cx;
+  f.t = Eigen::Vector3d(x[At(Dof::kSurge)], x[At(Dof::kSway)], height + x[At(Dof::kHeave)]);
+  if (yaw != 0.0) {
+    const double cz = std::cos(yaw), sz = std::sin(yaw);
+    Eigen::Matrix3d rz;
+    rz << cz, -sz, 0.0, sz, cz, 0.0, 0.0, 0.0, 1.0;
+    f.r = rz * f.r;
+    f.t = rz * f.t;
+  }
   return f;
 }
 
@@ -63,7 +69,11 @@ std::array<RateGuard, kDofCount> TiltGuards(const PlatformSpec& platform, double
 
 ActuatorLimiter::ActuatorLimiter(const PlatformSpec& platform, double dt, std::array<RateGuard, kDofCount> guards,
                                  double accel_margin)
-    : mechanism_(platform.mechanism), dt_(dt), guards_(guards), pivot_height_(platform.mechanism.pivot_height()) {
+    : mechanism_(platform.mechanism),
+      actuators_(platform.mechanism.actuators()),
+      dt_(dt),
+      guards_(guards),
+      pivot_height_(platform.mechanism.pivot_height()) {
   PWSIM_DEMAND(dt > 0.0 && accel_margin >= 0.0 && accel_margin < 1.0);
   PWSIM_DEMAND(mechanism_.Validate().empty());
   const int n = mechanism_.actuator_count();
@@ -195,7 +205,7 @@ bool ActuatorLimiter::CoupledPositions(const DofArray& pose, ActuatorVector* q) 
   const bool floor_moves = coupled_stage_axes_any_;
   const Frame floor = floor_moves ? MakeFrame(Masked(x, stage_axes_), 0.0) : Frame{Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero()};
   for (int i : coupled_) {
-    const Actuator& a = mechanism_.actuator(i);
+    const Actuator& a = actuators_[static_cast<std::size_t>(i)];
     if (a.kind != ActuatorKind::kLeg) {
       (*q)[i] = x[At(a.dof)];
       continue;
@@ -235,7 +245,7 @@ bool ActuatorLimiter::TickWithinLimits(const DofArray& x_now, const DofArray& x_
                                        const ActuatorVector& q_now, const ActuatorVector& q_next) const {
   double brake_time = 0.0;
   for (int i : coupled_) {
-    const ActuatorLimits& lim = mechanism_.actuator(i).limits;
+    const ActuatorLimits& lim = actuators_[static_cast<std::size_t>(i)].limits;
     const double r_now = (q_now[i] - q_prev[i]) / dt_;
     const double r_next = (q_next[i] - q_now[i]) / dt_;
     if (!(q_next[i] >= lim.min && q_next[i] <= lim.max)) return false;

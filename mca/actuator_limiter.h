@@ -159,6 +159,7 @@ class ActuatorLimiter {
   double BrakeTime(const ActuatorVector& q_now, const ActuatorVector& q_prev) const;
 
   Mechanism mechanism_;
+  std::vector<Actuator> actuators_;     ///< the mechanism's, at hand for the per-tick loops
   double dt_;
   std::array<RateGuard, kDofCount> guards_;
   std::vector<Stage> stages_;           ///< the independent stages

@@ -391,6 +391,10 @@ MpcModel BuildMpcModel(const MpcParams& params, const VestibularParams& vestibul
     model.con_lo[r] = lo[s];
     model.con_hi[r] = hi[s];
   }
+  model.axis_pos_c_rows = model.axis_pos_c;
+  model.axis_vel_c_rows = model.axis_vel_c;
+  model.axis_pos_dx_rows = model.axis_pos_dx;
+  model.axis_vel_dx_rows = model.axis_vel_dx;
   model.z_lo.resize(nz);
   model.z_hi.resize(nz);
   for (int kb = 0; kb < n_blocks; ++kb) {
@@ -422,6 +426,8 @@ MpcCueing::MpcCueing(const MpcParams& params, const WashoutParams& washout,
   }
   con_c_ = model_.con_c;
   con_dx_ = model_.con_dx;
+  row_c_.resize(1, model_.nz);
+  row_dx_.resize(1, model_.nx);
   con_lo_ = model_.con_lo;
   con_hi_ = model_.con_hi;
   jacobian_.resize(platform.mechanism.actuator_count(), 6);
@@ -569,8 +575,10 @@ void MpcCueing::FillActuatorRows(const std::vector<DofArray>* about) {
     const ActuatorJacobian& jac = own ? block_jacobians_[kb] : jacobian_;
     const DofArray& p0 = own ? (*about)[kb] : now;
     const double q0 = own ? block_positions_[kb][i] : q_now[i];
-    con_c_.row(r).setZero();
-    con_dx_.row(r).setZero();
+    auto& row_c = row_c_;
+    auto& row_dx = row_dx_;
+    row_c.setZero();
+    row_dx.setZero();
     double jp0 = 0.0, w0 = 0.0;  // J p0, and the actuator's rate now J v0
     for (int a = 0; a < m; ++a) {
       const auto d = static_cast<std::size_t>(Index(model_.axes[static_cast<std::size_t>(a)]));
@@ -581,22 +589,24 @@ void MpcCueing::FillActuatorRows(const std::vector<DofArray>* about) {
       const Eigen::Index b = row.block * m + a;
       switch (row.kind) {
         case MpcModel::ActuatorRowKind::kStroke:
-          con_c_.row(r) += j * model_.axis_pos_c.row(b);
-          con_dx_.row(r) += j * model_.axis_pos_dx.row(b);
+          row_c += j * model_.axis_pos_c_rows.row(b);
+          row_dx += j * model_.axis_pos_dx_rows.row(b);
           break;
         case MpcModel::ActuatorRowKind::kEnvelope:
-          con_c_.row(r) += j * model_.axis_pos_c.row(b) + (c * j) * model_.axis_vel_c.row(b);
-          con_dx_.row(r) += j * model_.axis_pos_dx.row(b) + (c * j) * model_.axis_vel_dx.row(b);
+          row_c += j * model_.axis_pos_c_rows.row(b) + (c * j) * model_.axis_vel_c_rows.row(b);
+          row_dx += j * model_.axis_pos_dx_rows.row(b) + (c * j) * model_.axis_vel_dx_rows.row(b);
           break;
         case MpcModel::ActuatorRowKind::kSpeed:
-          con_c_.row(r) += j * model_.axis_vel_c.row(b);
-          con_dx_.row(r) += j * model_.axis_vel_dx.row(b);
+          row_c += j * model_.axis_vel_c_rows.row(b);
+          row_dx += j * model_.axis_vel_dx_rows.row(b);
           break;
         case MpcModel::ActuatorRowKind::kAccel:
-          con_c_(r, b) = j;
+          row_c(b) = j;
           break;
       }
     }
+    con_c_.row(r) = row_c;
+    con_dx_.row(r) = row_dx;
     const ActuatorLimits& lim = mechanism.actuator(i).limits;
     switch (row.kind) {
       case MpcModel::ActuatorRowKind::kStroke:

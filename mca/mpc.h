@@ -205,6 +205,9 @@ struct MpcModel {
   std::vector<ActuatorRow> actuator_rows;
   /// per block kb and axis a (row kb·m + a): the pose and rate at the block's end, C z + Dx x0
   Eigen::MatrixXd axis_pos_c, axis_vel_c, axis_pos_dx, axis_vel_dx;
+  /// the same, row-major (the per-solve rows combine rows)
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> axis_pos_c_rows, axis_vel_c_rows,
+      axis_pos_dx_rows, axis_vel_dx_rows;
   double envelope_c{0.0};               ///< c_g of the envelope rows [s]
   double actuator_margin{0.0};          ///< share kept for the linearisation
 };
@@ -282,6 +285,7 @@ class MpcCueing {
   std::array<double, 2> band_margin_{};  ///< μ = 1.5 A dt of roll, pitch [rad/s]
   // the constraints of this solve (the actuator rows change with the pose)
   Eigen::MatrixXd con_c_, con_dx_;
+  Eigen::Matrix<double, 1, Eigen::Dynamic> row_c_, row_dx_;  ///< one actuator row being built
   Eigen::VectorXd con_lo_, con_hi_;
   ActuatorJacobian jacobian_;
   std::vector<DofArray> block_poses_;            ///< the offline plan's pose per block
