@@ -23,8 +23,17 @@ flags="-std=c++20 -O1 -g -fsanitize=fuzzer-no-link,address,undefined -fno-saniti
       $CXX $flags -c "$src/hardware/$unit.cc" -o "$o"
     fi
   done
-  # The engine units the parsers use (linear interpolation; the key file's InputError).
-  for unit in interpolate input_error; do
+  # The platform's mechanism (the session's kinematics and its default car platform).
+  for unit in mechanism platform; do
+    o="$work/obj/mca_$unit.o"
+    if [ ! -f "$o" ] || [ "$src/mca/$unit.cc" -nt "$o" ] ||
+       [ -n "$(find "$src/mca" "$src/engine" -name '*.h' -newer "$o" | head -1)" ]; then
+      $CXX $flags -c "$src/mca/$unit.cc" -o "$o"
+    fi
+  done
+  # The engine units the parsers use (linear interpolation; the key file's InputError; the
+  # platform files' YAML reader).
+  for unit in interpolate input_error yaml_reader; do
     o="$work/obj/engine_$unit.o"
     if [ ! -f "$o" ] || [ "$src/engine/$unit.cc" -nt "$o" ] || [ "$src/engine/$unit.h" -nt "$o" ]; then
       $CXX $flags -c "$src/engine/$unit.cc" -o "$o"
@@ -36,7 +45,7 @@ flags="-std=c++20 -O1 -g -fsanitize=fuzzer-no-link,address,undefined -fno-saniti
          $CXX -fsanitize=fuzzer -x c++ - -o "$work/.probe" 2>/dev/null; then
       echo "SKIP: $CXX cannot link -fsanitize=fuzzer (install libclang-rt-14-dev)"; exit 77
     fi
-    $CXX $flags -fsanitize=fuzzer "$src/hardware/fuzz/$name.cc" "$work"/obj/*.o -lsodium -o "$exe"
+    $CXX $flags -fsanitize=fuzzer "$src/hardware/fuzz/$name.cc" "$work"/obj/*.o -lsodium -lyaml-cpp -o "$exe"
   fi
 ) 9>"$work/.lock"
 # Seeds from the checked-in corpus, findings written under WORK_DIR.
