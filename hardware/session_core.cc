@@ -404,6 +404,13 @@ void SessionCore::Step(std::int64_t tick, const SessionInputs& in, SessionOutput
     if (master_.phase() != last_phase_) {
       last_phase_ = master_.phase();
       out->log.Line('E').Int(tick).Word("master").Word(MasterPhaseName(last_phase_));
+      if (last_phase_ == MasterPhase::kResetComm) {
+        // the start-up timed out: say which drives never answered (another platform's drives?)
+        out->log.Word("(no boot-up from node");
+        for (int i = 0; i < n_; ++i)
+          if (!master_.axis(i).seen_heartbeat) out->log.Int(config_.master.axes[static_cast<std::size_t>(i)].node);
+        out->log.Raw(")");
+      }
     }
     const auto idx = static_cast<std::size_t>(cycle);
     if (platform_rx_ns_.size() <= idx) platform_rx_ns_.resize(idx + 1, -1);
