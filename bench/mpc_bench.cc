@@ -1,7 +1,7 @@
 // One control step of the model-predictive cueing (mca/mpc.h) at 100 Hz: the tick that solves
 // the QP plus the nine ticks that only follow the plan through the limiter (10 ms of 1 kHz
 // engine ticks). Input: the head motion of the speed-cushion trial (scenes/speed_cushion.yaml,
-// simulated here), held-input prediction, default weights (horizon 1.01 s, 11 blocks),
+// simulated here), no preview (decaying transients), default weights (horizon 1.01 s, 11 blocks),
 // replayed in a loop. Goal: p99 <= 2 ms per control step on the 2-core machine.
 // Besides Google Benchmark's mean, each benchmark reports the p50, p99 and maximum of the
 // per-step times it measured, as thread CPU time (cpu_p50_us, cpu_p99_us, cpu_max_us: the

@@ -79,7 +79,7 @@
 // On the coupled group's roll and pitch the brake by scaling (above) lowers the rate by α v
 // per second, not necessarily by A: there the band rows' feasibility is not proven. A solve that
 // fails falls back to the washout for that period (counted: `fallbacks_to_washout`), still under
-// the per-tick limiter and band; measured: none on the shipped scenes (MpcCliTest) nor on the
+// the per-tick limiter and band; measured: none on the shipped scenes (MpcCliSceneTest) nor on the
 // fuzzed input of MpcTest.FuzzedInputNeverTiltsFasterThanTheThreshold (pw4dof, 1 kHz and 100 Hz).
 // The premise holds at each solve after a period in which the plan was followed: the plan kept
 // (b)–(d); the model's end-of-tick rate lies within ½ A dt of the tick's mean rate r_k ∈ B_k,
