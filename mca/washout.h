@@ -103,7 +103,9 @@ struct WashoutParams {
   TiltParams tilt_pitch{};                             ///< pitch from surge specific force
   TiltParams tilt_roll{};                              ///< roll from sway specific force
   BankParams bank{};
-  double tilt_rate_threshold{3.0 * kDegToRad};         ///< τ of the tilt band [rad/s]
+  /// τ of the tilt band [rad/s]: not a scene key of its own, LoadMcaConfig sets it from
+  /// mca.vestibular's tilt_rate_degps (one threshold for both algorithms)
+  double tilt_rate_threshold{3.0 * kDegToRad};
   FaultParams fault{};
   bool operator==(const WashoutParams&) const = default;
 

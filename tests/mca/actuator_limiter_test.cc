@@ -92,39 +92,42 @@ TEST(ActuatorLimiterTest, FuzzedTargetsNeverBeyondAnActuatorLimit) {
   }
 }
 
-// Tests the rate windows: on pw4dof's pitch and roll a window [min(0, w) − τ, max(0, w) + τ]
-// whose w moves by at most the promised edge acceleration per tick (a random walk that hits its
-// bound often), with random targets: the pose rate is never outside the window.
+// Tests the rate windows: on the pitch and roll of pw4dof's and stewart6dof's legs a window
+// [min(0, w) − τ, max(0, w) + τ] whose w moves by at most the promised edge acceleration per
+// tick (a random walk that hits its bound often), with random targets: the pose rate is never
+// outside the window.
 TEST(ActuatorLimiterTest, MovingRateWindowsAlwaysHold) {
-  const PlatformSpec p = Shipped("pw4dof");
   const double tau = 3.0 * kDegToRad, edge = 300.0 * kDegToRad;
-  for (const double dt : {1e-3, 1e-2}) {
-    std::array<RateGuard, kDofCount> guards{};
-    guards[Index(Dof::kRoll)] = guards[Index(Dof::kPitch)] = RateGuard{tau, edge};
-    ActuatorLimiter limiter(p, dt, guards);
-    std::mt19937 rng(3);
-    std::uniform_real_distribution<double> u(-1.0, 1.0);
-    std::array<double, 2> w{};
-    DofArray target{};
-    for (int k = 0; k < static_cast<int>(8.0 / dt); ++k) {
-      if (k % static_cast<int>(0.2 / dt) == 0) {
-        for (double& x : target) x = 0.3 * u(rng);
+  for (const char* name : {"pw4dof", "stewart6dof"}) {
+    const PlatformSpec p = Shipped(name);
+    for (const double dt : {1e-3, 1e-2}) {
+      std::array<RateGuard, kDofCount> guards{};
+      guards[Index(Dof::kRoll)] = guards[Index(Dof::kPitch)] = RateGuard{tau, edge};
+      ActuatorLimiter limiter(p, dt, guards);
+      std::mt19937 rng(3);
+      std::uniform_real_distribution<double> u(-1.0, 1.0);
+      std::array<double, 2> w{};
+      DofArray target{};
+      for (int k = 0; k < static_cast<int>(8.0 / dt); ++k) {
+        if (k % static_cast<int>(0.2 / dt) == 0) {
+          for (double& x : target) x = 0.3 * u(rng);
+        }
+        std::array<RateWindow, kDofCount> windows{};
+        for (std::size_t a = 0; a < 2; ++a) {
+          w[a] = std::clamp(w[a] + 2.0 * edge * dt * u(rng), w[a] - edge * dt, w[a] + edge * dt);
+          w[a] = std::clamp(w[a], -0.6, 0.6);
+          windows[a == 0 ? Index(Dof::kRoll) : Index(Dof::kPitch)] = {std::min(0.0, w[a]) - tau, std::max(0.0, w[a]) + tau};
+        }
+        limiter.Step(target, DofArray{}, windows);
+        for (Dof dof : {Dof::kRoll, Dof::kPitch}) {
+          const RateWindow& win = windows[Index(dof)];
+          const double r = limiter.rate()[Index(dof)];
+          ASSERT_GE(r, win.lo - 1e-12) << name << " " << DofName(dof) << " tick " << k;
+          ASSERT_LE(r, win.hi + 1e-12) << name << " " << DofName(dof) << " tick " << k;
+        }
       }
-      std::array<RateWindow, kDofCount> windows{};
-      for (std::size_t a = 0; a < 2; ++a) {
-        w[a] = std::clamp(w[a] + 2.0 * edge * dt * u(rng), w[a] - edge * dt, w[a] + edge * dt);
-        w[a] = std::clamp(w[a], -0.6, 0.6);
-        windows[a == 0 ? Index(Dof::kRoll) : Index(Dof::kPitch)] = {std::min(0.0, w[a]) - tau, std::max(0.0, w[a]) + tau};
-      }
-      limiter.Step(target, DofArray{}, windows);
-      for (Dof dof : {Dof::kRoll, Dof::kPitch}) {
-        const RateWindow& win = windows[Index(dof)];
-        const double r = limiter.rate()[Index(dof)];
-        ASSERT_GE(r, win.lo - 1e-12) << DofName(dof) << " tick " << k;
-        ASSERT_LE(r, win.hi + 1e-12) << DofName(dof) << " tick " << k;
-      }
+      EXPECT_GT(limiter.stats().reduced, 0) << name;
     }
-    EXPECT_GT(limiter.stats().reduced, 0);
   }
 }
 
