@@ -11,6 +11,7 @@
 #include "hardware/chair_drive_source.h"
 #include "hardware/input_latency.h"
 #include "hardware/rnet_joystick.h"
+#include "hardware/session_streams.h"
 #include "hardware/udp_socket.h"
 
 namespace pwsim::hw {
@@ -64,7 +65,8 @@ void BM_ChairDriveCycle(benchmark::State& state) {
   const Scene scene = LoadScene(kSource / "scenes/circuit_course.yaml");
   const std::vector<CandumpRecord> records = ReadCandumpFile(kSource / "assets/rnet/joystick_synthetic.log");
   RnetLogJoystick joystick(records, scene.clock.rate_hz, {-1, 100}, "log");
-  std::optional<ChairDriveSource> source(std::in_place, scene, joystick, 3000);
+  const mca::McaConfig mca = SessionMcaConfig(scene, std::nullopt, nullptr);  // the scene's own cueing on pw4dof
+  std::optional<ChairDriveSource> source(std::in_place, scene, joystick, 3000, mca);
   SessionInputs in;
   std::int64_t tick = 0;
   for (auto _ : state) {
@@ -72,7 +74,7 @@ void BM_ChairDriveCycle(benchmark::State& state) {
     if (tick > 3000) {  // keep the chair on the log's drive (restart off the clock)
       state.PauseTiming();
       joystick = RnetLogJoystick(records, scene.clock.rate_hz, {-1, 100}, "log");
-      source.emplace(scene, joystick, 3000);
+      source.emplace(scene, joystick, 3000, mca);
       tick = 4;
       state.ResumeTiming();
     }
