@@ -11,6 +11,9 @@ namespace {
 constexpr std::size_t At(Dof dof) { return static_cast<std::size_t>(Index(dof)); }
 constexpr double kCouplingTolerance = 1e-12;  ///< |∂q_leg/∂x_stage| below this: independent
 constexpr int kBisections = 12;
+/// The share of every limit kept free (header): figures recomputed elsewhere, with another IK's
+/// rounding and differenced again, still come out at or below 1 of the limit.
+constexpr double kHeadroom = 1e-9;
 
 /// Rz(ψ) Ry(−θ) Rx(φ) and Rz(ψ) t of a pose (t = (s, w, height + z)), as mca/mechanism.h.
 struct Frame {
@@ -126,9 +129,9 @@ ActuatorLimiter::ActuatorLimiter(const PlatformSpec& platform, double dt, std::a
     s.limits.present = true;
     const bool bounded = std::isfinite(a.limits.min) && std::isfinite(a.limits.max);
     s.centre = bounded ? 0.5 * (a.limits.min + a.limits.max) : 0.0;
-    s.limits.travel = bounded ? 0.5 * (a.limits.max - a.limits.min) : kUnlimited;
-    s.limits.speed = a.limits.speed;
-    s.limits.accel = a.limits.accel;
+    s.limits.travel = bounded ? 0.5 * (a.limits.max - a.limits.min) * (1.0 - kHeadroom) : kUnlimited;
+    s.limits.speed = a.limits.speed * (1.0 - kHeadroom);
+    s.limits.accel = a.limits.accel * (1.0 - kHeadroom);
     if (box.present && std::isfinite(box.steady_accel)) {  // the drive's sustained rating
       s.limits.steady_accel = std::min(box.steady_accel, a.limits.accel);
       s.limits.peak_time = box.peak_time;
@@ -248,9 +251,10 @@ bool ActuatorLimiter::TickWithinLimits(const DofArray& x_now, const DofArray& x_
     const ActuatorLimits& lim = actuators_[static_cast<std::size_t>(i)].limits;
     const double r_now = (q_now[i] - q_prev[i]) / dt_;
     const double r_next = (q_next[i] - q_now[i]) / dt_;
-    if (!(q_next[i] >= lim.min && q_next[i] <= lim.max)) return false;
-    if (!(std::abs(r_next) <= lim.speed)) return false;
-    if (!(std::abs((r_next - r_now) / dt_) <= lim.accel)) return false;
+    const double inset = kHeadroom * 0.5 * (lim.max - lim.min);
+    if (!(q_next[i] >= lim.min + inset && q_next[i] <= lim.max - inset)) return false;
+    if (!(std::abs(r_next) <= lim.speed * (1.0 - kHeadroom))) return false;
+    if (!(std::abs((r_next - r_now) / dt_) <= lim.accel * (1.0 - kHeadroom))) return false;
     brake_time = std::max(brake_time, std::abs(r_next) / brake_accel_[static_cast<std::size_t>(i)]);
   }
   if (brake_time <= dt_) return true;

@@ -9,7 +9,10 @@
 //
 // Actuator signals are differences of the positions the drives get, q_k = IK(x_k):
 //   rate r_k = (q_k − q_k−1)/dt,   acceleration (r_k − r_k−1)/dt.
-// Limits of actuator i: q_i ∈ [min_i, max_i], |r_i| ≤ v_i, |r_i,k − r_i,k−1| ≤ a_i dt.
+// Limits of actuator i: q_i ∈ [min_i, max_i], |r_i| ≤ v_i, |r_i,k − r_i,k−1| ≤ a_i dt, each held
+// with a headroom of 1e-9 of the limit (1e-9 of the half-stroke at each end), so that the same
+// figures recomputed from the poses elsewhere (another IK's rounding, differenced again: a few
+// 1e-12 relative) still come out at or below the limit itself.
 //
 // Groups. A rail or rotary stage that no leg depends on drives its axis alone: it is limited by
 // StepLimiter (mca/platform.h) on its stroke (asymmetric strokes about their centre), speed and

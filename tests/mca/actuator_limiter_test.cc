@@ -84,9 +84,9 @@ TEST(ActuatorLimiterTest, FuzzedTargetsNeverBeyondAnActuatorLimit) {
       }
       const test::ActuatorUse use = test::MeasureActuatorUse(p.mechanism, poses, dt);
       const std::string what = std::string(name) + " dt " + std::to_string(dt);
-      EXPECT_LE(use.beyond_stroke, 1e-12) << what;
-      EXPECT_LE(use.speed, 1.0 + 1e-9) << what;
-      EXPECT_LE(use.accel, 1.0 + 1e-9) << what;
+      EXPECT_LE(use.beyond_stroke, 0.0) << what;
+      EXPECT_LE(use.speed, 1.0) << what;
+      EXPECT_LE(use.accel, 1.0) << what;
       EXPECT_GT(use.speed, 0.5) << what << ": the fuzz reaches the limits";
     }
   }
@@ -155,10 +155,17 @@ TEST(ActuatorLimiterTest, InsideTheLimitsTheTargetIsFollowedExactly) {
   }
 }
 
-// Tests that the car's rail and turntable (independent stages) are exactly the 1-D limiter.
+// Tests that the car's rail and turntable (independent stages) are exactly the 1-D limiter on
+// their actuators' limits less the 1e-9 headroom (the car's file: the same as its axis boxes).
 TEST(ActuatorLimiterTest, IndependentStagesAreTheOneAxisLimiter) {
   const PlatformSpec p = Shipped("car2dof");
   ActuatorLimiter limiter(p, 1e-3);
+  std::array<DofLimits, kDofCount> limits = p.dofs;
+  for (DofLimits& l : limits) {
+    l.travel *= 1.0 - 1e-9;
+    l.speed *= 1.0 - 1e-9;
+    l.accel *= 1.0 - 1e-9;
+  }
   std::array<LimiterState, kDofCount> axis{};
   for (int k = 0; k < 5000; ++k) {
     DofArray target{};
@@ -167,7 +174,7 @@ TEST(ActuatorLimiterTest, IndependentStagesAreTheOneAxisLimiter) {
     limiter.Step(target, DofArray{}, {});
     for (Dof dof : {Dof::kSurge, Dof::kYaw}) {
       const auto d = static_cast<std::size_t>(Index(dof));
-      axis[d] = StepLimiter(p.limits(dof), axis[d], target[d], 0.0, RateWindow{}, 1e-3);
+      axis[d] = StepLimiter(limits[d], axis[d], target[d], 0.0, RateWindow{}, 1e-3);
       ASSERT_EQ(limiter.pose()[d], axis[d].pose) << DofName(dof) << " " << k;
     }
   }
