@@ -93,8 +93,9 @@ RailYawFalseCues RailYawFalseCue(const VestibularParams& vestibular,
   return cues;
 }
 
-CueingTrace RunRailYawCueing(const McaConfig& config, const std::vector<HeadMotion>& truth, double dt) {
-  CueingTrace trace = RunCueing(config, truth, dt);
+CueingTrace RunRailYawCueing(const McaConfig& config, const std::vector<HeadMotion>& truth, double dt,
+                             VehiclePredictor* predictor) {
+  CueingTrace trace = RunCueing(config, truth, dt, predictor);
   std::vector<DofArray> poses;
   poses.reserve(trace.commands.size());
   for (const McaCommand& c : trace.commands) poses.push_back(c.pose);

@@ -44,6 +44,7 @@ RailYawFalseCues RailYawFalseCue(const VestibularParams& vestibular,
 
 /// RunCueing with the delivered motion of the rail + yaw chain (perceived platform motion
 /// recomputed from it). @pre the platform has surge and yaw only.
-CueingTrace RunRailYawCueing(const McaConfig& config, const std::vector<HeadMotion>& truth, double dt);
+CueingTrace RunRailYawCueing(const McaConfig& config, const std::vector<HeadMotion>& truth, double dt,
+                             VehiclePredictor* predictor = nullptr);
 
 }  // namespace pwsim::mca

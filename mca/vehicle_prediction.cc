@@ -73,4 +73,32 @@ void ChairRolloutPredictor::Predict(std::int64_t tick, const std::vector<int>& b
   }
 }
 
+CarRolloutPredictor::CarRolloutPredictor(const vehicle::Vehicle& car, const std::vector<vehicle::CarSample>& samples,
+                                         const std::array<double, 3>& head_offset, double dt)
+    : car_(car), samples_(samples), head_offset_(head_offset), dt_(dt) {
+  PWSIM_DEMAND(!samples.empty() && dt > 0.0);
+}
+
+void CarRolloutPredictor::Predict(std::int64_t tick, const std::vector<int>& block_ticks, Eigen::MatrixXd& means) {
+  const auto last = static_cast<std::int64_t>(samples_.size()) - 1;
+  vehicle::CarSample sample = samples_[static_cast<std::size_t>(std::clamp<std::int64_t>(tick, 0, last))];
+  vehicle::DriverInput held = sample.input;  // the driver's present controls, held
+  held.starter = false;
+  // the model stepped every `stride` ticks (kCarRolloutStep), each state held over its ticks
+  const int stride = std::max(1, static_cast<int>(std::lround(kCarRolloutStep / dt_)));
+  std::int64_t step = 0;
+  vehicle::CarHeadMotion h = vehicle::HeadMotionOfCar(sample, head_offset_);
+  for (std::size_t kb = 0; kb < block_ticks.size(); ++kb) {
+    Eigen::Matrix<double, 6, 1> sum = Eigen::Matrix<double, 6, 1>::Zero();
+    for (int k = 0; k < block_ticks[kb]; ++k, ++step) {
+      if (step > 0 && step % stride == 0) {
+        sample = vehicle::NextCarSample(car_, sample, held, dt_ * stride);
+        h = vehicle::HeadMotionOfCar(sample, head_offset_);
+      }
+      sum += Eigen::Matrix<double, 6, 1>(h.fs[0], h.fs[1], h.fs[2] - kGravity, h.w[0], h.w[1], h.w[2]);
+    }
+    means.col(static_cast<Eigen::Index>(kb)) = sum / static_cast<double>(block_ticks[kb]);
+  }
+}
+
 }  // namespace pwsim::mca

@@ -10,6 +10,7 @@
 #include "mca/cueing.h"
 #include "mca/offline_optimum.h"
 #include "mca/rail_yaw.h"
+#include "mca/vehicle_prediction.h"
 #include "plot/plot.h"
 #include "render/dashboard.h"
 #include "render/image_io.h"
@@ -80,12 +81,14 @@ void AddCarCueing(const vehicle::CarScene& scene, const std::vector<CarSample>& 
     head[k].fs = m.fs;
     head[k].w = m.w;
   }
+  // the MPC's vehicle model without preview: the car run ahead with the driver's present input held
+  mca::CarRolloutPredictor predictor(scene.car, samples, scene.head_offset, dt);
   // the rail + yaw chain: a platform with surge and yaw and nothing else
   bool rail_yaw = config.platform.Has(Dof::kSurge) && config.platform.Has(Dof::kYaw);
   for (Dof dof : {Dof::kSway, Dof::kHeave, Dof::kRoll, Dof::kPitch}) rail_yaw = rail_yaw && !config.platform.Has(dof);
   const mca::CueingTrace trace = choice.offline ? mca::RunOfflineOptimum(config, head, dt, rail_yaw)
-                                 : rail_yaw     ? mca::RunRailYawCueing(config, head, dt)
-                                                : mca::RunCueing(config, head, dt);
+                                 : rail_yaw     ? mca::RunRailYawCueing(config, head, dt, &predictor)
+                                                : mca::RunCueing(config, head, dt, &predictor);
   const mca::ConsistencyReport report = mca::EvaluateConsistency(config, trace, dt);
   const mca::RailYawFalseCues false_cue = mca::RailYawFalseCue(config.vestibular, trace.commands, dt);
 
@@ -107,7 +110,7 @@ void AddCarCueing(const vehicle::CarScene& scene, const std::vector<CarSample>& 
   mca_json["actuators"] = ActuatorsJson(config.platform, report);
   mca_json["limits"] = LimitsJson(config.platform, report);
   mca_json["perceived"] = PerceivedJson(report.perceived);
-  if (choice.compare) mca_json["comparison"] = ComparisonJson(config, head, dt, nullptr, rail_yaw);
+  if (choice.compare) mca_json["comparison"] = ComparisonJson(config, head, dt, &predictor, rail_yaw);
   mca_json["consistency"] = ConsistencyJson(report);
   const WrongSignCues wrong = CountWrongSignCues(report);
   mca_json["false_cues"] = {{"wrong_sign_count", wrong.count}, {"wrong_sign_duration_s", wrong.duration_s}};

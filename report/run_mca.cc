@@ -147,9 +147,9 @@ nlohmann::ordered_json ComparisonJson(const mca::McaConfig& config, const std::v
   mca::McaConfig mpc = config;
   mpc.algorithm = mca::McaAlgorithm::kMpc;
   mpc.mpc.preview = false;
-  j["mpc"] = row(rail_yaw ? mca::RunRailYawCueing(mpc, head, dt) : mca::RunCueing(mpc, head, dt, predictor), true);
-  j["mpc"]["prediction"] = predictor != nullptr && !rail_yaw ? "the vehicle model with the driver's present input held"
-                                                             : "the present input's transients decaying";
+  j["mpc"] = row(rail_yaw ? mca::RunRailYawCueing(mpc, head, dt, predictor) : mca::RunCueing(mpc, head, dt, predictor), true);
+  j["mpc"]["prediction"] = predictor != nullptr ? "the vehicle model with the driver's present input held"
+                                                : "the present input's transients decaying";
   j["offline"] = row(mca::RunOfflineOptimum(config, head, dt, rail_yaw), false);
   return j;
 }
