@@ -74,9 +74,9 @@ void ChairRolloutPredictor::Predict(std::int64_t tick, const std::vector<int>& b
 }
 
 CarRolloutPredictor::CarRolloutPredictor(const vehicle::Vehicle& car, const std::vector<vehicle::CarSample>& samples,
-                                         const std::array<double, 3>& head_offset, double dt)
-    : car_(car), samples_(samples), head_offset_(head_offset), dt_(dt) {
-  PWSIM_DEMAND(!samples.empty() && dt > 0.0);
+                                         const std::array<double, 3>& head_offset, double dt, double steer_return)
+    : car_(car), samples_(samples), head_offset_(head_offset), dt_(dt), steer_return_(steer_return) {
+  PWSIM_DEMAND(!samples.empty() && dt > 0.0 && steer_return >= 0.0);
 }
 
 void CarRolloutPredictor::Predict(std::int64_t tick, const std::vector<int>& block_ticks, Eigen::MatrixXd& means) {
@@ -92,7 +92,9 @@ void CarRolloutPredictor::Predict(std::int64_t tick, const std::vector<int>& blo
     Eigen::Matrix<double, 6, 1> sum = Eigen::Matrix<double, 6, 1>::Zero();
     for (int k = 0; k < block_ticks[kb]; ++k, ++step) {
       if (step > 0 && step % stride == 0) {
-        sample = vehicle::NextCarSample(car_, sample, held, dt_ * stride);
+        vehicle::DriverInput input = held;
+        if (steer_return_ > 0.0) input.steer = held.steer * std::exp(-static_cast<double>(step) * dt_ / steer_return_);
+        sample = vehicle::NextCarSample(car_, sample, input, dt_ * stride);
         h = vehicle::HeadMotionOfCar(sample, head_offset_);
       }
       sum += Eigen::Matrix<double, 6, 1>(h.fs[0], h.fs[1], h.fs[2] - kGravity, h.w[0], h.w[1], h.w[2]);

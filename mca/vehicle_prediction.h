@@ -18,12 +18,17 @@
 // the copy allocates (offline runs only: `pwsim run`).
 //
 // The car (engine/vehicle/): the driver's input is the pedals, gear and steering wheel of the
-// present tick (CarSample::input, the starter released), held; the car model (NextCarSample, a
-// pure step from the present sample) runs the horizon from the present state in steps of
-// kCarRolloutStep, HeadMotionOfCar per step held over its ticks. Cost: ≈ 200 vehicle steps
-// (0.45 µs each) per control period; no allocation. (5 ms steps against the trial's 1 ms: the
-// perceived error of the MPC on car_launch 0.5882 against 0.5884, car_seed_drive 0.5402 both,
-// in half the run time.)
+// present tick (CarSample::input, the starter released): pedals and gear held, the steering
+// wheel returning to centre at `steer_return` (0.3 s; 0 holds it too) — on roads that run
+// straight a steering input is a transient (held, a lane change's first half predicts a
+// sustained turn: on stewart6dof, whose sway and roll render it, the MPC's perceived error on
+// car_lane_change was 0.496 with the wheel held, 0.425 returning at 0.3 s, against the
+// washout's 0.434; on car2dof, without sway, the same either way). The car model
+// (NextCarSample, a pure step from the present sample) runs the horizon from the present state
+// in steps of kCarRolloutStep, HeadMotionOfCar per step held over its ticks. Cost: ≈ 200 vehicle
+// steps (0.45 µs each) per control period; no allocation. (5 ms steps against the trial's 1 ms:
+// the perceived error of the MPC on car_launch 0.5882 against 0.5884, car_seed_drive 0.5402
+// both, in half the run time.)
 //
 //   ChairRolloutPredictor predictor(scene);
 //   McaStepper stepper(config, dt);  stepper.SetPredictor(&predictor);
@@ -74,7 +79,7 @@ class CarRolloutPredictor final : public VehiclePredictor {
   /// The trial's own samples (state and driver input per tick; they must outlive this), the
   /// car, the driver's head p_VH and the tick dt [s].
   CarRolloutPredictor(const vehicle::Vehicle& car, const std::vector<vehicle::CarSample>& samples,
-                      const std::array<double, 3>& head_offset, double dt);
+                      const std::array<double, 3>& head_offset, double dt, double steer_return = 0.3);
 
   void Predict(std::int64_t tick, const std::vector<int>& block_ticks, Eigen::MatrixXd& means) override;
 
@@ -83,6 +88,7 @@ class CarRolloutPredictor final : public VehiclePredictor {
   const std::vector<vehicle::CarSample>& samples_;
   std::array<double, 3> head_offset_;
   double dt_;
+  double steer_return_;  ///< [s]
 };
 
 }  // namespace pwsim::mca

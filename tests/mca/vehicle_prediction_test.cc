@@ -67,7 +67,7 @@ TEST(VehiclePredictionTest, ChairRunAheadIsTheTrialWhileTheCommandHolds) {
 }
 
 // Tests the car: between 3.5 and 5.5 s of car_launch every control (throttle 0.5, first gear,
-// clutch in, no brake, no steer) holds, so the car model run ahead from 4.0 s is the trial's own
+// clutch in, no brake, no steer: its return to centre changes nothing) holds, so the car model run ahead from 4.0 s is the trial's own
 // future; stepped at 5 ms against the trial's 1 ms, its block means agree within 0.5 % of the
 // surge specific force's and 0.01 m/s², rad/s elsewhere. At 6 s (a gear change under way) the
 // held controls are not the driver's next ones, and the prediction departs from the trial.
