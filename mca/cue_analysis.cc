@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "engine/check.h"
 
@@ -32,6 +33,37 @@ double LaggedSquares(const std::vector<double>& v, long from, long to) {
   return s;
 }
 
+/// The lag scan both correlations share: for each lag within ±max_lag (at most half the
+/// length), the dot product `dot_at(lag)` normalised over that lag's own overlap by the prefix
+/// sums of squares qa, qb; the largest value, its lag, and the value at lag 0 when defined.
+struct LagScanResult {
+  double best{-2.0};
+  long best_lag{0};
+  std::optional<double> zero_lag;
+};
+template <class DotAt>
+LagScanResult ScanLags(const std::vector<double>& qa, const std::vector<double>& qb, std::size_t n,
+                       double max_lag, double dt, DotAt dot_at) {
+  const long max_ticks = std::min(static_cast<long>(std::llround(max_lag / dt)), static_cast<long>(n) / 2);
+  LagScanResult result;
+  for (long lag = -max_ticks; lag <= max_ticks; ++lag) {
+    const auto a_from = static_cast<std::size_t>(std::max(0L, -lag));
+    const auto a_to = static_cast<std::size_t>(std::min(static_cast<long>(n), static_cast<long>(n) - lag));
+    if (a_to <= a_from) continue;
+    const auto b_from = static_cast<std::size_t>(static_cast<long>(a_from) + lag);
+    const auto b_to = static_cast<std::size_t>(static_cast<long>(a_to) + lag);
+    const double norm = std::sqrt((qa[a_to] - qa[a_from]) * (qb[b_to] - qb[b_from]));
+    if (!(norm > 0.0)) continue;
+    const double value = dot_at(lag) / norm;
+    if (lag == 0) result.zero_lag = value;
+    if (value > result.best) {
+      result.best = value;
+      result.best_lag = lag;
+    }
+  }
+  return result;
+}
+
 }  // namespace
 
 PlatformHeadPose HeadPoseOnPlatform(const PlatformSpec& platform, const DofArray& pose) {
@@ -58,26 +90,9 @@ std::array<double, 2> MaxCrossCorrelation(const std::vector<double>& a,
     qa[i + 1] = qa[i] + ca[i] * ca[i];
     qb[i + 1] = qb[i] + cb[i] * cb[i];
   }
-  const long max_ticks = std::min(static_cast<long>(std::llround(max_lag / dt)),
-                                  static_cast<long>(n) / 2);
-  double best = -2.0;
-  long best_lag = 0;
-  for (long lag = -max_ticks; lag <= max_ticks; ++lag) {
-    const auto a_from = static_cast<std::size_t>(std::max(0L, -lag));
-    const auto a_to = static_cast<std::size_t>(std::min(static_cast<long>(n), static_cast<long>(n) - lag));
-    if (a_to <= a_from) continue;
-    const auto b_from = static_cast<std::size_t>(static_cast<long>(a_from) + lag);
-    const auto b_to = static_cast<std::size_t>(static_cast<long>(a_to) + lag);
-    const double norm = std::sqrt((qa[a_to] - qa[a_from]) * (qb[b_to] - qb[b_from]));
-    if (!(norm > 0.0)) continue;
-    const double c = LaggedDot(ca, cb, lag) / norm;
-    if (c > best) {
-      best = c;
-      best_lag = lag;
-    }
-  }
-  if (best < -1.0) return {0.0, 0.0};
-  return {best, static_cast<double>(best_lag) * dt};
+  const LagScanResult scan = ScanLags(qa, qb, n, max_lag, dt, [&](long lag) { return LaggedDot(ca, cb, lag); });
+  if (scan.best < -1.0) return {0.0, 0.0};
+  return {scan.best, static_cast<double>(scan.best_lag) * dt};
 }
 
 StackedCorrelation CompareStacked(const std::vector<std::vector<double>>& truth,
@@ -107,29 +122,15 @@ StackedCorrelation CompareStacked(const std::vector<std::vector<double>>& truth,
     qa[i + 1] = qa[i] + sa;
     qb[i + 1] = qb[i] + sb;
   }
-  const long max_ticks = std::min(static_cast<long>(std::llround(max_lag / dt)), static_cast<long>(n) / 2);
-  double best = -2.0;
-  long best_lag = 0;
-  for (long lag = -max_ticks; lag <= max_ticks; ++lag) {
-    const auto a_from = static_cast<std::size_t>(std::max(0L, -lag));
-    const auto a_to = static_cast<std::size_t>(std::min(static_cast<long>(n), static_cast<long>(n) - lag));
-    if (a_to <= a_from) continue;
-    const auto b_from = static_cast<std::size_t>(static_cast<long>(a_from) + lag);
-    const auto b_to = static_cast<std::size_t>(static_cast<long>(a_to) + lag);
-    const double norm = std::sqrt((qa[a_to] - qa[a_from]) * (qb[b_to] - qb[b_from]));
-    if (!(norm > 0.0)) continue;
+  const LagScanResult scan = ScanLags(qa, qb, n, max_lag, dt, [&](long lag) {
     double dot = 0.0;
     for (std::size_t c = 0; c < a.size(); ++c) dot += LaggedDot(a[c], b[c], lag);
-    const double value = dot / norm;
-    if (lag == 0) out.zero_lag = value;
-    if (value > best) {
-      best = value;
-      best_lag = lag;
-    }
-  }
-  if (best >= -1.0) {
-    out.peak = best;
-    out.lag = static_cast<double>(best_lag) * dt;
+    return dot;
+  });
+  if (scan.zero_lag) out.zero_lag = *scan.zero_lag;
+  if (scan.best >= -1.0) {
+    out.peak = scan.best;
+    out.lag = static_cast<double>(scan.best_lag) * dt;
   }
   return out;
 }
