@@ -1,6 +1,7 @@
 #include "engine/floor_map.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -169,6 +170,83 @@ double FloorMap::MaxHeightBound() const {
   return bound;
 }
 
+double FloorMap::EnvelopeOffLevel(double x_W, double y_W, double dir_x, double dir_y, double radius,
+                                  double z_point) const {
+  const double r = radius;
+  // Breakpoints s in (-R, R) where the line p + s u crosses a knot of some layer.
+  std::array<double, kEnvelopeBreakpoints> knots{};
+  int n = 0;
+  bool overflow = false;
+  const auto add = [&](double knot, double origin, double u) {
+    if (std::abs(u) < 1e-12) return;  // the line runs along the knot: no crossing
+    const double s = (knot - origin) / u;
+    if (!(s > -r && s < r)) return;
+    if (n == kEnvelopeBreakpoints) {
+      overflow = true;
+      return;
+    }
+    knots[static_cast<std::size_t>(n++)] = s;
+  };
+  const double reach_x = r * std::abs(dir_x), reach_y = r * std::abs(dir_y);
+  if (!profile.x.empty()) {
+    auto it = std::upper_bound(profile.x.begin(), profile.x.end(), x_W - reach_x);
+    for (; it != profile.x.end() && *it < x_W + reach_x; ++it) add(*it, x_W, dir_x);
+  }
+  const auto add_taper = [&](double lo, double hi, double ramp, double origin, double u) {
+    add(lo, origin, u);
+    add(hi, origin, u);
+    if (ramp > 0.0) {
+      if (2.0 * ramp < hi - lo) {
+        add(lo + ramp, origin, u);
+        add(hi - ramp, origin, u);
+      } else {
+        add(0.5 * (lo + hi), origin, u);
+      }
+    }
+  };
+  for (const FloorFeature& f : features) {
+    if (f.x_max < x_W - reach_x || f.x_min > x_W + reach_x || f.y_max < y_W - reach_y || f.y_min > y_W + reach_y) continue;
+    add_taper(f.x_min, f.x_max, f.ramp, x_W, dir_x);
+    add_taper(f.y_min, f.y_max, f.ramp, y_W, dir_y);
+  }
+  if (grid) {
+    const HeightGrid& g = *grid;
+    const auto lines = [&](double origin0, int count, double at, double reach, double u) {
+      const int first = std::max(0, static_cast<int>(std::floor((at - reach - origin0) / g.cell)));
+      const int last = std::min(count - 1, static_cast<int>(std::ceil((at + reach - origin0) / g.cell)));
+      for (int i = first; i <= last; ++i) add(origin0 + i * g.cell, at, u);
+    };
+    lines(g.x0, g.nx, x_W, reach_x, dir_x);
+    lines(g.y0, g.ny, y_W, reach_y, dir_y);
+  }
+  if (overflow) {  // too many knots under the disc: sample it uniformly instead
+    n = kEnvelopeBreakpoints;
+    for (int k = 0; k < n; ++k) knots[static_cast<std::size_t>(k)] = -r + 2.0 * r * (k + 1) / (n + 1);
+  } else {
+    std::sort(knots.begin(), knots.begin() + n);
+  }
+  // Relative candidate height of the centre: (z(s) - z_point) + (√(R² - s²) - R), the second
+  // term written -s² / (R + √(R² - s²)) (exactly 0 at s = 0).
+  const double r2 = r * r;
+  const auto candidate = [&](double s, double z) { return (z - z_point) - s * s / (r + std::sqrt(std::max(0.0, r2 - s * s))); };
+  const double inset = 1e-9 * r;
+  double best = 0.0;  // s = 0: the lowest point itself
+  double a = -r;
+  for (int k = 0; k <= n; ++k) {
+    const double b = k < n ? knots[static_cast<std::size_t>(k)] : r;
+    const double sa = a + inset, sb = b - inset;
+    a = b;
+    if (!(sb > sa)) continue;
+    const double za = HeightAt(x_W + sa * dir_x, y_W + sa * dir_y);
+    const double zb = HeightAt(x_W + sb * dir_x, y_W + sb * dir_y);
+    best = std::max(best, std::max(candidate(sa, za), candidate(sb, zb)));
+    const double m = (zb - za) / (sb - sa);
+    const double tangent = r * m / std::sqrt(1.0 + m * m);  // where the line's slope meets the arc's
+    if (tangent > sa && tangent < sb) best = std::max(best, candidate(tangent, za + m * (tangent - sa)));
+  }
+  return z_point + best;
+}
+
 FloorMap FloorFromTerrain(const Terrain& terrain) {
   FloorMap floor;
   floor.profile = terrain;
@@ -270,6 +348,19 @@ FloorMap ParseFloorMap(YamlMap& map) {
     YamlMap grid = map.Map("grid");
     floor.grid = ParseGrid(grid);
     grid.Finish();
+  }
+  if (map.Has("patches")) {
+    YAML::Node list = map.Sequence("patches");
+    for (std::size_t k = 0; k < list.size(); ++k) {
+      YamlMap entry(list[k], map.file(), map.FieldName("patches") + "[" + std::to_string(k) + "]", LineOf(list[k]));
+      FrictionPatch patch;
+      patch.name = entry.StringOr("name", "");
+      ReadInterval(entry, "x_m", patch.x_min, patch.x_max);
+      ReadInterval(entry, "y_m", patch.y_min, patch.y_max);
+      patch.friction = entry.Number("friction", Range::Positive(2.0, "(friction coefficient)"));
+      entry.Finish();
+      floor.patches.push_back(patch);
+    }
   }
   return floor;
 }

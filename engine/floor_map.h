@@ -16,6 +16,27 @@
 //
 // With only a profile, HeightAt(x, y) returns z_profile(x) bit for bit (the full-DoF chair on a
 // straight run reproduces the sagittal ChairSimulator exactly).
+//
+// Rolling envelope. A wheel of radius R rolling in the vertical plane through its contact point
+// p along the unit direction u (its heading in W) touches the floor where its disc does, not at
+// its lowest point: the height of its centre less R is
+//
+//   z_env(p) = max_{|s| <= R}  z(p + s u) + √(R² − s²) − R
+//
+// (the wheel's width and the floor's slope across u are neglected). Up a step of height h at
+// x_e (h < R) the centre rides the arc z_c = h + √(R² − (x_e − x)²) around the edge over the
+// last √(2Rh − h²) before it; over a gap of width w < 2R it sinks R − √(R² − w²/4) only. Along
+// u the floor is piecewise smooth between breakpoints (the profile's knots, each feature's
+// taper knots in x and y, the grid's lines; at most kEnvelopeBreakpoints of them, else the
+// span is sampled uniformly at that many points); on each piece it is taken linear through its
+// ends (exact for the profile and for features crossed along one axis; bilinear products
+// otherwise), and the maximum of z(s) + √(R² − s²) on a line z_a + m (s − s_a) is at its ends or
+// at the tangent point s* = R m / √(1 + m²). The pieces' ends are evaluated just inside them
+// (1e-9 R), so a step's one-sided heights are both seen. On a level piece of the floor that
+// holds the whole disc (the hint's level interval, no active feature) z_env = z exactly.
+//
+// Friction patches. `patches` lower the tyre-floor friction on rectangles (a wet or polished
+// patch): the friction at (x, y) is min(μ_wheel, μ_patch) of the patches that hold the point.
 
 #include <algorithm>
 #include <optional>
@@ -76,6 +97,17 @@ FloorFeature BumpFeature(double x_min, double x_max, double y_min, double y_max,
 FloorFeature PlaneFeature(double x_min, double x_max, double y_min, double y_max, double grade_x,
                           double grade_y, double ramp);
 
+/// A rectangle of the floor with its own tyre-floor friction coefficient.
+struct FrictionPatch {
+  std::string name;
+  double x_min{0.0}, x_max{0.0};  ///< [m] in W
+  double y_min{0.0}, y_max{0.0};  ///< [m]
+  double friction{0.3};           ///< μ [-] on the patch
+};
+
+/// Most breakpoints the envelope evaluates piecewise under one wheel.
+inline constexpr int kEnvelopeBreakpoints = 48;
+
 /// Regular grid of heights: node (i, j) at (x0 + i·cell, y0 + j·cell), z[j·nx + i].
 struct HeightGrid {
   double x0{0.0}, y0{0.0};  ///< [m] node (0, 0)
@@ -113,6 +145,7 @@ struct FloorMap {
   Terrain profile;                    ///< along x, uniform in y (may be empty: flat)
   std::vector<FloorFeature> features;
   std::optional<HeightGrid> grid;
+  std::vector<FrictionPatch> patches;
 
   /// z(x, y) [m].
   double HeightAt(double x_W, double y_W) const;
@@ -121,8 +154,27 @@ struct FloorMap {
   double HeightAtNear(double x_W, double y_W, FloorHint& hint) const;
   /// Highest point of every layer, summed (an upper bound, for rendering and checks) [m].
   double MaxHeightBound() const;
+  /// z_env [m] of a wheel of radius `radius` [m] whose contact is at (x, y), rolling along the
+  /// unit vector (dir_x, dir_y); `z_point` = z(x, y) and `hint` as HeightAtNear left them.
+  /// Radius 0: z_point. On a level piece holding the whole disc: z_point, without a lookup.
+  double EnvelopeAt(double x_W, double y_W, double dir_x, double dir_y, double radius, double z_point,
+                    const FloorHint& hint) const {
+    if (radius <= 0.0) return z_point;
+    if (hint.level_feature < 0 && x_W - radius > hint.level_lo && x_W + radius < hint.level_hi) return z_point;
+    return EnvelopeOffLevel(x_W, y_W, dir_x, dir_y, radius, z_point);
+  }
+  /// The friction coefficient at (x, y): min(`wheel`, μ of every patch holding the point).
+  double FrictionAt(double x_W, double y_W, double wheel) const {
+    double mu = wheel;
+    for (const FrictionPatch& p : patches) {
+      if (x_W >= p.x_min && x_W <= p.x_max && y_W >= p.y_min && y_W <= p.y_max) mu = std::min(mu, p.friction);
+    }
+    return mu;
+  }
 
  private:
+  /// EnvelopeAt by the breakpoints of the floor under the disc (see the header's comment).
+  double EnvelopeOffLevel(double x_W, double y_W, double dir_x, double dir_y, double radius, double z_point) const;
   /// HeightAtNear outside the hint's level interval; sets the hint's intervals around x.
   double HeightAtNearUpdatingHint(double x_W, double y_W, FloorHint& hint) const;
   /// z_profile + Σ_k f_k + z_grid, summed in HeightAt's order; sets hint's clear interval.
@@ -142,10 +194,11 @@ inline double FloorMap::HeightAtNear(double x_W, double y_W, FloorHint& hint) co
 /// A floor that is the sagittal terrain alone.
 FloorMap FloorFromTerrain(const Terrain& terrain);
 
-/// Reads `{profile_m: [[x, z], ...], features: [...], grid: {...}}` (every key optional):
+/// Reads `{profile_m: [[x, z], ...], features: [...], grid: {...}, patches: [...]}` (every key optional):
 ///   features: - {bump: {name, x_m: [min, max], y_m: [min, max], height_m, ramp_m}}
 ///             - {plane: {name, x_m: [...], y_m: [...], grade_x, grade_y, origin_m: [x, y], ramp_m}}
 ///   grid: {origin_m: [x0, y0], cell_m, rows: [[z at y0 for x0, x0 + cell ...], [next y] ...]}
+///   patches: - {name, x_m: [min, max], y_m: [min, max], friction}     (μ in (0, 2])
 /// Holes (null or missing values, ragged rows), NaN and infinities are errors naming the row
 /// and column. @throws InputError (file, line, field, expected).
 FloorMap ParseFloorMap(YamlMap& map);

@@ -177,6 +177,20 @@ PlanarLayout ParsePlanarLayout(YamlMap& map, const Chair& chair) {
   layout.speed_loop_gain = map.NumberOr("speed_loop_gain", layout.speed_loop_gain, Range::Positive(200.0, "1/s"));
   layout.rolling_resistance = map.NumberOr("rolling_resistance", layout.rolling_resistance, Range::Closed(0.0, 0.5));
   layout.friction = map.NumberOr("friction", layout.friction, Range::Positive(2.0));
+  layout.rolling_envelope = map.BoolOr("rolling_envelope", layout.rolling_envelope);
+  if (map.Has("tyres")) {
+    YamlMap tyres = map.Map("tyres");
+    // 0: rigid; else at least 10 ms (ω_t dt <= 0.63 at 1 kHz)
+    const auto period = [&](const char* key, double fallback) {
+      const double t = tyres.NumberOr(key, fallback, Range::Closed(0.0, 2.0, "s"));
+      if (t != 0.0 && t < 0.01) tyres.Fail(key, "0 (a rigid tyre) or a period of at least 0.01 s", FormatDouble(t));
+      return t;
+    };
+    layout.drive_tyre_period = period("drive_period_s", layout.drive_tyre_period);
+    layout.caster_tyre_period = period("caster_period_s", layout.caster_tyre_period);
+    layout.tyre_damping = tyres.NumberOr("damping", layout.tyre_damping, Range::Closed(0.0, 2.0));
+    tyres.Finish();
+  }
   if (map.Has("footprint_m")) {
     const std::vector<double> f = map.Numbers("footprint_m", Range::Closed(-3.0, 3.0, "m"), 3, 3);
     if (!(f[0] > f[1]) || !(f[2] > 0.0)) {
@@ -307,6 +321,19 @@ FullChairSimulator::FullChairSimulator(const Chair& chair, const PlanarLayout& l
     body_x_[c] = rest_x_[c];
     body_y_[c] = rest_y_[c];
   }
+  // wheels: radius and tyre per ground contact (the anti-tip wheels stay rigid points)
+  if (layout.rolling_envelope) {
+    for (int c = 0; c < ground_contacts_; ++c) {
+      radius_[c] = chair.wheels[c / 2].radius;
+      const double period = contact_role_[c] == WheelRole::kDrive ? layout.drive_tyre_period : layout.caster_tyre_period;
+      if (period <= 0.0) continue;
+      const double omega = 2.0 * std::numbers::pi / period;
+      PWSIM_DEMAND(omega * dt <= 1.0);  // semi-implicit Euler well inside its stability bound (2)
+      tyre_omega2_[c] = omega * omega;
+      tyre_2zw_[c] = 2.0 * layout.tyre_damping * omega;
+      tyre_static_[c] = kStandardGravity / tyre_omega2_[c];
+    }
+  }
 }
 
 void FullChairSimulator::PlaceCasterContact(int c) {
@@ -315,14 +342,49 @@ void FullChairSimulator::PlaceCasterContact(int c) {
   body_y_[c] = rest_y_[c] - trail * caster_sin_[c];
 }
 
-void FullChairSimulator::ContactsAt(const PlanarState& pose) {
+void FullChairSimulator::ContactsAt(const PlanarState& pose, TyreUpdate update) {
   const double c = yaw_cos_;
   const double s = yaw_sin_;
+  const bool envelope = update != TyreUpdate::kPoint;
   for (int k = 0; k < sample_.contact_count; ++k) {
     WheelContact& contact = sample_.contacts[k];
     contact.x = pose.x + c * body_x_[k] - s * body_y_[k];
     contact.y = pose.y + s * body_x_[k] + c * body_y_[k];
-    contact.z = floor_.HeightAtNear(contact.x, contact.y, floor_hints_[k]);
+    const double point = floor_.HeightAtNear(contact.x, contact.y, floor_hints_[k]);
+    double h = point;
+    if (envelope && radius_[k] > 0.0) {
+      // the wheel's heading in W: ψ, or ψ - δ for a caster (cos δ = 1, sin δ = 0 otherwise)
+      const double ux = c * caster_cos_[k] + s * caster_sin_[k];
+      const double uy = s * caster_cos_[k] - c * caster_sin_[k];
+      h = floor_.EnvelopeAt(contact.x, contact.y, ux, uy, radius_[k], point, floor_hints_[k]);
+    }
+    contact.floor_z = h;
+    if (update == TyreUpdate::kStep && tyre_omega2_[k] > 0.0) {
+      // the tyre (header): e = h - u, ė = ḣ - u̇; at rest on the floor nothing moves, exactly
+      const double floor_rate = (h - floor_z_before_[k]) * inv_dt_;
+      const double e = h - contact.z;
+      const double e_rate = floor_rate - tyre_rate_[k];
+      if (e != 0.0 || e_rate != 0.0) {
+        const double push = tyre_omega2_[k] * e + tyre_2zw_[k] * e_rate;
+        const bool on_floor = e > -tyre_static_[k] && push > -kStandardGravity;
+        tyre_rate_[k] += (on_floor ? push : -kStandardGravity) * lumped_.dt;
+        contact.z += tyre_rate_[k] * lumped_.dt;
+        contact.airborne = !on_floor;
+        // settled (below a picometre and 0.1 nm/s): back on the floor exactly, so that a wheel
+        // at rest on level floor is the floor's bits again (and costs nothing)
+        if (on_floor && std::abs(h - contact.z) < 1e-12 && std::abs(floor_rate - tyre_rate_[k]) < 1e-10) {
+          contact.z = h;
+          tyre_rate_[k] = floor_rate;
+        }
+      } else {
+        contact.airborne = false;
+      }
+    } else if (update != TyreUpdate::kKeep) {
+      contact.z = h;
+      tyre_rate_[k] = update == TyreUpdate::kStep ? (h - floor_z_before_[k]) * inv_dt_ : 0.0;
+      contact.airborne = false;
+    }
+    floor_z_before_[k] = h;
   }
   for (int i = 0; i < rows_; ++i) {
     sample_.z_O[i] = 0.5 * (sample_.contacts[2 * i].z + sample_.contacts[2 * i + 1].z);
@@ -472,7 +534,7 @@ const FullChairSample& FullChairSimulator::Start(const PlanarState& pose, double
   along_s_ = std::sin(pose.yaw);
   yaw_cos_ = along_c_;
   yaw_sin_ = along_s_;
-  ContactsAt(sample_.planar);
+  ContactsAt(sample_.planar, TyreUpdate::kRest);
   Equilibrium();
   return sample_;
 }
@@ -483,6 +545,7 @@ const FullChairSample& FullChairSimulator::StartAlong(const PlanarState& pose, c
   // the line p = p0 + (s - s0) u, written so that s maps to x exactly when p0.x = s0, u = (1, 0)
   along_x0_ = pose.x - drive.x * along_c_;
   along_y0_ = pose.y - drive.x * along_s_;
+  ContactsAt(sample_.planar, TyreUpdate::kPoint);  // the sagittal model's point contacts
   Equilibrium();  // Γ_θ from the drive's acceleration, as ChairSimulator::Start
   return sample_;
 }
@@ -516,7 +579,7 @@ const FullChairSample& FullChairSimulator::AdvanceAlong(const Longitudinal& driv
     sample_.contacts[c].force_y = f.fy;
   }
   sample_.drive = drive;
-  ContactsAt(p);
+  ContactsAt(p, TyreUpdate::kPoint);
   Vertical(pitch_torque, roll_torque);
   Loads(drive.a, 0.0);
   ++sample_.tick;
@@ -562,7 +625,9 @@ const FullChairSample& FullChairSimulator::AdvanceSetpoints(const ControllerStat
     const int c = 2 * drive_row_ + side;
     const double wheel_speed = v + sign * w * half_b;
     const double load = std::max(sample_.contacts[c].load, 0.0);
-    limit[side] = std::min(motor_force_limit_, layout_.friction * load);
+    const WheelContact& contact = sample_.contacts[c];
+    const double mu = floor_.patches.empty() ? layout_.friction : floor_.FrictionAt(contact.x, contact.y, layout_.friction);
+    limit[side] = std::min(motor_force_limit_, mu * load);
     rolling[side] = braked ? 0.0 : -layout_.rolling_resistance * load * std::clamp(wheel_speed * 100.0, -1.0, 1.0);
     if (braked) {
       sample_.speed_error_integral[side] = 0.0;
@@ -662,7 +727,7 @@ const FullChairSample& FullChairSimulator::AdvanceSetpoints(const ControllerStat
   sample_.controller = set;
   sample_.drive = {sample_.drive.x + dx * ch + dy * sh, p.v, a_x};
 
-  ContactsAt(p);
+  ContactsAt(p, TyreUpdate::kStep);
   // Loads before Vertical (neither reads what the other writes): the loads feed the next tick's
   // forces, the vertical model only itself, so the next tick can start while it completes.
   Loads(a_x, a_y);
@@ -682,7 +747,7 @@ void FullChairSimulator::OverridePlanar(const PlanarState& planar) {
     sample_.speed_error_integral = {0.0, 0.0};
     sample_.lateral_speed = 0.0;
   }
-  ContactsAt(planar);
+  ContactsAt(planar, TyreUpdate::kKeep);
 }
 
 void FullChairSimulator::SetCircuitStatus(bool in_contact, int contact_events, double last_contact_speed,

@@ -39,6 +39,19 @@
 //   J_x = J_x0 + d_CM² M,  Γ_θ as in the sagittal model (PitchTorqueParams).
 // All three axes are discretised exactly (lumped_model.h) with Γ held over the step.
 //
+// Wheels over the floor. Each ground wheel of radius R (its row's sagittal wheel; the anti-tip
+// wheels are points) meets the floor through its rolling envelope along its heading (floor_map.h,
+// EnvelopeAt): a drive or fixed wheel along ψ, a caster along ψ - δ. Its tyre is a corner
+// oscillator: the height u_i the GM reads follows the envelope h_i through a spring-damper of
+// natural frequency ω_t = 2π / T_t and damping ratio ζ, written about its static deflection
+// δ_s = g / ω_t² (e = h - u, ė = ḣ - u̇):
+//   ü = max(ω_t² e + 2ζω_t ė, -g)   while e > -δ_s (the tyre pushes, never pulls),
+//   ü = -g                          otherwise: the wheel has left the floor (airborne)
+// so a corner follows the floor down no faster than g and lands again when it meets it
+// (semi-implicit Euler; at rest e = ė = 0 and u = h exactly). T_t = 0: a rigid tyre, u = h.
+// With rolling_envelope false both are off (point contacts, rigid tyres); AdvanceAlong always
+// reads the floor at the points below the wheels, as the sagittal model does.
+//
 // Loads. Quasi-static, rigid chair on wheels whose suspension shares are k_i (α_i of the row by
 // default, split evenly left/right): with F = M (g_V - a_V) applied at the centre of mass
 // (x_c, 0, h = d_CM) the loads N_i = k_i (c_0 + c_1 x_i + c_2 y_i) satisfy
@@ -104,6 +117,10 @@ struct PlanarLayout {
   double speed_loop_gain{8.0};    ///< k_v [1/s]
   double rolling_resistance{0.015}; ///< f_r [-] of the drive wheels
   double friction{0.8};           ///< μ [-] tyre-floor friction of the drive wheels
+  bool rolling_envelope{true};    ///< wheels of radius R and tyres (false: point contacts)
+  double drive_tyre_period{0.15}; ///< T_t [s] of a drive wheel's tyre mode (0: rigid)
+  double caster_tyre_period{0.07};///< T_t [s] of a caster's or fixed wheel's tyre mode (0: rigid)
+  double tyre_damping{0.3};       ///< ζ [-] of the tyre modes
   ControllerProfile controller;
   /// Footprint for wall contacts: a rectangle in V [m].
   double footprint_front{0.55}, footprint_rear{-0.55}, footprint_half_width{0.33};
@@ -118,7 +135,8 @@ PlanarLayout DefaultPlanarLayout(const Chair& chair, double track = 0.56);
 /// roll_weight, load_share}] (one per wheel, optional), anti_tip: {x_m, half_track_m,
 /// clearance_m}, caster: {trail_m, swivel_inertia_kgm2, ...}, cm_x_m, yaw_inertia_kgm2,
 /// roll_inertia_kgm2, k_roll, c_roll, drive_radius_m, max_motor_torque_nm, speed_loop_gain,
-/// rolling_resistance, friction, footprint_m: [front, rear, half_width], controller: {...}}.
+/// rolling_resistance, friction, rolling_envelope, tyres: {drive_period_s, caster_period_s,
+/// damping}, footprint_m: [front, rear, half_width], controller: {...}}.
 /// @throws InputError.
 PlanarLayout ParsePlanarLayout(YamlMap& map, const Chair& chair);
 
@@ -140,7 +158,10 @@ struct PlanarState {
 
 /// One ground contact (drive, caster or anti-tip wheel) at one tick.
 struct WheelContact {
-  double x{0.0}, y{0.0}, z{0.0};  ///< contact point in W [m] (z: floor height there)
+  double x{0.0}, y{0.0};          ///< contact point below the wheel's centre in W [m]
+  double z{0.0};                  ///< u: the contact height through the tyre, read by the GM [m]
+  double floor_z{0.0};            ///< h: the floor's rolling envelope under the wheel [m]
+  bool airborne{false};           ///< the tyre has left the floor (it pushes no more)
   double load{0.0};               ///< N_i [N]; ≤ 0 with lift_off set (never clipped)
   bool lift_off{false};
   double force_x{0.0};            ///< longitudinal ground force on the wheel in V [N]
@@ -252,7 +273,14 @@ class FullChairSimulator {
   /// kept from the last evaluation while the heights are the same bits (level ground).
   void UpdateGeometry();
   void Loads(double a_x, double a_y);
-  void ContactsAt(const PlanarState& pose);
+  /// How ContactsAt sets the contact heights u.
+  enum class TyreUpdate {
+    kRest,  ///< u = h, at rest (Start): envelope and tyres on
+    kStep,  ///< one tick of the tyres (Advance)
+    kPoint, ///< point contacts, u = h (AdvanceAlong: the sagittal model)
+    kKeep,  ///< u kept (a pose overridden within a tick)
+  };
+  void ContactsAt(const PlanarState& pose, TyreUpdate update);
   /// Caster c's contact point in V (body_x_, body_y_) from its cos δ, sin δ.
   void PlaceCasterContact(int c);
   void Equilibrium();
@@ -288,6 +316,10 @@ class FullChairSimulator {
   std::array<double, kMaxContacts> pivot_x_{};
   /// Per contact: x_p - x_D, the pivot's (or fixed wheel's) lever about D along x [m].
   std::array<double, kMaxContacts> lever_x_{};
+  std::array<double, kMaxContacts> radius_{};       ///< R per contact (0: a point) [m]
+  std::array<double, kMaxContacts> tyre_omega2_{};  ///< ω_t² per contact (0: rigid) [1/s²]
+  std::array<double, kMaxContacts> tyre_2zw_{};     ///< 2ζω_t per contact [1/s]
+  std::array<double, kMaxContacts> tyre_static_{};  ///< δ_s = g / ω_t² per contact [m]
   std::array<double, kMaxWheels> roll_weight_{};
   std::array<double, kMaxWheels> inv_row_track_{};  ///< 1 / (2 half_track_i)
   ConvexPolygon support_;            ///< support polygon of the ground wheels in V
@@ -306,6 +338,8 @@ class FullChairSimulator {
   double floor_tan_pitch_{0.0}, floor_tan_roll_{0.0};
   double floor_cos_pitch_{1.0}, floor_sin_pitch_{0.0}, floor_cos_roll_{1.0}, floor_sin_roll_{0.0};
   std::array<double, kMaxContacts> caster_cos_{}, caster_sin_{};  ///< of each caster's δ
+  std::array<double, kMaxContacts> tyre_rate_{};  ///< u̇ per contact [m/s]
+  std::array<double, kMaxContacts> floor_z_before_{};  ///< h at the last tick [m]
   /// Each contact point in V [m]: at rest, or a caster's p_rest + t (1 - cos δ, -sin δ).
   std::array<double, kMaxContacts> body_x_{}, body_y_{};
 

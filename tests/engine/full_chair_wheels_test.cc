@@ -1,0 +1,190 @@
+// Wheels over the floor (engine/floor_map.h EnvelopeAt, engine/full_chair.h tyres) against
+// closed forms written here: the wheel-centre arc round a step's edge, a gap narrower than the
+// wheel, a slope, the climb's duration at speed v, and the fall and landing off a ledge.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include "engine/floor_map.h"
+#include "engine/full_chair.h"
+
+namespace pwsim {
+namespace {
+
+constexpr double kG = 9.80665;
+
+/// z_env by the floor map, its hint set by the point lookup first (as the chair does).
+double Envelope(const FloorMap& floor, double x, double y, double heading, double radius) {
+  FloorHint hint;
+  const double point = floor.HeightAtNear(x, y, hint);
+  return floor.EnvelopeAt(x, y, std::cos(heading), std::sin(heading), radius, point, hint);
+}
+
+/// The centre of a wheel of radius R, less R, before a step of height h at x_e (closed form):
+/// on the floor until it touches the edge, then the arc h + √(R² − d²) − R, d = x_e − x.
+double StepArc(double x, double x_e, double h, double radius) {
+  const double d = x_e - x;
+  if (d >= radius) return 0.0;
+  if (d <= 0.0) return h;
+  return std::max(0.0, h + std::sqrt(radius * radius - d * d) - radius);
+}
+
+// Tests the envelope before a sharp step (h = 5 cm, R = 0.1 and 0.17 m), taken square and at
+// 30 deg (the distance to the edge in the wheel's plane is then d / cos 30°), and off its far
+// edge (the mirror image): the closed-form arc to 1e-9 m, every millimetre.
+TEST(WheelEnvelopeTest, CentreRidesTheArcRoundAStepsEdge) {
+  const double h = 0.05;
+  FloorMap floor;
+  floor.features = {BumpFeature(1.0, 3.0, -5.0, 5.0, h, 0.0)};
+  for (const double radius : {0.10, 0.17}) {
+    for (int k = 0; k <= 400; ++k) {
+      const double x = 0.8 + 0.001 * k;
+      EXPECT_NEAR(Envelope(floor, x, 0.0, 0.0, radius), StepArc(x, 1.0, h, radius), 1e-9) << "R " << radius << " x " << x;
+      const double angle = std::numbers::pi / 6.0;
+      const double oblique = StepArc(1.0 - (1.0 - x) / std::cos(angle), 1.0, h, radius);
+      EXPECT_NEAR(Envelope(floor, x, 0.0, angle, radius), oblique, 1e-9) << "30 deg, x " << x;
+      const double mirrored = 4.0 - x;  // the far edge at 3.0, driven either way
+      EXPECT_NEAR(Envelope(floor, mirrored, 0.0, 0.0, radius), StepArc(x, 1.0, h, radius), 1e-9);
+      EXPECT_NEAR(Envelope(floor, mirrored, 0.0, std::numbers::pi, radius), StepArc(x, 1.0, h, radius), 1e-9);
+    }
+  }
+  // where the whole disc is on level floor, the point height itself, exactly
+  EXPECT_EQ(Envelope(floor, 0.5, 0.0, 0.0, 0.1), 0.0);
+  EXPECT_EQ(Envelope(floor, 2.0, 0.0, 0.0, 0.1), h);
+}
+
+// Tests a gap (a dip 5 cm deep): a wheel of R = 0.1 over a gap 10 cm wide sinks only
+// R − √(R² − w²/4) = 13.4 mm at its middle; over a gap 30 cm wide (> 2R) it reaches the bottom;
+// on a slope m along its heading the centre stands R √(1 + m²) above the plane at its x.
+TEST(WheelEnvelopeTest, GapNarrowerThanTheWheelAndSlope) {
+  const double radius = 0.1, depth = 0.05;
+  FloorMap narrow;
+  narrow.features = {BumpFeature(1.0, 1.1, -5.0, 5.0, -depth, 0.0)};
+  const double sink = radius - std::sqrt(radius * radius - 0.05 * 0.05);
+  EXPECT_NEAR(Envelope(narrow, 1.05, 0.0, 0.0, radius), -sink, 1e-9);
+  EXPECT_NEAR(Envelope(narrow, 1.05, 0.0, 0.0, 0.0), -depth, 0.0);  // a point falls in
+  double deepest = 0.0;
+  for (int k = 0; k <= 300; ++k) deepest = std::min(deepest, Envelope(narrow, 0.9 + 0.001 * k, 0.0, 0.0, radius));
+  EXPECT_NEAR(deepest, -sink, 1e-9);
+  FloorMap wide;
+  wide.features = {BumpFeature(1.0, 1.3, -5.0, 5.0, -depth, 0.0)};
+  EXPECT_NEAR(Envelope(wide, 1.15, 0.0, 0.0, radius), -depth, 1e-12);
+
+  FloorMap slope;
+  const double m = 0.1;
+  slope.features = {PlaneFeature(-5.0, 5.0, -5.0, 5.0, m, 0.0, 0.0)};  // z = m x about x = 0
+  EXPECT_NEAR(Envelope(slope, 0.3, 0.0, 0.0, radius), m * 0.3 + radius * (std::sqrt(1.0 + m * m) - 1.0), 1e-12);
+  // across the slope (heading along y) the wheel's plane is level: the point height
+  EXPECT_NEAR(Envelope(slope, 0.3, 0.0, std::numbers::pi / 2, radius), m * 0.3, 1e-12);
+}
+
+/// The Table I chair driven straight at `speed` by its set-points (no controller ramp).
+struct StraightRig {
+  Chair chair = MakeTableOneChair();
+  PlanarLayout layout = DefaultPlanarLayout(chair);
+  FloorMap floor;
+};
+
+ControllerState Cruise(double speed) { return {speed, 0.0, 0.0, 0.0}; }
+
+// Tests the climb of a 5 cm kerb (sharp edge across the whole path) at 0.6 m/s: the front-left
+// caster's envelope rises over √(2Rh − h²) / v (R = 0.1 m: 0.144 s), along the arc as a
+// function of its contact's x (1e-6 m); the height the GM reads through the tyre rises without
+// a jump (its largest step per tick below 2 mm) and settles on the kerb.
+TEST(WheelEnvelopeTest, ClimbTakesRootTwoRhOverSpeed) {
+  StraightRig rig;
+  const double h = 0.05, edge = 2.5, speed = 0.6;
+  rig.floor.features = {BumpFeature(edge, 8.0, -5.0, 5.0, h, 0.0)};
+  FullChairSimulator sim(rig.chair, rig.layout, rig.floor, 100.0, 1e-3);
+  sim.Start({});
+  for (int k = 0; k < 3000; ++k) sim.AdvanceSetpoints(Cruise(speed));  // up to speed, 0.3 m before
+  const double radius = rig.chair.wheels[0].radius;
+  int climbing = 0;
+  double v_sum = 0.0, largest_step = 0.0, previous_z = sim.sample().contacts[0].z;
+  for (int k = 0; k < 1500; ++k) {
+    const FullChairSample& s = sim.AdvanceSetpoints(Cruise(speed));
+    const WheelContact& c = s.contacts[0];
+    if (c.floor_z > 1e-12 && c.floor_z < h - 1e-12) {
+      ++climbing;
+      v_sum += s.planar.v;
+      EXPECT_NEAR(c.floor_z, StepArc(c.x, edge, h, radius), 1e-6);
+    }
+    largest_step = std::max(largest_step, std::abs(c.z - previous_z));
+    previous_z = c.z;
+  }
+  ASSERT_GT(climbing, 0);
+  const double v = v_sum / climbing;
+  EXPECT_NEAR(v, speed, 0.1 * speed);  // the kerb pitches the chair nose-up: it slows a little
+  EXPECT_NEAR(climbing * sim.dt(), std::sqrt(2.0 * radius * h - h * h) / v, 2e-3);
+  EXPECT_LT(largest_step, 2e-3);
+  EXPECT_NEAR(sim.sample().contacts[0].z, h, 1e-6);
+}
+
+// Tests the fall off a 5 cm ledge at 1.5 m/s (above √(g R): the caster leaves the edge): the
+// front-left wheel is airborne, then lands after the free fall of its height less the tyre's
+// static deflection δ_s = g / ω_t², t = √(2 (Δz − δ_s) / g) (to 10 %: the tyre extends over a few
+// ms first); in flight it falls at g exactly; after it lands it settles on the floor.
+TEST(WheelEnvelopeTest, LedgeDropLandsAfterFreeFall) {
+  StraightRig rig;
+  const double drop = 0.05, edge = 1.0, speed = 1.5;
+  rig.floor.features = {BumpFeature(-5.0, edge, -5.0, 5.0, drop, 0.0)};
+  FullChairSimulator sim(rig.chair, rig.layout, rig.floor, 100.0, 1e-3);
+  sim.Start({-1.5, 0.0, 0.0, 0.0, 0.0});  // at rest on the ledge
+  double t = 0.0, leave = NAN, land = NAN, previous_rate = NAN, previous_z = drop;
+  bool free_fall_at_g = true;
+  int flights = 0;
+  for (int k = 0; k < 4000 && std::isnan(land); ++k) {
+    const FullChairSample& s = sim.AdvanceSetpoints(Cruise(speed));
+    t += sim.dt();
+    const WheelContact& c = s.contacts[0];
+    const double rate = (c.z - previous_z) / sim.dt();
+    if (std::isnan(leave) && c.x > edge) leave = t - (c.x - edge) / s.planar.v;  // the edge passed
+    if (c.airborne && !std::isnan(previous_rate)) {
+      free_fall_at_g = free_fall_at_g && std::abs((rate - previous_rate) / sim.dt() + kG) < 1e-6;
+      if (flights == 0) ++flights;
+    }
+    if (flights > 0 && !c.airborne && c.z < drop / 2) land = t;
+    previous_rate = c.airborne ? rate : NAN;
+    previous_z = c.z;
+  }
+  ASSERT_FALSE(std::isnan(leave));
+  ASSERT_FALSE(std::isnan(land));
+  EXPECT_TRUE(free_fall_at_g);
+  const double omega = 2.0 * std::numbers::pi / rig.layout.caster_tyre_period;
+  const double expected = std::sqrt(2.0 * (drop - kG / (omega * omega)) / kG);
+  EXPECT_NEAR(land - leave, expected, 0.1 * expected);
+  for (int k = 0; k < 1000; ++k) sim.AdvanceSetpoints(Cruise(speed));
+  EXPECT_NEAR(sim.sample().contacts[0].z, 0.0, 1e-6);
+  EXPECT_FALSE(sim.sample().contacts[0].airborne);
+}
+
+// Tests that a chair at rest on level floor keeps its contacts at the floor's bits, and that
+// without the envelope (rolling_envelope false) a wheel over the gap falls to its bottom.
+TEST(WheelEnvelopeTest, LevelRestIsExactAndPointContactsFallIn) {
+  StraightRig rig;
+  FullChairSimulator rest(rig.chair, rig.layout, rig.floor, 100.0, 1e-3);
+  rest.Start({});
+  for (int k = 0; k < 500; ++k) rest.AdvanceSetpoints({});
+  for (int c = 0; c < rest.sample().contact_count; ++c) EXPECT_EQ(rest.sample().contacts[c].z, 0.0);
+
+  rig.floor.features = {BumpFeature(1.0, 1.1, -5.0, 5.0, -0.05, 0.0)};
+  const auto deepest = [&](bool envelope) {
+    PlanarLayout layout = rig.layout;
+    layout.rolling_envelope = envelope;
+    FullChairSimulator sim(rig.chair, layout, rig.floor, 100.0, 1e-3);
+    sim.Start({});
+    double low = 0.0;
+    for (int k = 0; k < 3000; ++k) low = std::min(low, sim.AdvanceSetpoints(Cruise(0.5)).contacts[0].floor_z);
+    return low;
+  };
+  EXPECT_NEAR(deepest(false), -0.05, 1e-12);
+  // the envelope's V at the gap's middle (slope ±tan 30°) is sampled every v dt = 0.5 mm
+  EXPECT_NEAR(deepest(true), -(0.1 - std::sqrt(0.1 * 0.1 - 0.05 * 0.05)), 0.6 * 0.5e-3);
+}
+
+}  // namespace
+}  // namespace pwsim
