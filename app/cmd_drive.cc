@@ -36,6 +36,7 @@
 #include "hardware/car_drive_source.h"
 #include "hardware/chair_drive_source.h"
 #include "engine/scene.h"
+#include "report/skill_score.h"
 #include "report/training_report.h"
 #include "hardware/car_live.h"
 #include "hardware/rnet_joystick.h"
@@ -181,6 +182,8 @@ int DriveChairSession(const ParsedArgs& args, const Scene& scene, const std::str
                   {"mca", MpcUseJson(source.mca().algorithm, source.mpc_stats())}};
   });
   report::WriteTrainingPage(training, "pwsim drive " + scene_path + " (" + joystick.name() + ")", out);
+  const std::string skill = report::ScoreSkillItem(scene, scene_path, source.trace(), out);  // a skill item: score.json
+  if (!skill.empty()) std::cout << "  " << skill << "\n";
   std::cout << "  training: " << training.gates_passed << " of " << training.gates_total << " gates, "
             << training.contacts << " contacts, clearance min " << training.clearance_min_m << " m, "
             << training.joystick_commands << " joystick commands; " << (out / "training.md").string() << "\n";
@@ -216,6 +219,7 @@ int DriveCommand(const ParsedArgs& args) {
   if (vehicle::SceneKind(scene_path) != "car") {
     const Scene scene = LoadScene(scene_path);
     if (!scene.is_circuit()) throw UsageError("pwsim drive needs a car scene (kind: car) or a circuit scene (circuit:)");
+    (void)report::SkillOf(scene);  // a skill item's skill: section, before any link opens
     if (!args.Has("joystick") || !args.Has("can") || args.Flag("wheel"))
       throw UsageError("a chair drives a circuit live: give --joystick SPEC and --can (a live session)");
     const double duration = args.Has("duration") ? args.GetDouble("duration") : scene.duration();

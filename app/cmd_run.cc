@@ -23,6 +23,7 @@
 #include "report/run_circuit.h"
 #include "report/run_mca.h"
 #include "report/run_report.h"
+#include "report/skill_score.h"
 
 namespace pwsim::app {
 namespace {
@@ -138,12 +139,15 @@ int RunCommand(const ParsedArgs& args) {
   const Scene scene = ParseScene(scene_document);
   CheckFps(args, scene.clock.rate_hz);
   report::CheckRenderSetup(scene, render_options);  // the scene's render: section, before any output
+  (void)report::SkillOf(scene);  // a skill item's skill: section, before any output
   OutputFolder folder(out_dir, "run");  // replaces what the last command wrote there
   if (scene.is_circuit()) {  // the full-DoF chair through a circuit, every platform axis
+    std::string skill_line;  // a skill item's score (report/skill_score.h)
     report::RunCircuitScene(scene, scene_path.string(), static_cast<int>(decimate), render_options, out_dir,
-                            mca_choice);
+                            mca_choice, &skill_line);
     std::cout << "pwsim run: circuit scene '" << scene.name << "' (" << scene_path.string() << "), "
               << scene.tick_count() << " ticks at " << scene.clock.rate_hz << " Hz\n";
+    if (!skill_line.empty()) std::cout << "  " << skill_line << "\n";
     folder.Print(std::cout, "pwsim run");
     return 0;
   }

@@ -5,6 +5,9 @@
 // with --circuit SCENE also DIR/runs.csv (a circuit run per trial).
 // pwsim study metrics RUNS.csv --out DIR: the training metrics of those runs per participant and
 // condition through the same statistics as ratings (report/training_study.h).
+// pwsim study skills SHEET.csv... --out DIR: skill score sheets (`pwsim skills`), the total
+// percentage and each item's score per participant and session through the same statistics
+// (report/skill_sheet.h).
 
 #include <filesystem>
 #include <iostream>
@@ -14,6 +17,7 @@
 #include "app/commands.h"
 #include "app/output_folder.h"
 #include "engine/atomic_file.h"
+#include "report/skill_sheet.h"
 #include "report/study_report.h"
 #include "report/training_study.h"
 #include "study/analysis.h"
@@ -77,7 +81,7 @@ int PlanCommand(const ParsedArgs& args) {
 const CommandSpec& StudySpec() {
   static const CommandSpec spec{
       "study",
-      "pwsim study RATINGS.csv [--out DIR] [options] | pwsim study plan --participants N [options] | pwsim study metrics RUNS.csv [--out DIR]",
+      "pwsim study RATINGS.csv [--out DIR] [options] | pwsim study plan --participants N [options] | pwsim study metrics RUNS.csv [--out DIR] | pwsim study skills SHEET.csv... [--out DIR]",
       "User-study statistics (seed 000, sec. V): Shapiro-Wilk, Wilcoxon, boxplot; or a study plan (with --circuit: a circuit run per trial); or the training metrics of planned circuit runs through the same statistics.",
       {
           OutOption("study", "study.json, study.md, boxplot.png (plan: default out/study-plan; metrics: out/study-metrics)"),
@@ -87,7 +91,7 @@ const CommandSpec& StudySpec() {
           {"seed", "S", "-", "1", "plan: seed of the randomised sequence assignment"},
           {"circuit", "SCENE", "-", "", "plan: also DIR/runs.csv, a run of this circuit scene per participant and condition (for pwsim study metrics)"},
       },
-      "RATINGS.csv  participant,condition,rating[,order] (shared/spec/study.md); or `plan`; or `metrics RUNS.csv` (participant,condition,report[,...]: report/training_study.h)"};
+      "RATINGS.csv  participant,condition,rating[,order] (shared/spec/study.md); or `plan`; or `metrics RUNS.csv` (participant,condition,report[,...]: report/training_study.h); or `skills SHEET.csv...` (sheet.csv of pwsim skills, one per participant: report/skill_sheet.h)"};
   return spec;
 }
 
@@ -106,13 +110,34 @@ int MetricsCommand(const ParsedArgs& args) {
   return 0;
 }
 
+/// pwsim study skills SHEET.csv... --out DIR: skill score sheets per participant and session
+/// (the condition) through the ratings' statistics (report/skill_sheet.h).
+int SkillsStudyCommand(const ParsedArgs& args) {
+  if (args.positional().size() < 2) throw UsageError("study skills: expected SHEET.csv... (sheet.csv of pwsim skills)");
+  std::vector<std::string> conditions;
+  if (args.Has("conditions")) {
+    conditions = SplitNames("conditions", args.Get("conditions"));
+    if (conditions.size() != 2) throw UsageError("option --conditions: expected two sessions A,B (e.g. before,after)");
+  }
+  const std::vector<fs::path> sheets(args.positional().begin() + 1, args.positional().end());
+  (void)report::ReadSkillSheets(sheets);  // a bad sheet is refused before the output folder is touched
+  const fs::path out = OutDir(args, "skills");
+  OutputFolder folder(out, "study skills");  // what the last command wrote there goes
+  const std::vector<std::string> analysed = report::WriteSkillStudy(sheets, conditions, out);
+  std::cout << "pwsim study skills: " << analysed.size() << " measures analysed (the total percentage and the items"
+            << " with at least 3 participants in both sessions); " << (out / "skills.json").string() << "\n";
+  folder.Print(std::cout, "pwsim study skills");
+  return 0;
+}
+
 }  // namespace
 
 int StudyCommand(const ParsedArgs& args) {
   if (!args.positional().empty() && args.positional()[0] == "plan") return PlanCommand(args);
   if (!args.positional().empty() && args.positional()[0] == "metrics") return MetricsCommand(args);
+  if (!args.positional().empty() && args.positional()[0] == "skills") return SkillsStudyCommand(args);
   if (!args.positional().empty() && !fs::exists(args.positional()[0])) {  // a misspelt sub-command?
-    const std::string hint = DidYouMean(args.positional()[0], {"plan", "metrics"});
+    const std::string hint = DidYouMean(args.positional()[0], {"plan", "metrics", "skills"});
     if (!hint.empty()) throw UsageError("no ratings file '" + args.positional()[0] + "'" + hint);
   }
   if (args.positional().size() != 1) throw UsageError("expected one RATINGS.csv (or `plan`)");

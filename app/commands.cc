@@ -18,6 +18,7 @@ const std::vector<Command>& AllCommands() {
       {&SweepSpec(), &SweepCommand},
       {&PlatformSpec(), &PlatformCommand},
       {&DriveSpec(), &DriveCommand},
+      {&SkillsSpec(), &SkillsCommand},
       {&CarChecksSpec(), &CarChecksCommand},
       {&ChairChecksSpec(), &ChairChecksCommand},
   };

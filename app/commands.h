@@ -50,5 +50,7 @@ const CommandSpec& ChairChecksSpec();
 int ChairChecksCommand(const ParsedArgs& args);
 const CommandSpec& DriveSpec();
 int DriveCommand(const ParsedArgs& args);
+const CommandSpec& SkillsSpec();
+int SkillsCommand(const ParsedArgs& args);
 
 }  // namespace pwsim::app

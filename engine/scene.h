@@ -59,7 +59,7 @@ struct Scene {
   PitchTorqueParams pitch_torque;
   Occupant occupant;
   ServoParams servo;
-  std::map<std::string, SceneSection> sections;  ///< mca, platform, render, session
+  std::map<std::string, SceneSection> sections;  ///< mca, platform, render, session, skill
   /// Present for a circuit scene (`circuit:` section): the full-DoF chair driven by a joystick
   /// through walls, obstacles and gates over a floor height map (circuit.h). `drive` and
   /// `terrain` are then optional and unused by SimulateCircuitScene.
@@ -74,7 +74,7 @@ struct Scene {
 
 /// Keys of sections other libraries parse (the only unknown top-level keys allowed).
 inline const std::vector<std::string>& ExtensionSectionKeys() {
-  static const std::vector<std::string> keys{"mca", "platform", "render", "session"};
+  static const std::vector<std::string> keys{"mca", "platform", "render", "session", "skill"};
   return keys;
 }
 

@@ -9,6 +9,7 @@
 #include "plot/plot.h"
 #include "report/run_mca.h"
 #include "report/run_report.h"
+#include "report/skill_score.h"
 #include "report/training_report.h"
 
 namespace pwsim::report {
@@ -376,18 +377,20 @@ void WriteCircuitFigures(const Scene& scene, const std::vector<FullChairSample>&
 std::vector<std::filesystem::path> RunCircuitScene(const Scene& scene, const std::string& scene_path,
                                                    int decimate, const RenderStageOptions& render,
                                                    const std::filesystem::path& out_dir,
-                                                   const McaChoice& mca_choice) {
+                                                   const McaChoice& mca_choice, std::string* skill_line) {
   const std::vector<FullChairSample> samples = SimulateCircuitScene(scene);
   TrialTable table = CircuitColumns(scene, samples);
   nlohmann::ordered_json summary = RunSummary(scene, scene_path, table);
   summary.erase("speed_mps");  // a straight drive's set speed; the circuit reports its own
   summary["peak_roll"] = Peak(table, "roll_rad", "rad");
   summary["circuit"] = CircuitSummary(scene, samples);
-  const TrainingMetrics training =
-      ComputeTrainingMetrics(*scene.circuit, TrainingTrace(scene, samples), scene.clock.dt());
+  const std::vector<TrainingTick> trace = TrainingTrace(scene, samples);
+  const TrainingMetrics training = ComputeTrainingMetrics(*scene.circuit, trace, scene.clock.dt());
   summary["training"] = TrainingJson(training);
   std::filesystem::create_directories(out_dir);
   WriteTrainingPage(training, "pwsim run " + scene_path, out_dir);
+  const std::string line = ScoreSkillItem(scene, scene_path, trace, out_dir);  // a skill item: score.json
+  if (skill_line != nullptr) *skill_line = line;
   AddCircuitMotionCueing(scene, samples, table, summary, out_dir, mca_choice);  // all four platform axes
   WriteCircuitFigures(scene, samples, out_dir);
   table.WriteCsv(out_dir / "trial.csv", decimate);
@@ -395,7 +398,7 @@ std::vector<std::filesystem::path> RunCircuitScene(const Scene& scene, const std
   WriteFileAtomically(out_dir / "summary.json", summary.dump(2) + "\n");
   std::vector<std::filesystem::path> written;
   for (const char* name : {"trial.csv", "summary.json", "mca.png", "mca_lateral.png", "top_view.png",
-                           "wheels.png", "training.md", "video.mp4", "video_lossless.mkv", "frames.csv"}) {
+                           "wheels.png", "training.md", "score.json", "video.mp4", "video_lossless.mkv", "frames.csv"}) {
     if (std::filesystem::exists(out_dir / name)) written.push_back(out_dir / name);
   }
   return written;

@@ -22,6 +22,7 @@
 //                 acceleration; "mca" with the platform's use of every axis and "axes_in_use";
 //                 "training": the training metrics (report/training_report.h)
 //   training.md   the training metrics as a page
+//   score.json    a skill item's score (report/skill_score.h), when the scene has `skill:`
 //   top_view.png  the path from above: walls, obstacles, gates, the chair's footprint and its
 //                 casters' rolling directions once a second, contacts and lift-offs
 //   wheels.png    caster swivel angles and wheel loads over time (lift-off where a load ≤ 0)
@@ -60,10 +61,13 @@ void AddCircuitMotionCueing(const Scene& scene, const std::vector<FullChairSampl
 void WriteCircuitFigures(const Scene& scene, const std::vector<FullChairSample>& samples,
                          const std::filesystem::path& out_dir);
 
-/// The whole run; returns the files written. @pre scene.is_circuit().
+/// The whole run; returns the files written. A skill item (a `skill:` section,
+/// report/skill_score.h) is also scored: DIR/score.json, and its line in `skill_line`.
+/// @pre scene.is_circuit().
 std::vector<std::filesystem::path> RunCircuitScene(const Scene& scene, const std::string& scene_path,
                                                    int decimate, const RenderStageOptions& render,
                                                    const std::filesystem::path& out_dir,
-                                                   const McaChoice& mca_choice = {});
+                                                   const McaChoice& mca_choice = {},
+                                                   std::string* skill_line = nullptr);
 
 }  // namespace pwsim::report
