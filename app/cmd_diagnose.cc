@@ -59,7 +59,9 @@ const CommandSpec& DiagnoseSpec() {
       {
           OutOption("diagnose", "diagnosis.json, diagnosis.md, plots/"),
           {"effects", "LIST", "-", "all", "candidate effect ids, comma separated"},
-          {"min-gain", "G", "-", "0.10", "share of the held-out error an extension must remove"},
+          {"min-gain", "G", "-", "0.10",
+           "gain an extension must reach on the selection trials to earn: the share of their error above the "
+           "noise it removes (the held-out gain is measured, never used to choose)"},
           {"bic-threshold", "B", "-", "-10", "ΔBIC an extension must beat (training trials)"},
           {"max-causes", "N", "-", "3", "forward selection stops after this many causes"},
           {"rest-window", "S", "s", "0.25", "initial window taken as rest (centring; least noise window)"},
@@ -80,8 +82,8 @@ int DiagnoseCommand(const ParsedArgs& args) {
   const std::filesystem::path out = OutDir(args);
   diagnose::DiagnoseOptions options;
   options.candidates = ParseCandidates(args.Get("effects"));
-  options.min_heldout_gain = args.GetDouble("min-gain");
-  if (!(options.min_heldout_gain >= 0.0 && options.min_heldout_gain < 1.0))
+  options.min_selection_gain = args.GetDouble("min-gain");
+  if (!(options.min_selection_gain >= 0.0 && options.min_selection_gain < 1.0))
     throw UsageError("option --min-gain: expected a number in [0, 1)");
   options.bic_threshold = args.GetDouble("bic-threshold");
   auto ranged = [&](const std::string& name, double lo, double hi) {
@@ -128,20 +130,33 @@ int DiagnoseCommand(const ParsedArgs& args) {
 
   std::cout << "pwsim diagnose: " << trials.size() << " trials, verdict: "
             << diagnose::VerdictName(d.verdict) << ", cause: " << d.cause;
-  if (!d.causes.empty()) {
-    std::cout << " (found:";
+  // Found: earned on the selection trials and confirmed by the held-out ones (diagnose.h).
+  auto list = [&](bool confirmed) {
+    std::string line;
     for (const diagnose::Cause& c : d.causes)
-      std::cout << " " << effects::EffectName(c.effect) << (c.confirmed ? "" : " unconfirmed");
-    std::cout << ")";
-  }
-  std::cout << "\n"
-            << "  held-out fit (base -> extended): Z " << Fixed(d.base_heldout.z, 1) << " -> "
+      if (c.confirmed == confirmed)
+        line += std::string(line.empty() ? "" : ", ") + effects::EffectName(c.effect) + " " +
+               Fixed(c.heldout_gain_pct, 1) + " % [" + Fixed(c.heldout_gain_lower_pct, 1) + ", " +
+               Fixed(c.heldout_gain_upper_pct, 1) + "]";
+    return line;
+  };
+  std::cout << "\n";
+  if (!list(true).empty()) std::cout << "  found (held-out gain [90 % interval]): " << list(true) << "\n";
+  if (!list(false).empty())
+    std::cout << "  chosen on the selection trials, not confirmed on the held-out ones: " << list(false) << "\n";
+  std::cout << "  held-out fit (base -> extended): Z " << Fixed(d.base_heldout.z, 1) << " -> "
             << Fixed(d.extended_heldout.z, 1) << " %, pitch " << Fixed(d.base_heldout.pitch, 1)
-            << " -> " << Fixed(d.extended_heldout.pitch, 1) << " %\n";
+            << " -> " << Fixed(d.extended_heldout.pitch, 1) << " %\n"
+            << "  gain = share of the error above the noise removed; each extension alone against the base:\n"
+            << "  " << std::left << std::setw(22) << "effect" << std::right << std::setw(11) << "selection"
+            << std::setw(30) << "held-out [90 % interval]" << std::setw(10) << "ΔBIC" << "  P(present)\n";
   for (const RankEntry& e : d.ranking) {
-    std::cout << "  " << std::left << std::setw(22) << effects::EffectName(e.effect) << " gain "
-              << std::right << std::setw(6) << Fixed(100.0 * e.heldout_gain, 1) << " %  ΔBIC "
-              << std::setw(9) << Fixed(e.delta_bic, 0) << (e.earns ? "  earns" : "") << "\n";
+    const std::string heldout = Fixed(e.heldout_gain.pct, 1) + " % [" + Fixed(e.heldout_gain.lower_pct, 1) +
+                                ", " + Fixed(e.heldout_gain.upper_pct, 1) + "]";
+    std::cout << "  " << std::left << std::setw(22) << effects::EffectName(e.effect) << std::right
+              << std::setw(9) << Fixed(100.0 * e.selection_gain, 1) << " %" << std::setw(30) << heldout
+              << std::setw(10) << Fixed(e.delta_bic, 0) << "  " << report::ProbabilityBar(report::ProbabilityOf(d, e.effect), 10)
+              << " " << Fixed(report::ProbabilityOf(d, e.effect), 2) << (e.earns ? "  earns" : "") << "\n";
   }
   folder.Print(std::cout, "pwsim diagnose");
   return 0;

@@ -13,6 +13,7 @@
 #include "app/commands.h"
 #include "app/output_folder.h"
 #include "engine/chair.h"
+#include "sysid/diagnose/model_check.h"
 #include "sysid/identify/identify.h"
 #include "sysid/measured/measured_trial.h"
 #include "report/format.h"
@@ -71,6 +72,10 @@ int IdentifyCommand(const ParsedArgs& args) {
   // 2. Identify.
   const std::vector<TrialRole> roles = AssignRoles(trials, role_options);
   const IdentifyResult result = IdentifyChair(trials, roles, options);
+  // Its own residual against the noise (sysid/diagnose/model_check.h), on the validation trials.
+  std::vector<bool> judged;
+  for (TrialRole role : roles) judged.push_back(role == TrialRole::kValidation);
+  const diagnose::ModelCheck check = diagnose::CheckModelOnTrials(trials, result.chair, judged, options.offset_window);
 
   // 3. Write: stale results go first, the plots, then the report and fit.json last.
   report::IdentificationReportInput report_input;
@@ -81,12 +86,14 @@ int IdentifyCommand(const ParsedArgs& args) {
   report_input.truth = truth ? &*truth : nullptr;
   report_input.truth_file = truth_file;
   report_input.max_plots = max_plots;
+  report_input.check = &check;
   const std::vector<report::ParameterRow> rows = report::WriteIdentificationReport(out, report_input);
 
   std::cout << "pwsim identify: " << trials.size() << " trials\n\n"
             << report::TextTable(rows, truth.has_value()) << "\nvalidation fit (held out): Z "
             << report::Fixed(result.validation_fit_z, 1) << " %, pitch "
-            << report::Fixed(result.validation_fit_pitch, 1) << " %\n";
+            << report::Fixed(result.validation_fit_pitch, 1) << " %\n"
+            << report::ModelCheckText(check, result.validation_fit_z, result.validation_fit_pitch) << "\n";
   folder.Print(std::cout, "pwsim identify");
   return 0;
 }

@@ -144,16 +144,16 @@ int main(int argc, char** argv) {
           g.ext_p += d.extended_heldout.pitch;
           g.seconds += secs;
           for (const auto& e : d.ranking)
-            if (h && e.effect == *h) g.gain += e.heldout_gain;
+            if (h && e.effect == *h) g.gain += e.heldout_gain.pct / 100.0;
           const auto& top = d.ranking.front();
           std::printf("| %s | %.1f | %d | %s | %.1f / %.1f | %.1f / %.1f | %.2f (%s) | %.0f | %.1f |\n",
                       name(h).c_str(), s, seed, d.cause.c_str(), d.base_heldout.z,
                       d.base_heldout.pitch, d.extended_heldout.z, d.extended_heldout.pitch,
-                      top.heldout_gain, EffectName(top.effect), top.delta_bic, secs);
+                      top.heldout_gain.pct / 100.0, EffectName(top.effect), top.delta_bic, secs);
           if (!matrix_only) {
             for (const auto& e : d.ranking)
               std::printf("    %-22s gain %.3f dBIC %.0f earns %d\n", EffectName(e.effect),
-                          e.heldout_gain, e.delta_bic, e.earns ? 1 : 0);
+                          e.heldout_gain.pct / 100.0, e.delta_bic, e.earns ? 1 : 0);
           }
           std::fflush(stdout);
         }

@@ -1,5 +1,6 @@
 #include "report/diagnosis_report.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "engine/atomic_file.h"
@@ -53,12 +54,34 @@ nlohmann::ordered_json VerdictInputsJson(const Diagnosis& d) {
                       {"alpha", o.alpha}, {"input_r_max", o.input_r_max}, {"clip_sigma", o.clip_sigma},
                       {"drift_budget", o.drift_budget},
                       {"bic_threshold", d.options.bic_threshold},
-                      {"min_selection_gain", d.options.min_heldout_gain}}},
+                      {"min_selection_gain", d.options.min_selection_gain}}},
           {"selection_noise_ms", JsonNumber(d.selection_noise_ms)},
           {"noise", {{"z", NoiseJson(d.noise.z)}, {"pitch", NoiseJson(d.noise.pitch)}}},
           {"base", CheckJson(d.base_check)},
           {"extended", CheckJson(d.extended_check)}};
 }
+
+double ProbabilityOf(const Diagnosis& d, effects::EffectId id) {
+  for (const diagnose::EffectProbability& p : d.probabilities)
+    if (p.effect == id) return p.probability;
+  return 0.0;
+}
+
+namespace {
+
+nlohmann::ordered_json CauseJson(const diagnose::Cause& c) {
+  return {{"effect", effects::EffectName(c.effect)},
+          {"heldout_gain_pct", JsonNumber(c.heldout_gain_pct)},
+          {"heldout_gain_lower_pct", JsonNumber(c.heldout_gain_lower_pct)},
+          {"heldout_gain_upper_pct", JsonNumber(c.heldout_gain_upper_pct)},
+          {"selection_gain_pct", JsonNumber(100.0 * c.selection_gain)},
+          {"delta_bic", JsonNumber(c.delta_bic)},
+          {"confirmed", c.confirmed},
+          {"report_trials", c.report_trials},
+          {"report_trials_improved", c.report_trials_improved}};
+}
+
+}  // namespace
 
 nlohmann::ordered_json DiagnosisJson(const Diagnosis& d, const std::string& base_source,
                                      double seconds) {
@@ -74,24 +97,24 @@ nlohmann::ordered_json DiagnosisJson(const Diagnosis& d, const std::string& base
                             {"delta_bic", JsonNumber(e.delta_bic)},
                             {"heldout_fit_pct", FitJson(e.heldout)},
                             {"parameters", params},
-                            {"heldout_gain", JsonNumber(e.heldout_gain)},
-                            {"selection_gain", JsonNumber(e.selection_gain)},
-                            {"earns", e.earns}});
+                            {"selection_gain_pct", JsonNumber(100.0 * e.selection_gain)},
+                            {"earns", e.earns},
+                            {"heldout_gain_pct", JsonNumber(e.heldout_gain.pct)},
+                            {"heldout_gain_lower_pct", JsonNumber(e.heldout_gain.lower_pct)},
+                            {"heldout_gain_upper_pct", JsonNumber(e.heldout_gain.upper_pct)},
+                            {"probability", JsonNumber(ProbabilityOf(d, e.effect))}});
   }
   j["heldout_fit_pct"] = {{"base", FitJson(d.base_heldout)}, {"extended", FitJson(d.extended_heldout)}};
   j["heldout_trials"] = d.heldout_trials;
   // Additions of measured-trials.md (v1).
   j["verdict"] = diagnose::VerdictName(d.verdict);
+  // `causes`: the causes found (earned on the selection trials, confirmed by the report trials);
+  // `selected_causes` (an addition): every cause forward selection added, confirmed or not.
   j["causes"] = nlohmann::ordered_json::array();
+  j["selected_causes"] = nlohmann::ordered_json::array();
   for (const diagnose::Cause& c : d.causes) {
-    j["causes"].push_back({{"effect", effects::EffectName(c.effect)},
-                           {"heldout_gain_pct", JsonNumber(c.heldout_gain_pct)},
-                           {"selection_gain_pct", JsonNumber(100.0 * c.selection_gain)},
-                           {"delta_bic", JsonNumber(c.delta_bic)},
-                           {"confirmed", c.confirmed},
-                           {"heldout_gain_lcb_pct", JsonNumber(c.heldout_gain_lcb_pct)},
-                           {"report_trials", c.report_trials},
-                           {"report_trials_improved", c.report_trials_improved}});
+    if (c.confirmed) j["causes"].push_back(CauseJson(c));
+    j["selected_causes"].push_back(CauseJson(c));
   }
   j["noise_floor_fit_pct"] = FitJson(d.noise_floor);
   if (d.verdict == diagnose::Verdict::kUnexplained || d.verdict == diagnose::Verdict::kPartlyExplained) {
@@ -100,6 +123,22 @@ nlohmann::ordered_json DiagnosisJson(const Diagnosis& d, const std::string& base
   }
   // Additions beyond the contract's minimum (allowed: add, never rename).
   j["noise_sigma"] = {{"z_m", JsonNumber(d.sigma_z)}, {"pitch_rad", JsonNumber(d.sigma_pitch)}};
+  {  // each candidate's probability of being present (diagnose.h EffectProbabilities) and its inputs
+    const diagnose::ProbabilityOptions po;
+    nlohmann::ordered_json p = nlohmann::ordered_json::object();
+    for (const diagnose::EffectProbability& e : d.probabilities) p[effects::EffectName(e.effect)] = JsonNumber(e.probability);
+    j["effect_probability"] = p;
+    nlohmann::ordered_json models = nlohmann::ordered_json::array();
+    for (const diagnose::VisitedModel& m : d.visited) {
+      nlohmann::ordered_json fx = nlohmann::ordered_json::array(), ms = nlohmann::ordered_json::array();
+      for (effects::EffectId id : m.effects) fx.push_back(effects::EffectName(id));
+      for (double v : m.selection_ms) ms.push_back(v);
+      models.push_back({{"effects", fx}, {"selection_ms", ms}});
+    }
+    j["effect_probability_inputs"] = {{"prior", JsonNumber(po.prior)},
+                                      {"samples_per_unit", JsonNumber(po.samples_per_unit)},
+                                      {"models", models}};
+  }
   j["verdict_inputs"] = VerdictInputsJson(d);
   j["residual_tests"] = {{"base", d.base_check.Evidence()}, {"extended", d.extended_check.Evidence()}};
   j["selection_trials"] = d.selection_trials;
@@ -185,6 +224,29 @@ void PlotLocated(const diagnose::LocatedResidual& loc, const std::filesystem::pa
                            "wheel position from the terrain breakpoint [m]", 1100, 280);
 }
 
+std::string ProbabilityBar(double p, int width) {
+  const int filled = static_cast<int>(std::lround(std::clamp(p, 0.0, 1.0) * width));
+  std::string bar;
+  for (int k = 0; k < width; ++k) bar += k < filled ? "█" : "·";
+  return bar;
+}
+
+std::string ProbabilityBars(const Diagnosis& d) {
+  if (d.probabilities.empty()) return "";
+  std::string md = "## How likely each effect is\n\nThe probability that each effect of the catalogue is "
+                   "present, from the selection trials' errors of every model the ranking and forward "
+                   "selection fitted (docs/diagnosis.md, \"How likely each effect is\"):\n\n```\n";
+  std::vector<diagnose::EffectProbability> sorted = d.probabilities;
+  std::stable_sort(sorted.begin(), sorted.end(),
+                   [](const auto& a, const auto& b) { return a.probability > b.probability; });
+  for (const auto& p : sorted) {
+    std::string name = effects::EffectName(p.effect);
+    name.resize(std::max<std::size_t>(name.size(), 22), ' ');
+    md += name + " " + ProbabilityBar(p.probability, 40) + " " + Fixed(p.probability, 2) + "\n";
+  }
+  return md + "```\n\n";
+}
+
 std::string DiagnosisMarkdown(const Diagnosis& d, const std::string& base_source,
                      const std::vector<std::string>& plots, double seconds) {
   const auto& r = d.residuals;
@@ -211,14 +273,31 @@ std::string DiagnosisMarkdown(const Diagnosis& d, const std::string& base_source
       md += "The causes found earn their parameters, but a structured residual is left.\n\n";
       break;
   }
-  for (const diagnose::Cause& c : d.causes) {
-    md += "- `" + std::string(effects::EffectName(c.effect)) + "` (" +
-          (c.confirmed ? "confirmed" : "**not confirmed**") + " by the report trials): " +
-          effects::EffectDescription(c.effect) + "; removes " + Fixed(c.heldout_gain_pct, 1) +
-          " % of the held-out error above the noise (95 % lower bound of the error it removes: " +
-          Fixed(c.heldout_gain_lcb_pct, 1) + " %; " + std::to_string(c.report_trials_improved) + " of " +
-          std::to_string(c.report_trials) + " report trials improved; chosen on the selection "
-          "trials, where it removed " + Fixed(100.0 * c.selection_gain, 1) + " % of the error above the noise).\n";
+  // One gain (diagnose.h): the share of the error above the noise that adding the cause to the
+  // model before it removes; on the held-out trials with its 90 % interval (one-sided 95 % bounds).
+  auto cause_line = [&](const diagnose::Cause& c) {
+    return "- `" + std::string(effects::EffectName(c.effect)) + "`: " + effects::EffectDescription(c.effect) +
+           "; held-out gain " + Fixed(c.heldout_gain_pct, 1) + " % (90 % interval " +
+           Fixed(c.heldout_gain_lower_pct, 1) + " to " + Fixed(c.heldout_gain_upper_pct, 1) + " %; " +
+           std::to_string(c.report_trials_improved) + " of " + std::to_string(c.report_trials) +
+           " report trials improved), selection gain " + Fixed(100.0 * c.selection_gain, 1) +
+           " %, probability " + Fixed(ProbabilityOf(d, c.effect), 2) + ".\n";
+  };
+  bool any_found = false, any_unconfirmed = false;
+  for (const diagnose::Cause& c : d.causes) (c.confirmed ? any_found : any_unconfirmed) = true;
+  if (any_found) {
+    md += "Found (each earned its parameters on the selection trials, and the held-out trials confirm it: "
+          "its held-out gain's lower bound is above 0). The gain is the share of the error above the noise "
+          "that adding the cause to the model before it removes:\n\n";
+    for (const diagnose::Cause& c : d.causes)
+      if (c.confirmed) md += cause_line(c);
+  }
+  if (any_unconfirmed) {
+    md += std::string(any_found ? "\n" : "") +
+          "Chosen on the selection trials but **not confirmed** by the held-out trials (not found: the "
+          "held-out gain's lower bound is not above 0):\n\n";
+    for (const diagnose::Cause& c : d.causes)
+      if (!c.confirmed) md += cause_line(c);
   }
   md += std::string("\nNoise (from the data: ") +
         (d.noise.z.from_rest ? "rest windows, variogram and MAD" : "4th differences, white") + "): Z " + Significant(1e3 * d.sigma_z, 3) + " mm, pitch " +
@@ -232,12 +311,14 @@ std::string DiagnosisMarkdown(const Diagnosis& d, const std::string& base_source
   md += "| extended model (" + d.cause + ") | " + Fixed(d.extended_heldout.z, 1) + " | " +
         Fixed(d.extended_heldout.pitch, 1) + " |\n\n";
   md += "(The paper reports 79.3 % for Z and 57.6 % for pitch on its real chair.)\n\n";
-  md += "## Ranking\n\nEach extension alone. It earns its parameters when ΔBIC (training) < " +
-        Fixed(d.options.bic_threshold, 0) + " and it removes at least " +
-        Fixed(100.0 * d.options.min_heldout_gain, 0) + " % of the error of the selection trials; the "
-        "held-out gain is measured on trials that played no part in the choice.\n\n";
-  md += "| # | effect | earns | held-out gain | ΔBIC | held-out fit Z / pitch [%] | parameters | evidence |\n";
-  md += "|---|---|---|---|---|---|---|---|\n";
+  md += ProbabilityBars(d);
+  md += "## Ranking\n\nEach extension alone, against the base model. Its gain is the share of the error "
+        "above the noise that it removes. It earns its parameters when ΔBIC (training) < " +
+        Fixed(d.options.bic_threshold, 0) + " and its gain on the selection trials is at least " +
+        Fixed(100.0 * d.options.min_selection_gain, 0) + " %; the held-out gain (90 % interval) is the "
+        "same quantity on trials that played no part in any choice.\n\n";
+  md += "| # | effect | earns | selection gain | held-out gain [90 % interval] | probability | ΔBIC | held-out fit Z / pitch [%] | parameters | evidence |\n";
+  md += "|---|---|---|---|---|---|---|---|---|---|\n";
   int rank = 1;
   for (const RankEntry& e : d.ranking) {
     std::string params;
@@ -246,7 +327,9 @@ std::string DiagnosisMarkdown(const Diagnosis& d, const std::string& base_source
       params += name + " " + Significant(value, 4);
     }
     md += "| " + std::to_string(rank++) + " | " + effects::EffectName(e.effect) + " | " +
-          (e.earns ? "yes" : "no") + " | " + Fixed(100.0 * e.heldout_gain, 1) + " % | " +
+          (e.earns ? "yes" : "no") + " | " + Fixed(100.0 * e.selection_gain, 1) + " % | " +
+          Fixed(e.heldout_gain.pct, 1) + " % [" + Fixed(e.heldout_gain.lower_pct, 1) + ", " +
+          Fixed(e.heldout_gain.upper_pct, 1) + "] | " + Fixed(ProbabilityOf(d, e.effect), 2) + " | " +
           Fixed(e.delta_bic, 0) + " | " + Fixed(e.heldout.z, 1) + " / " + Fixed(e.heldout.pitch, 1) +
           " | " + params + " | " + e.evidence + " |\n";
   }

@@ -22,6 +22,15 @@ nlohmann::ordered_json DiagnosisJson(const diagnose::Diagnosis& d, const std::st
 /// test's statistic and bound for the base and the extended model.
 nlohmann::ordered_json VerdictInputsJson(const diagnose::Diagnosis& d);
 
+/// The probability of `id` being present (Diagnosis::probabilities; 0 when not a candidate).
+double ProbabilityOf(const diagnose::Diagnosis& d, effects::EffectId id);
+
+/// A text bar of `width` cells, p ∈ [0, 1] of them filled ("█", the rest "·").
+std::string ProbabilityBar(double p, int width);
+
+/// diagnosis.md's section of one bar per candidate effect, most probable first.
+std::string ProbabilityBars(const diagnose::Diagnosis& d);
+
 /// diagnosis.md's content; `plots` are paths relative to the report, located residual first.
 std::string DiagnosisMarkdown(const diagnose::Diagnosis& d, const std::string& base_source,
                               const std::vector<std::string>& plots, double seconds);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "engine/chair.h"
+#include "sysid/diagnose/model_check.h"
 #include "sysid/identify/identify.h"
 #include "sysid/measured/measured_trial.h"
 
@@ -45,7 +46,14 @@ struct IdentificationReportInput {
   const Chair* truth{nullptr};               ///< nullptr when no truth is known
   std::filesystem::path truth_file;          ///< where the truth came from
   long long max_plots{12};
+  const diagnose::ModelCheck* check{nullptr};  ///< the model's residual against the noise; none: not checked
 };
+
+/// What the check of the identified model says, for the console and identify.md: the noise and
+/// its floor beside the fitness, the structured RMS, and, where the model is measurably wrong,
+/// that it is and that `pwsim diagnose` is the next step. `fit_z`, `fit_pitch`: the fitness on
+/// the judged trials [%].
+std::string ModelCheckText(const diagnose::ModelCheck& check, double fit_z, double fit_pitch);
 
 /// Writes under `out`: stale outputs removed first, the overlay plots, identified-chair.yaml,
 /// identify.md, and fit.json last. Returns the parameter rows (for the console table).

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <deque>
 #include <functional>
+#include <limits>
 #include <map>
 
 
@@ -155,18 +156,22 @@ NoiseCheck Check(const std::vector<FitTrial>& trials, const std::vector<effects:
   return CheckResidual(ResidualRecords(trials, records, index, params), noise, options);
 }
 
-/// The share of the selection trials' structured error a model change removes: with ρ² =
-/// max(0, RMS² − N) the weighted mean square above the noise's N (the structured RMS of the
-/// verdict, verdict.h (a)),
+/// The gain of diagnose.h from two weighted mean squares: with ρ² = max(0, MS − N) the weighted
+/// mean square above the noise's N (the structured RMS of the verdict, verdict.h (a)),
 ///   gain = 1 − ρ_after / ρ_before,
 /// so that an effect's gain does not shrink with the noise the trials happen to carry (a share
 /// of the whole RMS, noise included, penalised second and weak causes: the noise is most of
 /// what is left). N is the noise's lower bound (SelectionNoise): an overestimated noise would
-/// inflate every gain. The share of the whole RMS where nothing is above the noise.
+/// inflate every gain. Nothing above the noise before: 0 (nothing to remove).
+double GainFromMeanSquares(double ms_before, double ms_after, double noise_ms) {
+  const double before = ms_before - noise_ms;
+  if (!(before > 0.0)) return 0.0;
+  return 1.0 - std::sqrt(std::max(0.0, ms_after - noise_ms) / before);
+}
+
+/// The gain on the selection trials from their weighted RMS errors before and after.
 double SelectionGain(double rms_before, double rms_after, double noise_ms) {
-  const double before = rms_before * rms_before - noise_ms;
-  if (!(before > 0.0)) return rms_before > 0.0 ? 1.0 - rms_after / rms_before : 0.0;
-  return 1.0 - std::sqrt(std::max(0.0, rms_after * rms_after - noise_ms) / before);
+  return GainFromMeanSquares(rms_before * rms_before, rms_after * rms_after, noise_ms);
 }
 
 /// N of SelectionGain: ½ (w_Z² σ_Z,low² + w_θ² σ_θ,low²), the weighted noise mean square per
@@ -186,21 +191,44 @@ std::vector<double> PerTrialMeanSquare(const std::vector<FitTrial>& trials,
   return out;
 }
 
-/// Confirms `cause` on the report trials: the model before it (`before`) against the model
-/// with it (`after`). With e_b, e_a the weighted residuals of both channels and Δm = e_b − e_a
-/// the change of the model's output, the reduction of the squared error is
+/// Per trial of `trials` and channel (Z, pitch), the mean square of the residual of `params`:
+/// what EffectProbabilities weighs; empty when a simulation is not finite.
+std::vector<double> ChannelMeanSquares(const std::vector<FitTrial>& trials, const effects::ExtendedParams& params) {
+  std::vector<double> out(2 * trials.size(), 0.0);
+  std::vector<char> finite(trials.size(), 1);
+  ParallelFor(trials.size(), [&](std::size_t i) {  // each trial its own slots
+    const TrialResidual r = ComputeResidual(trials[i], params);
+    finite[i] = r.finite;
+    if (!r.finite) return;
+    for (int channel = 0; channel < 2; ++channel) {
+      const std::vector<double>& e = channel == 0 ? r.e_z : r.e_pitch;
+      double sum = 0.0;
+      for (double v : e) sum += v * v;
+      out[2 * i + channel] = e.empty() ? 0.0 : sum / static_cast<double>(e.size());
+    }
+  });
+  if (std::find(finite.begin(), finite.end(), 0) != finite.end()) return {};
+  return out;
+}
+
+/// The gain (diagnose.h) of a model change on the report trials, with its bounds: the model
+/// before (`before`) against the model after (`after`). With e_b, e_a the weighted residuals of
+/// both channels and Δm = e_b − e_a the change of the model's output, the reduction of the
+/// squared error is
 ///   D = Σ_k (e_b,k² − e_a,k²) = Σ_k Δm_k² + Σ_k u_k,   u_k = 2 e_a,k Δm_k.
 /// Σ Δm² ≥ 0 is what the change explains; Σ u_k is what the residual left (noise and any
 /// structure) does with it: near 0 when e_a is noise, negative when the change only moved
 /// structure around. Its standard deviation s is the Newey-West (HAC) estimate over each trial
-/// and channel with a bandwidth of 25 samples (the residual's colour). Confirmed when the
-/// one-sided 95 % lower bound D − 1.645 s is positive; the bound is reported as a share of the
-/// error before, Σ e_b² [%]. A single localised gain (a wheel at the obstacle in one report
+/// and channel with a bandwidth of 25 samples (the residual's colour). With n residuals,
+/// MS_b = Σ e_b²/n and MS_a = MS_b − D/n; the gain is GainFromMeanSquares(MS_b, MS_a, N) and its
+/// one-sided 95 % bounds the same at D − 1.645 s and D + 1.645 s: the gain grows with D, so the
+/// bounds hold the estimate. A single localised gain (a wheel at the obstacle in one report
 /// trial) counts by its size against the noise, not as one sample of a few.
-void ConfirmOnReport(const std::vector<FitTrial>& before_trials, const effects::ExtendedParams& before,
-                     const std::vector<FitTrial>& after_trials, const effects::ExtendedParams& after,
-                     const ChannelWeights& w, Cause& cause) {
+HeldOutGain GainOnTrials(const std::vector<FitTrial>& before_trials, const effects::ExtendedParams& before,
+                         const std::vector<FitTrial>& after_trials, const effects::ExtendedParams& after,
+                         const ChannelWeights& w, double noise_ms) {
   double reduction = 0.0, error_before = 0.0, variance = 0.0;
+  std::size_t n = 0;
   for (std::size_t i = 0; i < std::min(before_trials.size(), after_trials.size()); ++i) {
     const TrialResidual rb = ComputeResidual(before_trials[i], before);
     const TrialResidual ra = ComputeResidual(after_trials[i], after);
@@ -209,20 +237,27 @@ void ConfirmOnReport(const std::vector<FitTrial>& before_trials, const effects::
       const std::vector<double>& eb = channel == 0 ? rb.e_z : rb.e_pitch;
       const std::vector<double>& ea = channel == 0 ? ra.e_z : ra.e_pitch;
       const double wc = channel == 0 ? w.z : w.pitch;
-      const std::size_t n = std::min(eb.size(), ea.size());
-      std::vector<double> u(n);
-      for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t m = std::min(eb.size(), ea.size());
+      std::vector<double> u(m);
+      for (std::size_t k = 0; k < m; ++k) {
         const double b = wc * eb[k], a = wc * ea[k];
         reduction += b * b - a * a;
         error_before += b * b;
         u[k] = 2.0 * a * (b - a);
       }
+      n += m;
       variance += NeweyWestSumVariance(u, kResidualBandwidth);
     }
   }
-  const double lcb = reduction - kOneSidedZ95 * std::sqrt(std::max(0.0, variance));
-  cause.heldout_gain_lcb_pct = error_before > 0.0 ? 100.0 * lcb / error_before : 0.0;
-  cause.confirmed = lcb > 0.0;
+  HeldOutGain g;
+  if (n == 0) return g;
+  const double nn = static_cast<double>(n), ms_before = error_before / nn;
+  const double half_width = kOneSidedZ95 * std::sqrt(std::max(0.0, variance));
+  auto gain_at = [&](double d) { return 100.0 * GainFromMeanSquares(ms_before, ms_before - d / nn, noise_ms); };
+  g.pct = gain_at(reduction);
+  g.lower_pct = gain_at(reduction - half_width);
+  g.upper_pct = gain_at(reduction + half_width);
+  return g;
 }
 
 /// A model and the splits (GM) it was fitted under.
@@ -326,11 +361,12 @@ std::optional<Candidate> BestAlone(const std::vector<RankEntry>& ranking) {
 std::optional<Candidate> BestJoint(const Splits& splits, const std::vector<RankEntry>& ranking,
                                    const std::vector<EffectId>& found, const FitResult& current,
                                    double current_sel, const ChannelWeights& w, double noise_ms,
-                                   const DiagnoseOptions& options, bool rebased) {
+                                   const DiagnoseOptions& options, bool rebased,
+                                   std::vector<VisitedModel>& visited) {
   auto judge = [&](FitResult f) {
     const double sel = HeldOutError(splits.selection, f.params, w);
     const double gain = SelectionGain(current_sel, sel, noise_ms);
-    const bool earns = f.bic - current.bic < options.bic_threshold && gain >= options.min_heldout_gain;
+    const bool earns = f.bic - current.bic < options.bic_threshold && gain >= options.min_selection_gain;
     return earns ? std::optional<Candidate>(Candidate{std::move(f), gain, sel}) : std::nullopt;
   };
   FitOptions screen = options.fit, from_family = options.fit;
@@ -341,6 +377,7 @@ std::optional<Candidate> BestJoint(const Splits& splits, const std::vector<RankE
   for (const RankEntry& solo : ranking)
     if (std::find(found.begin(), found.end(), solo.effect) == found.end()) tried.push_back(&solo);
   std::vector<std::optional<Candidate>> joint(tried.size());  // fitted concurrently
+  std::vector<VisitedModel> fitted_models(tried.size());
   ParallelFor(tried.size(), [&](std::size_t i) {
     std::vector<EffectId> list = found;
     list.push_back(tried[i]->effect);
@@ -351,8 +388,10 @@ std::optional<Candidate> BestJoint(const Splits& splits, const std::vector<RankE
       FitResult from_alone = FitModelJoint(splits.training, list, from, w, screen);
       if (from_alone.sse <= fit.sse) fit = std::move(from_alone);  // the fit alone's start of equal errors
     }
+    fitted_models[i] = {fit.effects, ChannelMeanSquares(splits.selection, fit.params)};
     joint[i] = judge(std::move(fit));
   }, Waiting::kAnyTask);
+  visited.insert(visited.end(), fitted_models.begin(), fitted_models.end());
   std::vector<Candidate> earning;
   for (std::optional<Candidate>& c : joint)  // in ranking order
     if (c) earning.push_back(std::move(*c));
@@ -440,6 +479,16 @@ void RebaseUnderCushion(const std::vector<effects::TrialRecord>& records, const 
     dx.base_under_cushion = true;
 }
 
+/// The base and every extension of the ranking as visited models (EffectProbabilities).
+void VisitRanking(const Splits& splits, Diagnosis& dx) {
+  std::vector<VisitedModel> visited(dx.ranking.size() + 1);
+  ParallelFor(visited.size(), [&](std::size_t i) {  // each model its own slot
+    const FitResult& fit = i == 0 ? dx.base : dx.ranking[i - 1].fit;
+    visited[i] = {fit.effects, ChannelMeanSquares(splits.selection, fit.params)};
+  });
+  dx.visited.insert(dx.visited.end(), visited.begin(), visited.end());
+}
+
 /// Round 1: every candidate fitted alone on the training trials (concurrently, each in its own
 /// slot), from the base's LM under the base's kinematics (a candidate under other kinematics
 /// than its base would gain or lose by the kinematics too), judged on the selection trials;
@@ -454,7 +503,7 @@ std::vector<RankEntry> Rank(const Splits& splits, const FitResult& base, double 
     e.delta_bic = e.fit.bic - base.bic;
     e.selection_error = HeldOutError(splits.selection, e.fit.params, w);
     e.selection_gain = SelectionGain(base_sel, e.selection_error, noise_ms);
-    e.earns = e.delta_bic < options.bic_threshold && e.selection_gain >= options.min_heldout_gain;
+    e.earns = e.delta_bic < options.bic_threshold && e.selection_gain >= options.min_selection_gain;
     e.parameters = NamedParameters(e.fit);
   }, Waiting::kAnyTask);
   std::stable_sort(ranking.begin(), ranking.end(), [](const RankEntry& a, const RankEntry& b) {
@@ -478,7 +527,7 @@ void ForwardSelect(const std::vector<effects::TrialRecord>& records, const std::
     std::optional<Candidate> best =
         found.empty() ? BestAlone(dx.ranking)
                       : BestJoint(geometries.back(), dx.ranking, found, current, current_sel, w,
-                                  dx.selection_noise_ms, options, geometries.size() > 1);
+                                  dx.selection_noise_ms, options, geometries.size() > 1, dx.visited);
     if (!best) break;
     if (records.front().gm_from_trials && best->fit.effects.back() == EffectId::kMarkerOffset)
       RegeometryUnderLever(records, report, geometries, *best, current_sel, w, options, dx);
@@ -494,6 +543,7 @@ void ForwardSelect(const std::vector<effects::TrialRecord>& records, const std::
     current_sel = best->selection_error;
     models.push_back({current, &geometries.back()});
     const Splits& now = geometries.back();
+    dx.visited.push_back({current.effects, ChannelMeanSquares(now.selection, current.params)});
     if (Check(now.selection, records, now.selection_index, current.params, dx.noise, options.verdict)
             .NoiseLike())
       break;  // the stop: the residual on the selection trials is noise-like
@@ -505,16 +555,18 @@ void ForwardSelect(const std::vector<effects::TrialRecord>& records, const std::
 void ReportRanking(const Splits& base_splits, const effects::ExtendedParams& base,
                    const ChannelWeights& w, Diagnosis& dx) {
   const DiagnoseOptions& options = dx.options;
-  const double base_error = HeldOutError(base_splits.report, base, w);
-  for (RankEntry& e : dx.ranking) {
-    const double err = HeldOutError(base_splits.report, e.fit.params, w);
-    e.heldout_gain = base_error > 0.0 ? 1.0 - err / base_error : 0.0;
+  ParallelFor(dx.ranking.size(), [&](std::size_t i) {  // each entry its own slot
+    RankEntry& e = dx.ranking[i];
+    e.heldout_gain = GainOnTrials(base_splits.report, base, base_splits.report, e.fit.params, w,
+                                  dx.selection_noise_ms);
     e.heldout = PooledFitPct(base_splits.report, e.fit.params);
+  });
+  for (RankEntry& e : dx.ranking) {
     e.evidence = dx.residuals.evidence[static_cast<int>(e.effect)] +
-                 Format("; extension removes %.0f %% of the selection error above the noise (earns at ≥ %.0f %% "
-                        "and ΔBIC < %.0f), %.0f %% of the held-out error",
-                        100.0 * e.selection_gain, 100.0 * options.min_heldout_gain,
-                        options.bic_threshold, 100.0 * e.heldout_gain);
+                 Format("; gain (share of the error above the noise removed): %.0f %% on the selection trials "
+                        "(earns at ≥ %.0f %% and ΔBIC < %.0f), %.0f %% on the held-out trials",
+                        100.0 * e.selection_gain, 100.0 * options.min_selection_gain,
+                        options.bic_threshold, e.heldout_gain.pct);
     if (e.effect == EffectId::kMarkerOffset && dx.lever_from_x)
       e.evidence += Format("; the measured x bears out a lever height of %.3f m (se %.3f m), the fit held within "
                            "[%.3f, %.3f] m",
@@ -537,23 +589,21 @@ NoiseCheck CheckForVerdict(const std::vector<effects::TrialRecord>& records, con
   return Check(trials, records, index, s.fit.params, dx.noise, dx.options.verdict);
 }
 
-/// Each cause's gain on the report trials (the share of the base model's error above the noise
-/// that adding it removed) and whether the report trials confirm it; returns the confirmed.
+/// Each cause's gain on the report trials (the model before it → the model with it) with its
+/// bounds, and whether the report trials confirm it (the lower bound > 0); returns the confirmed.
 std::size_t ReportCauses(const std::vector<Stage>& models, const ChannelWeights& w,
                          double noise_ms, Diagnosis& dx) {
-  const Splits& base_splits = *models.front().splits;
-  const effects::ExtendedParams& base = models.front().fit.params;
-  const double base_excess = std::max(0.0, MeanSquareError(base_splits.report, base, w) - noise_ms);
   std::size_t confirmed = 0;
   for (std::size_t k = 0; k < dx.causes.size(); ++k) {
     const Stage& before = models[k];
     const Stage& after = models[k + 1];
-    const double e0 = std::max(0.0, MeanSquareError(before.splits->report, before.fit.params, w) - noise_ms);
-    const double e1 = std::max(0.0, MeanSquareError(after.splits->report, after.fit.params, w) - noise_ms);
     Cause& c = dx.causes[k];
-    c.heldout_gain_pct = base_excess > 0.0 ? 100.0 * (e0 - e1) / base_excess : 0.0;
-    ConfirmOnReport(before.splits->report, before.fit.params, after.splits->report,
-                    after.fit.params, w, c);
+    const HeldOutGain g = GainOnTrials(before.splits->report, before.fit.params, after.splits->report,
+                                       after.fit.params, w, noise_ms);
+    c.heldout_gain_pct = g.pct;
+    c.heldout_gain_lower_pct = g.lower_pct;
+    c.heldout_gain_upper_pct = g.upper_pct;
+    c.confirmed = g.lower_pct > 0.0;
     const std::vector<double> ms0 = PerTrialMeanSquare(before.splits->report, before.fit.params, w);
     const std::vector<double> ms1 = PerTrialMeanSquare(after.splits->report, after.fit.params, w);
     c.report_trials = ms0.size();
@@ -711,17 +761,58 @@ Diagnosis DiagnoseOnPool(const std::vector<effects::TrialRecord>& given, const D
   const double base_sel = HeldOutError(first.selection, dx.base.params, w);  // 6
   dx.selection_noise_ms = SelectionNoise(dx.noise, w);
   dx.ranking = Rank(first, dx.base, base_sel, w, dx.selection_noise_ms, options);
+  VisitRanking(first, dx);
   std::vector<Stage> models{{dx.base, &first}};  // the model after each cause
   if (!base_selection.NoiseLike()) ForwardSelect(records, report, geometries, base_sel, w, models, dx);
   dx.extended = models.back().fit;
   dx.selected = dx.extended;
-  const double noise_ms = 0.5 * (w.z * w.z * dx.sigma_z * dx.sigma_z +  // 7
-                                 w.pitch * w.pitch * dx.sigma_pitch * dx.sigma_pitch);
-  ReportOnHeldOut(records, models, w, noise_ms, dx);
+  dx.probabilities = EffectProbabilities(dx.visited, options.candidates);  // 8, selection data only
+  ReportOnHeldOut(records, models, w, dx.selection_noise_ms, dx);  // 7: the gains' N is the selection's
   return dx;
 }
 
 }  // namespace
+
+std::vector<EffectProbability> EffectProbabilities(const std::vector<VisitedModel>& models,
+                                                   const std::vector<EffectId>& candidates,
+                                                   const ProbabilityOptions& options) {
+  PWSIM_DEMAND(options.prior > 0.0 && options.prior < 1.0 && options.samples_per_unit > 0.0);
+  // One weight per effect set: a set fitted twice (screened, then solved on; or under a base
+  // identified again) counts once, by its better fit.
+  std::map<std::vector<EffectId>, double> log_weight;
+  const double log_odds = std::log(options.prior / (1.0 - options.prior));
+  for (const VisitedModel& m : models) {
+    if (m.selection_ms.empty()) continue;
+    double lw = log_odds * static_cast<double>(m.effects.size());
+    bool finite = true;
+    for (double ms : m.selection_ms) {
+      if (!(ms > 0.0) || !std::isfinite(ms)) finite = false;
+      else lw -= 0.5 * options.samples_per_unit * std::log(ms);
+    }
+    if (!finite) continue;
+    std::vector<EffectId> key = m.effects;
+    std::sort(key.begin(), key.end());
+    auto [it, inserted] = log_weight.emplace(key, lw);
+    if (!inserted) it->second = std::max(it->second, lw);
+  }
+  std::vector<EffectProbability> out;
+  for (EffectId e : candidates) out.push_back({e, 0.0});
+  if (log_weight.empty()) {
+    for (EffectProbability& p : out) p.probability = options.prior;  // nothing to weigh: the prior
+    return out;
+  }
+  double top = -std::numeric_limits<double>::infinity();
+  for (const auto& [key, lw] : log_weight) top = std::max(top, lw);
+  double total = 0.0;
+  for (const auto& [key, lw] : log_weight) {
+    const double weight = std::exp(lw - top);  // log-sum-exp: the largest weight is 1
+    total += weight;
+    for (EffectProbability& p : out)
+      if (std::find(key.begin(), key.end(), p.effect) != key.end()) p.probability += weight;
+  }
+  for (EffectProbability& p : out) p.probability /= total;
+  return out;
+}
 
 Diagnosis Diagnose(const std::vector<effects::TrialRecord>& records_given,
                    const DiagnoseOptions& options) {

@@ -19,9 +19,8 @@
 //     noise-like → no cause is looked for.
 //  5. Residual analysis of the base model (residual_analysis.h): evidence lines per effect.
 //  6. Every extension fitted alone on the training trials (the ranking; concurrently); then
-//     forward selection. An extension earns when ΔBIC < bic_threshold (training) AND it
-//     removes ≥ min_heldout_gain of the SELECTION trials' structured RMS (above the noise:
-//     diagnose.cc SelectionGain). Of the earning ones the largest selection gain is added,
+//     forward selection. An extension earns when ΔBIC < bic_threshold (training) AND its gain
+//     (below) on the SELECTION trials is ≥ min_selection_gain. Of the earning ones the largest selection gain is added,
 //     unless the selection trials cannot tell it from a rival (a Diebold-Mariano test,
 //     paired_test.h): then the lowest training BIC among those tied. Every further candidate
 //     (those with ΔBIC < bic_threshold alone) is fitted JOINTLY with the ones found
@@ -34,12 +33,28 @@
 //     taken from O_V's x; a cushion, likewise, has GM and LM identified again under its yield
 //     (BaseUnderCushion).
 //  7. Report (ReportOnHeldOut in diagnose.cc): fitness of base and extended model on the
-//     report trials, each cause's gain as the share of the base model's error above the noise
-//     that adding it removed, and whether the report trials confirm it (Cause::confirmed); the
-//     residual tests on the selection + report trials: base noise-like → `adequate`; a
-//     confirmed cause and the extended model noise-like → `explained`, else
-//     `partly_explained`; no confirmed cause → `unexplained`.
+//     report trials, each cause's gain on them (below) with its interval, and whether the
+//     report trials confirm it (Cause::confirmed: the gain's lower bound > 0); the residual
+//     tests on the selection + report trials: base noise-like → `adequate`; a confirmed cause
+//     and the extended model noise-like → `explained`, else `partly_explained`; no confirmed
+//     cause → `unexplained`. A cause is FOUND when it earned on the selection trials and the
+//     report trials confirm it; one that did not is reported apart, never as found.
+//  8. Every catalogue effect's probability of being present (EffectProbabilities), from the
+//     selection trials' errors of every model the ranking and forward selection fitted.
 // Nothing tells the diagnosis which effect (if any) is hidden.
+//
+// The gain, one quantity wherever it appears (the choice, the confirmation, diagnosis.json,
+// diagnosis.md, the console), on the selection trials or on the report trials: of a model
+// change from `before` to `after` (base → one extension in the ranking; the model before a cause
+// → the model with it in forward selection),
+//   ρ² = max(0, MS − N),   gain = 1 − ρ_after / ρ_before,
+// MS the weighted mean square per residual of both channels on those trials and N the noise's
+// (its lower bound, Diagnosis::selection_noise_ms): the share of the structured error above the
+// noise that the change removes. Nothing above the noise before (ρ_before = 0): gain 0, there
+// is nothing left to remove. On the report trials its uncertainty comes from the reduction of
+// the squared error D = Σ (e_before² − e_after²) and its Newey-West standard deviation s
+// (diagnose.cc GainOnTrials): the gain at D ∓ 1.645 s gives its one-sided 95 % lower and upper
+// bounds, and since the gain grows with D, lower ≤ gain ≤ upper.
 
 #include <optional>
 #include <string>
@@ -57,14 +72,14 @@
 namespace pwsim::diagnose {
 
 struct DiagnoseOptions {
-  double min_heldout_gain{0.10};  ///< share of the selection trials' structured RMS an extension must remove
+  double min_selection_gain{0.10};  ///< the gain (above) on the selection trials an extension must reach
   double bic_threshold{-10.0};    ///< ΔBIC (extended - base) an extension must beat
   FitOptions fit;
   std::vector<effects::EffectId> candidates{effects::AllEffects().begin(),
                                             effects::AllEffects().end()};
   double rest_window{0.25};  ///< [s] initial window that centres each channel
   int max_causes{3};         ///< forward selection stops after this many
-  int screen_iterations{6};  ///< solver iterations of the joint fits compared in rounds ≥ 2
+  int screen_iterations{12};  ///< solver iterations of the joint fits compared in rounds ≥ 2
   /// Threads of the pool (parallel_for.h) on which the candidate fits, and inside each fit the
   /// simulations of every trial and parameter step, run concurrently; the results are the
   /// same to the bit whatever the count.
@@ -77,15 +92,20 @@ struct FitPct {
   double pitch{0.0};  ///< [%]
 };
 
+/// The gain (above) on the report trials, with its bounds.
+struct HeldOutGain {
+  double pct{0.0};        ///< [%] the gain
+  double lower_pct{0.0};  ///< [%] its one-sided 95 % lower bound (≤ pct)
+  double upper_pct{0.0};  ///< [%] its one-sided 95 % upper bound (≥ pct)
+};
+
 struct RankEntry {
   effects::EffectId effect{};
   std::string evidence;   ///< one line from the residual analysis
   double delta_bic{0.0};  ///< BIC(extended) - BIC(base) on training trials (< 0 favours it)
   FitPct heldout;         ///< held-out fitness of the extended model
-  double heldout_gain{0.0};  ///< 1 - E_ext / E_base, E = RMS weighted residual, report trials
-  /// 1 − ρ_ext / ρ_base on the selection trials, ρ² = max(0, E² − N) the structured error above
-  /// the noise's mean square N (Diagnosis::selection_noise_ms; decides `earns`)
-  double selection_gain{0.0};
+  HeldOutGain heldout_gain;  ///< the gain, base → this extension, on the report trials
+  double selection_gain{0.0};  ///< [-] the gain, base → this extension, on the selection trials (decides `earns`)
   double selection_error{0.0};  ///< E_ext on the selection trials (RMS weighted residual)
   bool earns{false};
   FitResult fit;
@@ -137,26 +157,57 @@ struct ResidualReport {
   std::vector<std::string> evidence;  ///< per effect, catalogue order
 };
 
-/// One cause found by forward selection.
+/// One cause forward selection added (it earned on the selection trials); found when confirmed.
 struct Cause {
   effects::EffectId effect{};
-  double heldout_gain_pct{0.0};   ///< [%] share of the report trials' error above noise removed
-  double selection_gain{0.0};     ///< [-] share of the selection error above the noise removed when added
+  double heldout_gain_pct{0.0};   ///< [%] the gain, the model before it → with it, report trials
+  double heldout_gain_lower_pct{0.0};  ///< [%] its one-sided 95 % lower bound (≤ heldout_gain_pct)
+  double heldout_gain_upper_pct{0.0};  ///< [%] its one-sided 95 % upper bound (≥ heldout_gain_pct)
+  double selection_gain{0.0};     ///< [-] the gain, the model before it → with it, selection trials
   double delta_bic{0.0};          ///< vs the model before it
-  /// The report trials confirm it: the one-sided 95 % lower bound of the reduction of their
-  /// weighted squared error, from the model before it to the model with it, is positive (its
-  /// uncertainty: Newey-West over the samples of each trial; diagnose.cc ConfirmOnReport).
+  /// The report trials confirm it: heldout_gain_lower_pct > 0 (the reduction of their squared
+  /// error beyond its Newey-West uncertainty, with something above the noise to remove). Only
+  /// a confirmed cause is found.
   bool confirmed{false};
-  double heldout_gain_lcb_pct{0.0};  ///< [%] that bound, relative to the error before
   std::size_t report_trials{0};      ///< report trials judged
   std::size_t report_trials_improved{0};  ///< of them, those whose error it reduced
 };
+
+/// One catalogue effect's probability of being present (EffectProbabilities).
+struct EffectProbability {
+  effects::EffectId effect{};
+  double probability{0.0};
+};
+
+/// A model the ranking or forward selection fitted, as the probabilities need it: its effects
+/// and, per selection trial and channel (Z then pitch), the mean square of its residual.
+struct VisitedModel {
+  std::vector<effects::EffectId> effects;
+  std::vector<double> selection_ms;  ///< [m², rad²] per selection trial: Z, pitch, Z, pitch, ...
+};
+
+/// The constants of EffectProbabilities (docs/diagnosis.md, "How likely each effect is").
+struct ProbabilityOptions {
+  double prior{1.0 / 9.0};     ///< an effect's prior probability of being present
+  double samples_per_unit{1.0};  ///< ν: independent samples a trial's channel counts for
+};
+
+/// Each candidate effect's posterior inclusion probability over the visited models: model m
+/// weighs  w_m ∝ (π/(1−π))^{|m|} Π_u MS_{m,u}^{−ν/2}  (u the selection trials' channels; the
+/// Gaussian predictive likelihood of held-out trials, ν samples each, under the model's own
+/// error level), normalised over the models; P(e) = Σ_{m ∋ e} w_m. Models with a non-finite or
+/// missing error are left out. Candidates in `candidates` order.
+std::vector<EffectProbability> EffectProbabilities(const std::vector<VisitedModel>& models,
+                                                   const std::vector<effects::EffectId>& candidates,
+                                                   const ProbabilityOptions& options = {});
 
 struct Diagnosis {
   DiagnoseOptions options;         ///< the options of the run (its limits)
   std::string cause{"none"};       ///< the first confirmed cause; none when none is confirmed
   Verdict verdict{Verdict::kUnexplained};
-  std::vector<Cause> causes;       ///< in the order found
+  std::vector<Cause> causes;       ///< in the order forward selection added them; found: confirmed
+  std::vector<EffectProbability> probabilities;  ///< every candidate effect, catalogue order
+  std::vector<VisitedModel> visited;  ///< the models the probabilities weigh
   FitPct noise_floor;              ///< [%] on the report trials
   NoiseModel noise;                ///< from the training + selection trials (noise_model.h)
   double sigma_z{0.0}, sigma_pitch{0.0};  ///< σ̂ [m], [rad] (noise.z.sigma, noise.pitch.sigma)

@@ -102,7 +102,7 @@ TEST_F(DiagnoseCliTest, GenerateHiddenEffectThenDiagnose) {
   EXPECT_GT(j["causes"][0]["heldout_gain_pct"].get<double>(), 50.0);
   // Additions of docs/diagnosis.md: confirmed by the report trials, and the verdict's inputs.
   EXPECT_TRUE(j["causes"][0]["confirmed"].get<bool>());
-  EXPECT_GT(j["causes"][0]["heldout_gain_lcb_pct"].get<double>(), 0.0);
+  EXPECT_GT(j["causes"][0]["heldout_gain_lower_pct"].get<double>(), 0.0);
   EXPECT_EQ(j["verdict_inputs"]["limits"]["rho_max"].get<double>(), 0.75);
   EXPECT_GT(j["verdict_inputs"]["noise"]["z"]["sigma"].get<double>(), 0.0);
   EXPECT_FALSE(j["verdict_inputs"]["base"]["noise_like"].get<bool>());
@@ -110,10 +110,53 @@ TEST_F(DiagnoseCliTest, GenerateHiddenEffectThenDiagnose) {
     EXPECT_GE(j["noise_floor_fit_pct"][ch].get<double>(), j["heldout_fit_pct"]["extended"][ch].get<double>() - 1.0);
     EXPECT_LT(j["noise_floor_fit_pct"][ch].get<double>(), 100.0);
   }
-  // The extended model itself: its effects in the order found, their fitted parameters, its GM.
+  // One gain wherever it appears (diagnose.h): the interval holds the estimate, and diagnosis.md
+  // and the console print the JSON's figure for the cause found and for each ranking entry.
+  const std::string console = Read(root_ / "diag.log");
+  auto fixed1 = [](double v) {
+    std::ostringstream s;
+    s.setf(std::ios::fixed);
+    s.precision(1);
+    s << v;
+    return s.str();
+  };
+  for (const auto& c : j["causes"]) {
+    const double g = c["heldout_gain_pct"].get<double>();
+    EXPECT_LE(c["heldout_gain_lower_pct"].get<double>(), g);
+    EXPECT_GE(c["heldout_gain_upper_pct"].get<double>(), g);
+    EXPECT_TRUE(c["confirmed"].get<bool>());  // `causes` lists the causes found only
+    EXPECT_NE(md.find("held-out gain " + fixed1(g) + " % (90 % interval " +
+                      fixed1(c["heldout_gain_lower_pct"].get<double>()) + " to "),
+              std::string::npos) << md;
+    EXPECT_NE(console.find(c["effect"].get<std::string>() + " " + fixed1(g) + " % [" +
+                           fixed1(c["heldout_gain_lower_pct"].get<double>()) + ", "),
+              std::string::npos) << console;
+  }
+  for (const auto& e : j["ranking"]) {
+    const double g = e["heldout_gain_pct"].get<double>();
+    EXPECT_LE(e["heldout_gain_lower_pct"].get<double>(), g) << e["effect"];
+    EXPECT_GE(e["heldout_gain_upper_pct"].get<double>(), g) << e["effect"];
+    EXPECT_NE(console.find(fixed1(g) + " % [" + fixed1(e["heldout_gain_lower_pct"].get<double>()) + ", " +
+                           fixed1(e["heldout_gain_upper_pct"].get<double>()) + "]"),
+              std::string::npos) << console;
+  }
+  // Every candidate's probability of being present, the hidden one the most probable.
+  ASSERT_EQ(j["effect_probability"].size(), 8u);
+  std::string most;
+  double most_p = -1.0;
+  for (const auto& [name, p] : j["effect_probability"].items()) {
+    EXPECT_GE(p.get<double>(), 0.0);
+    EXPECT_LE(p.get<double>(), 1.0);
+    if (p.get<double>() > most_p) most = name, most_p = p.get<double>();
+  }
+  EXPECT_EQ(most, "inertial_pitch");
+  EXPECT_NE(md.find("## How likely each effect is"), std::string::npos);
+  // The extended model itself: its effects in the order forward selection added them, their
+  // fitted parameters, its GM.
   const auto& ext = j["extended_model"];
-  ASSERT_EQ(ext["effects"].size(), j["causes"].size());
-  for (std::size_t k = 0; k < ext["effects"].size(); ++k) EXPECT_EQ(ext["effects"][k], j["causes"][k]["effect"]);
+  ASSERT_EQ(ext["effects"].size(), j["selected_causes"].size());
+  for (std::size_t k = 0; k < ext["effects"].size(); ++k)
+    EXPECT_EQ(ext["effects"][k], j["selected_causes"][k]["effect"]);
   EXPECT_TRUE(ext["parameters"]["cm_lever_m"].is_number());
   EXPECT_GT(ext["parameters"]["k_theta"].get<double>(), 0.0);
   EXPECT_EQ(ext["gm"]["alpha"].size(), 3u);

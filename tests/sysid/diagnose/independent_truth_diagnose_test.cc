@@ -98,7 +98,7 @@ std::vector<std::string> Causes(const Diagnosis& dx) {
 void ExpectNamedFirst(const TruthRun& run, const std::string& effect, double min_gain_pct) {
   ASSERT_FALSE(run.dx.causes.empty()) << run.dx.base_check.Evidence();
   EXPECT_EQ(run.dx.cause, effect);
-  EXPECT_TRUE(run.dx.causes.front().confirmed) << run.dx.causes.front().heldout_gain_lcb_pct;
+  EXPECT_TRUE(run.dx.causes.front().confirmed) << run.dx.causes.front().heldout_gain_lower_pct;
   EXPECT_NE(run.dx.verdict, Verdict::kAdequate);
   EXPECT_GT(run.dx.causes.front().heldout_gain_pct, min_gain_pct);
 }
@@ -374,7 +374,7 @@ TruthRun CushionThenFriction(std::uint64_t seed, const std::string& noise) {
   EXPECT_EQ(causes, (std::vector<std::string>{"cushion_compliance", "suspension_friction"}))
       << run.dx.base_check.Evidence();
   for (const Cause& c : run.dx.causes)
-    EXPECT_TRUE(c.confirmed) << effects::EffectName(c.effect) << " " << c.heldout_gain_lcb_pct;
+    EXPECT_TRUE(c.confirmed) << effects::EffectName(c.effect) << " " << c.heldout_gain_lower_pct;
   return run;
 }
 
@@ -388,7 +388,7 @@ TEST(IndependentTruthDiagnoseTest, FrictionBesideAFixedShareCushionIsFoundAboveT
   ASSERT_EQ(run.dx.causes.size(), 2u);
   EXPECT_GT(run.dx.selection_noise_ms, 0.0);
   // Its gain is the share of the structured RMS: above what the RMS itself would say.
-  EXPECT_GE(run.dx.causes[0].selection_gain, run.dx.options.min_heldout_gain);
+  EXPECT_GE(run.dx.causes[0].selection_gain, run.dx.options.min_selection_gain);
 }
 
 // A cushion sinking under each wheel's load with smooth Coulomb friction at chair level, under

@@ -81,6 +81,16 @@ TEST_F(IdentifyCliTest, GenerateThenIdentifyAgainstTheTruthBesideTheSet) {
     EXPECT_NEAR(identified.gm->alpha[i], truth.gm->alpha[i], 0.03) << i;
   EXPECT_NE(Read(root_ / "id.log").find("truth"), std::string::npos);
   EXPECT_TRUE(fs::exists(out / "identify.md"));
+  // Its own residual against the noise: the paper's model on the paper's model's data is not
+  // measurably wrong, and nothing sends the user to `pwsim diagnose`.
+  const auto& check = fit["model_check"];
+  EXPECT_FALSE(check["measurably_wrong"].get<bool>()) << check["evidence"];
+  EXPECT_TRUE(check["held_out"].get<bool>());
+  EXPECT_EQ(check["trials"].size(), 2u);
+  EXPECT_LT(check["pitch"]["structured_rms_sigma"].get<double>(), 0.75);
+  EXPECT_GT(check["z"]["noise_floor_fit_pct"].get<double>(), 90.0);
+  EXPECT_EQ(Read(root_ / "id.log").find("pwsim diagnose TRIAL_DIR"), std::string::npos);
+  EXPECT_NE(Read(out / "identify.md").find("cannot be told from the measurement noise"), std::string::npos);
 
   // A failed run (bad input) removes the old report first: nothing looks complete afterwards.
   const fs::path broken = trials / "v1.20_m0_cushion_r1" / "trial.yaml";
@@ -91,6 +101,31 @@ TEST_F(IdentifyCliTest, GenerateThenIdentifyAgainstTheTruthBesideTheSet) {
   EXPECT_NE(Read(root_ / "bad.log").find("load_kg"), std::string::npos);
   for (const char* name : {"fit.json", "identify.md", "identified-chair.yaml"})
     EXPECT_FALSE(fs::exists(out / name)) << name;
+}
+
+// Data with an effect the paper's model lacks (caster tyres at the paper's strength 2): the
+// identified K and C are off (C_θ by ~80 % here), and `pwsim identify` says that its own model is
+// measurably wrong on the validation trials, against the noise of the trials' rests, and names
+// `pwsim diagnose` as the next step, on the console and in identify.md and fit.json.
+TEST_F(IdentifyCliTest, SaysItsModelIsWrongWhereAnEffectIsMissingAndNamesDiagnose) {
+  const fs::path trials = root_ / "trials", out = root_ / "id";
+  ASSERT_EQ(RunPwsim("generate --out " + trials.string() +
+                    " --effect tyre_compliance --strength 2 --speeds 0.6,1.2,2.4 --loads 0,100 --cushion with --seed 5",
+                root_ / "gen.log"),
+            0)
+      << Read(root_ / "gen.log");
+  ASSERT_EQ(RunPwsim("identify" + TrialDirs(trials) + " --out " + out.string(), root_ / "id.log"), 0)
+      << Read(root_ / "id.log");
+  const nlohmann::json fit = nlohmann::json::parse(Read(out / "fit.json"));
+  const auto& check = fit["model_check"];
+  EXPECT_TRUE(check["measurably_wrong"].get<bool>()) << check["evidence"];
+  EXPECT_EQ(check["next_step"], "pwsim diagnose");
+  EXPECT_GT(check["pitch"]["structured_rms_sigma"].get<double>(), 0.75);
+  EXPECT_LT(fit["validation_fit_pct"]["pitch"].get<double>(), check["pitch"]["noise_floor_fit_pct"].get<double>() - 5.0);
+  const std::string console = Read(root_ / "id.log");
+  EXPECT_NE(console.find("measurably wrong"), std::string::npos) << console;
+  EXPECT_NE(console.find("pwsim diagnose TRIAL_DIR"), std::string::npos) << console;
+  EXPECT_NE(Read(out / "identify.md").find("pwsim diagnose TRIAL_DIR"), std::string::npos);
 }
 
 }  // namespace
