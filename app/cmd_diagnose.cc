@@ -18,6 +18,7 @@
 
 #include "app/commands.h"
 #include "app/output_folder.h"
+#include "app/progress.h"
 #include "sysid/diagnose/diagnose.h"
 #include "sysid/effects/effect_catalog.h"
 #include "sysid/measured/measured_trial.h"
@@ -72,6 +73,7 @@ const CommandSpec& DiagnoseSpec() {
           {"clip-sigma", "C", "sigma", "5", "verdict (a),(b): residuals clipped at C noise stds (outliers)"},
           {"threads", "N", "-", "2", "threads for the candidate fits (results identical for any N)"},
           {"max-plots", "N", "-", "3", "held-out trials to plot"},
+          QuietOption(),
       },
       "TRIAL_DIR  measured trial folders (trial.yaml, chair, terrain, mocap), at least 2"};
   return spec;
@@ -113,10 +115,16 @@ int DiagnoseCommand(const ParsedArgs& args) {
 
   // 1. Old results go first (a failed run must not leave a report that looks complete), then
   //    every input is read: a bad file stops here, before anything is written.
+  Progress progress("pwsim diagnose", args.Flag("quiet"));  // stages on stderr (app/progress.h)
+  options.progress = progress.callback();
   OutputFolder folder(out, "diagnose");  // what the last command wrote there goes
   report::RemoveDiagnosisReport(out);
+  progress.Stage("read the trials", static_cast<int>(args.positional().size()));
   std::vector<MeasuredTrial> trials;
-  for (const std::string& trial : args.positional()) trials.push_back(ReadMeasuredTrial(trial));
+  for (const std::string& trial : args.positional()) {
+    trials.push_back(ReadMeasuredTrial(trial));
+    progress.Report("read the trials", static_cast<int>(trials.size()), static_cast<int>(args.positional().size()));
+  }
 
   // 2. Diagnose.
   const auto started = std::chrono::steady_clock::now();
@@ -126,7 +134,9 @@ int DiagnoseCommand(const ParsedArgs& args) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 
   // 3. Write: stale results first, then plots, the report, and diagnosis.json last.
+  progress.Stage("write the report");
   report::WriteDiagnosisReport(out, d, base_source, seconds, max_plots);
+  progress.Finish();
 
   std::cout << "pwsim diagnose: " << trials.size() << " trials, verdict: "
             << diagnose::VerdictName(d.verdict) << ", cause: " << d.cause;

@@ -9,13 +9,17 @@
 // safety supervisor -> CiA 402 over CAN, camera pose to the HMD, the replayable session log,
 // and the joystick -> platform command / HMD frame latencies in DIR/report.json.
 // A circuit scene (a wheelchair scene with `circuit:`) is driven the same way, always as a live
-// session (--can): joystick -> full-DoF chair through the circuit -> MCA -> supervisor -> CAN
+// session (on --can, its default when not given): joystick -> full-DoF chair through the circuit -> MCA -> supervisor -> CAN
 // (hardware/chair_drive_source.h) on the scene's platform (pw4dof by default: five drives) or
 // --platform FILE's, and report.json also carries the drive's training metrics
-// (engine/training_metrics.h; DIR/training.md). --mca washout|mpc chooses the MCA over the
-// scene's for cars and chairs alike (the MPC holds the current input: no trial ahead live).
-// Wiring only.
+// (engine/training_metrics.h; DIR/training.md), and the figures `pwsim run` writes for a circuit
+// (top_view.png, wheels.png, mca.png, mca_lateral.png: report/run_circuit.h) of the chair as
+// driven (the joystick track of the session replayed through the same chair model, tick for
+// tick). --mca washout|mpc chooses the MCA over the scene's for cars and chairs alike (the MPC
+// holds the current input: no trial ahead live). A recorded joystick (rnet-log:FILE) ends the
+// drive when its log ends. Wiring only.
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -33,10 +37,12 @@
 #include "engine/vehicle/car_scene.h"
 #include "app/session_setup.h"
 #include "engine/atomic_file.h"
+#include "engine/circuit.h"
 #include "hardware/car_drive_source.h"
 #include "hardware/chair_drive_source.h"
 #include "engine/scene.h"
 #include "report/skill_score.h"
+#include "report/run_circuit.h"
 #include "report/training_report.h"
 #include "hardware/car_live.h"
 #include "hardware/rnet_joystick.h"
@@ -57,7 +63,7 @@ const CommandSpec& DriveSpec() {
           {"joystick", "SPEC", "-", "", "drive with a chair joystick: rnet:IFACE (R-Net bus, listen-only SocketCAN), rnet-log:FILE (a candump log of one), sdl or sdl:NAME (an SDL joystick), sdl-script:FILE.yaml (a pwsim-joystick-script/1 played on an SDL virtual joystick)"},
           {"joystick-timeout-ms", "MS", "ms", "100", "R-Net watchdog: zero deflection this long after the last valid joystick frame"},
           {"device", "NAME", "-", "", "part of the joystick's name (default: session.controls.device or the first)"},
-          {"duration", "S", "s", "", "drive time (default: the scene's duration_s)"},
+          {"duration", "S", "s", "", "drive time (default: the scene's duration_s; a recorded joystick, rnet-log:FILE, ends the drive when its log ends)"},
           {"no-realtime", "", "-", "", "step as fast as possible instead of at the clock rate"},
           {"out", "DIR", "-", "out/drive", "output folder (drive.csv; with --can: session.log, can.log, report.json, joystick.json)"},
           McaAlgorithmOptionSpec(),
@@ -65,7 +71,12 @@ const CommandSpec& DriveSpec() {
       },
       "SCENE  a pwsim-scene/1 YAML file with kind: car, or a wheelchair scene with a circuit: section (on the PW platform pw4dof by default: 5 drives)"};
     // With --can (given explicitly) the drive runs as a live session on these links.
-    const std::vector<OptionSpec> links = SessionLinkOptions();
+    std::vector<OptionSpec> links = SessionLinkOptions();
+    for (OptionSpec& link : links) {
+      if (link.name == "can")
+        link.help = "CAN link of the live session: udp:HOST:PORT (cannelloni) or socketcan:IFACE; a circuit always "
+                    "drives one (on this default when not given), a car only when --can is given";
+    }
     c.options.insert(c.options.end(), links.begin(), links.end());
     return c;
   }();
@@ -112,6 +123,47 @@ std::unique_ptr<hw::JoystickSource> OpenJoystick(const std::string& spec, int ra
 
 void WriteJoystickReport(const hw::JoystickSource& joystick, std::uint64_t invalid_polls,
                          const std::filesystem::path& out);
+
+/// The drive time: `duration`, cut to the end of a recorded joystick (an R-Net candump log: the
+/// tick of its last record, at least one tick), which is said on stdout; a live joystick never
+/// ends the drive.
+double DriveDuration(double duration, const hw::JoystickSource& joystick, const Clock& clock) {
+  const auto* log = dynamic_cast<const hw::RnetLogJoystick*>(&joystick);
+  if (log == nullptr) return duration;
+  const double end = clock.TimeAt(std::max<std::int64_t>(log->last_record_tick(), 1));
+  if (end >= duration) return duration;
+  std::cout << "pwsim drive: " << joystick.name() << " ends at " << end << " s: the drive ends with it\n";
+  return end;
+}
+
+/// The figures `pwsim run` writes for a circuit (report/run_circuit.h: top_view.png, wheels.png,
+/// mca.png, mca_lateral.png), of the chair as driven: the deflection applied at each tick of the
+/// drive (its trace) replayed through the same chair model from the same start, and the MCA as
+/// `pwsim run` runs it (with --mca and --platform) on that motion. The replay is the drive tick
+/// for tick (the model is deterministic); its largest distance from the drive's track is
+/// returned [m] (0 when it is the drive).
+double WriteDriveFigures(const ParsedArgs& args, const Scene& scene, const std::vector<TrainingTick>& trace,
+                         const std::filesystem::path& out) {
+  if (trace.size() < 2) return 0.0;
+  CircuitRunner runner(scene.chair, *scene.circuit, scene.load_kg, scene.clock.dt(), scene.pitch_torque);
+  std::vector<FullChairSample> samples;
+  samples.reserve(trace.size());
+  samples.push_back(runner.Start());
+  double departure = 0.0;
+  for (std::size_t k = 1; k < trace.size(); ++k) {
+    samples.push_back(runner.AdvanceWith({trace[k].forward, trace[k].turn}));
+    departure = std::max(departure, std::hypot(samples.back().planar.x - trace[k].x, samples.back().planar.y - trace[k].y));
+  }
+  report::McaChoice choice;
+  choice.algorithm = McaAlgorithmOption(args);
+  if (args.Has("platform")) choice.platform = std::filesystem::path(args.Get("platform"));
+  choice.compare = false;  // the drive's cueing, not the comparison of a run
+  TrialTable table = report::CircuitColumns(scene, samples);
+  nlohmann::ordered_json summary;
+  report::AddCircuitMotionCueing(scene, samples, table, summary, out, choice);
+  report::WriteCircuitFigures(scene, samples, out);
+  return departure;
+}
 
 /// report.json's chair.mca: the algorithm and, for the MPC, how it predicts without a trial ahead
 /// (live: the present input's transients decay, mca/mpc.h) and its solves and fallbacks to the washout.
@@ -182,6 +234,12 @@ int DriveChairSession(const ParsedArgs& args, const Scene& scene, const std::str
                   {"mca", MpcUseJson(source.mca().algorithm, source.mpc_stats())}};
   });
   report::WriteTrainingPage(training, "pwsim drive " + scene_path + " (" + joystick.name() + ")", out);
+  const double departure = WriteDriveFigures(args, scene, source.trace(), out);
+  std::cout << "  figures of the drive (as pwsim run writes them): ";
+  for (const char* figure : {"top_view.png", "wheels.png", "mca.png", "mca_lateral.png"}) {
+    if (std::filesystem::exists(out / figure)) std::cout << (out / figure).string() << " ";
+  }
+  std::cout << "(the joystick track replayed: " << (departure == 0.0 ? "the drive exactly" : "off by up to " + std::to_string(departure) + " m") << ")\n";
   const std::string skill = report::ScoreSkillItem(scene, scene_path, source.trace(), out);  // a skill item: score.json
   if (!skill.empty()) std::cout << "  " << skill << "\n";
   std::cout << "  training: " << training.gates_passed << " of " << training.gates_total << " gates, "
@@ -220,9 +278,10 @@ int DriveCommand(const ParsedArgs& args) {
     const Scene scene = LoadScene(scene_path);
     if (!scene.is_circuit()) throw UsageError("pwsim drive needs a car scene (kind: car) or a circuit scene (circuit:)");
     (void)report::SkillOf(scene);  // a skill item's skill: section, before any link opens
-    if (!args.Has("joystick") || !args.Has("can") || args.Flag("wheel"))
-      throw UsageError("a chair drives a circuit live: give --joystick SPEC and --can (a live session)");
-    const double duration = args.Has("duration") ? args.GetDouble("duration") : scene.duration();
+    if (!args.Has("joystick") || args.Flag("wheel"))
+      throw UsageError("a chair drives a circuit from a joystick: give --joystick SPEC (the live session goes to --can, "
+                       "default " + args.Get("can") + ")");
+    double duration = args.Has("duration") ? args.GetDouble("duration") : scene.duration();
     if (!(duration > 0.0 && duration <= 3600.0)) throw UsageError("option --duration: expected (0, 3600] s");
     // the platform (the scene's, pw4dof by default, or --platform's) and the cueing (the scene's
     // or --mca's), before any link opens
@@ -231,6 +290,7 @@ int DriveCommand(const ParsedArgs& args) {
         hw::SessionMcaConfig(scene, McaAlgorithmOption(args), platform ? &*platform : nullptr);
     const std::unique_ptr<hw::JoystickSource> joystick = OpenJoystick(
         args.Get("joystick"), scene.clock.rate_hz, args.GetDouble("joystick-timeout-ms", 1.0, 10'000.0));
+    duration = DriveDuration(duration, *joystick, scene.clock);
     return DriveChairSession(args, scene, scene_path.string(), *joystick, duration, mca_config);
   }
   const vehicle::CarScene scene = vehicle::LoadCarScene(scene_path);
@@ -246,15 +306,16 @@ int DriveCommand(const ParsedArgs& args) {
     map.Finish();
   }
   if (args.Has("device")) mapping.device = args.Get("device");
-  const double duration = args.Has("duration") ? args.GetDouble("duration") : scene.duration;
+  double duration = args.Has("duration") ? args.GetDouble("duration") : scene.duration;
   if (!(duration > 0.0 && duration <= 3600.0)) throw UsageError("option --duration: expected (0, 3600] s");
-  const std::int64_t ticks = scene.clock.TicksFor(duration);
 
   std::unique_ptr<hw::JoystickSource> joystick;
   if (args.Has("joystick")) {
     if (args.Flag("wheel")) throw UsageError("options --wheel and --joystick: give one");
     joystick = OpenJoystick(args.Get("joystick"), scene.clock.rate_hz, args.GetDouble("joystick-timeout-ms", 1.0, 10'000.0));
+    duration = DriveDuration(duration, *joystick, scene.clock);
   }
+  const std::int64_t ticks = scene.clock.TicksFor(duration);
   if (args.Has("can")) {
     if (!joystick) throw UsageError("option --can (a live session) needs --joystick");
     return DriveSession(args, scene, *joystick, duration);

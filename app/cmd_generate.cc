@@ -11,6 +11,7 @@
 
 #include "app/commands.h"
 #include "app/output_folder.h"
+#include "app/progress.h"
 #include "engine/chair.h"
 #include "engine/number_format.h"
 #include "synth/effect_truth_model.h"
@@ -115,6 +116,7 @@ const CommandSpec& GenerateSpec() {
           {"effect", "ID", "-", "", "hidden effect in the truth (an effect id of measured-trials.md)"},
           {"strength", "S", "-", "1", "strength of the hidden effect (1 = moderate, 0 = off)"},
           {"effect-params", "LIST", "-", "", "NAME=VALUE,... overrides of the hidden effect's parameters"},
+          QuietOption(),
       },
       ""};
   return spec;
@@ -174,9 +176,13 @@ int GenerateCommand(const ParsedArgs& args) {
   }
 
   const std::filesystem::path out = OutDir(args);
+  Progress progress("pwsim generate", args.Flag("quiet"));  // stages on stderr (app/progress.h)
   OutputFolder folder(out, "generate");  // what the last command wrote there goes
+  progress.Stage("simulate the trials");
   const TrialSet set = GenerateTrialSet(config);
+  progress.Stage("write the trials", static_cast<int>(set.trials.size()));
   WriteTrialSet(set, out);
+  progress.Finish();
   std::size_t untracked = 0;
   for (const SyntheticTrial& trial : set.trials) {
     untracked += static_cast<std::size_t>(trial.measured.track.untracked_frames);

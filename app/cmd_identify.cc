@@ -12,6 +12,7 @@
 
 #include "app/commands.h"
 #include "app/output_folder.h"
+#include "app/progress.h"
 #include "engine/chair.h"
 #include "sysid/diagnose/model_check.h"
 #include "sysid/identify/identify.h"
@@ -36,6 +37,7 @@ const CommandSpec& IdentifySpec() {
           {"holdout-every", "N", "-", "3", "with only two speeds: hold out every N-th faster trial for validation"},
           {"dt-ms", "MS", "ms", "1", "internal step of the exact lumped model"},
           {"max-plots", "N", "-", "12", "overlay plots to draw (validation trials first)"},
+          QuietOption(),
       },
       "TRIAL_DIR  measured-trial folders (trial.yaml, chair, terrain, mocap); e.g. assets/trials-demo/*"};
   return spec;
@@ -60,10 +62,15 @@ int IdentifyCommand(const ParsedArgs& args) {
 
   // 1. Old results go first (a failed run must not leave a report that looks complete), then
   //    every input is read: a bad file stops here, before anything is written.
+  Progress progress("pwsim identify", args.Flag("quiet"));  // stages on stderr (app/progress.h)
   OutputFolder folder(out, "identify");  // what the last command wrote there goes
   report::RemoveIdentificationReport(out);
+  progress.Stage("read the trials", static_cast<int>(args.positional().size()));
   std::vector<MeasuredTrial> trials;
-  for (const std::string& trial : args.positional()) trials.push_back(ReadMeasuredTrial(trial));
+  for (const std::string& trial : args.positional()) {
+    trials.push_back(ReadMeasuredTrial(trial));
+    progress.Report("read the trials", static_cast<int>(trials.size()), static_cast<int>(args.positional().size()));
+  }
   std::optional<Chair> truth;
   const std::filesystem::path truth_file =
       TruthFileBeside(trials.front().folder.parent_path(), "truth-chair.yaml");
@@ -71,11 +78,13 @@ int IdentifyCommand(const ParsedArgs& args) {
 
   // 2. Identify.
   const std::vector<TrialRole> roles = AssignRoles(trials, role_options);
+  progress.Stage("identify the chair");
   const IdentifyResult result = IdentifyChair(trials, roles, options);
   // Its own residual against the noise (sysid/diagnose/model_check.h), on the validation trials.
   std::vector<bool> judged;
   for (TrialRole role : roles) judged.push_back(role == TrialRole::kValidation);
   const diagnose::ModelCheck check = diagnose::CheckModelOnTrials(trials, result.chair, judged, options.offset_window);
+  progress.Stage("write the report");
 
   // 3. Write: stale results go first, the plots, then the report and fit.json last.
   report::IdentificationReportInput report_input;
@@ -89,6 +98,7 @@ int IdentifyCommand(const ParsedArgs& args) {
   report_input.check = &check;
   const std::vector<report::ParameterRow> rows = report::WriteIdentificationReport(out, report_input);
 
+  progress.Finish();
   std::cout << "pwsim identify: " << trials.size() << " trials\n\n"
             << report::TextTable(rows, truth.has_value()) << "\nvalidation fit (held out): Z "
             << report::Fixed(result.validation_fit_z, 1) << " %, pitch "

@@ -11,6 +11,7 @@
 
 #include "app/commands.h"
 #include "app/output_folder.h"
+#include "app/progress.h"
 #include "app/session_setup.h"
 #include "plot/plot.h"
 #include "engine/atomic_file.h"
@@ -34,6 +35,7 @@ const CommandSpec& OmctSpec() {
           {"rate-hz", "HZ", "Hz", "1000", "MCA tick rate"},
           {"force-amplitude", "A", "m/s^2", "0.1", "input amplitude of the specific-force tests"},
           {"rate-amplitude", "A", "deg/s", "1", "input amplitude of the angular-rate tests"},
+          QuietOption(),
       },
       ""};
   return spec;
@@ -65,7 +67,10 @@ int OmctCommand(const ParsedArgs& args) {
   const std::filesystem::path out_dir = OutDir(args);
   OutputFolder folder(out_dir, "omct");  // what the last command wrote there goes
 
+  Progress progress("pwsim omct", args.Flag("quiet"));  // stages on stderr (app/progress.h)
+  progress.Stage("run the tests");
   const std::vector<mca::OmctPoint> points = mca::RunOmct(config, options);
+  progress.Stage("write the table and figure");
 
   std::ostringstream csv;
   csv << "test,frequency,gain,phase\n";
@@ -82,6 +87,7 @@ int OmctCommand(const ParsedArgs& args) {
   figure.log_x = true;
   plot::Panel gain;
   gain.title = "gain";
+  progress.Finish();
   gain.y_label = "gain, output/input [-]";
   gain.log_y = true;
   plot::Panel phase;

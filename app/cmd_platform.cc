@@ -16,6 +16,7 @@
 
 #include "app/commands.h"
 #include "app/output_folder.h"
+#include "app/progress.h"
 #include "engine/number_format.h"
 #include "mca/platform.h"
 #include "report/platform_report.h"
@@ -240,6 +241,7 @@ const CommandSpec& PlatformSpec() {
           {"end-border", "N", "samples", "0",
            "identify: samples dropped at the end (0 = reference method; use 49 for a recording "
            "that ends in fast motion)"},
+          QuietOption(),
       },
       "identify|diagnose|frequency-response, then recordings: pwsim-axis-trial/1 .yaml files "
       "or EMPS .mat files; or describe, then one platform file"};
@@ -256,6 +258,7 @@ int PlatformCommand(const ParsedArgs& args) {
   if (files.empty()) throw UsageError(verb + ": expected at least one RECORDING");
   const std::filesystem::path out = OutDir(args, verb);
   const std::vector<std::string> validate = SplitList(args.Get("validate"));
+  Progress progress("pwsim platform " + verb, args.Flag("quiet"));  // stages on stderr (app/progress.h)
 
   if (verb == "identify") {
     const std::string model = args.Get("model");
@@ -267,9 +270,13 @@ int PlatformCommand(const ParsedArgs& args) {
     }
     OutputFolder folder(out, "platform identify");  // what the last command wrote there goes
     RemoveOld(report::PlatformIdentifyOutputs(out));
-    const sp::PlatformFit fit =
-        sp::IdentifyPlatform(ReadAll(files), ReadAll(validate), args.Get("model"), IdimFromArgs(args));
+    progress.Stage("read the recordings");
+    const std::vector<sp::AxisRecording> recordings = ReadAll(files), held_out = ReadAll(validate);
+    progress.Stage("identify the axes");
+    const sp::PlatformFit fit = sp::IdentifyPlatform(recordings, held_out, args.Get("model"), IdimFromArgs(args));
+    progress.Stage("write the report");
     report::WritePlatformIdentifyReport(fit, out);
+    progress.Finish();
     std::cout << "pwsim platform identify: model " << fit.model.name << ", relative error "
               << fit.ls.relative_error_pct << " %, cond " << fit.ls.condition_number << ", "
               << fit.ls.rows << " rows\n";
@@ -283,8 +290,13 @@ int PlatformCommand(const ParsedArgs& args) {
     OutputFolder folder(out, "platform diagnose");  // what the last command wrote there goes
     RemoveOld(report::PlatformDiagnoseOutputs(out));
     const sp::AxisDiagnoseOptions o = DiagnoseFromArgs(args);
-    const sp::AxisDiagnosis d = sp::DiagnoseAxis(ReadAll(files), ReadAll(validate), o);
+    progress.Stage("read the recordings");
+    const std::vector<sp::AxisRecording> recordings = ReadAll(files), held_out = ReadAll(validate);
+    progress.Stage("diagnose the axes");
+    const sp::AxisDiagnosis d = sp::DiagnoseAxis(recordings, held_out, o);
+    progress.Stage("write the report");
     report::WritePlatformDiagnosisReport(d, out);
+    progress.Finish();
     std::cout << "pwsim platform diagnose: verdict " << diagnose::VerdictName(d.verdict)
               << ", cause " << d.cause << ", report-row (held-out) relative error "
               << d.heldout_base_pct << " % -> " << d.heldout_extended_pct << " % (noise floor "

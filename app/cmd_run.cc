@@ -12,6 +12,7 @@
 
 #include "app/commands.h"
 #include "app/output_folder.h"
+#include "app/progress.h"
 #include "app/scene_path.h"
 #include "engine/atomic_file.h"
 #include "engine/chair_simulator.h"
@@ -89,6 +90,7 @@ const CommandSpec& RunSpec() {
           {"mca-preview", "", "-", "", "the MPC previews the trial ahead (mca.mpc.preview)"},
           {"no-mca-compare", "", "-", "", "skip summary.json's mca.comparison (the trial through the washout, the MPC and the offline ceiling)"},
           {"platform", "FILE", "-", "", "a pwsim-platform/1 file instead of the scene's platform (scenes/platforms/*.yaml)"},
+          QuietOption(),
       },
       "SCENE  a pwsim-scene/1 YAML file (default: the paper's speed-cushion trial); kind: car runs seed 001's car; a circuit: section runs the full-DoF chair through it"};
   return spec;
@@ -102,7 +104,9 @@ int RunCommand(const ParsedArgs& args) {
   const long long decimate = args.GetInt("decimate");
   if (decimate < 1) throw UsageError("option --decimate: expected an integer >= 1");
 
-  const report::RenderStageOptions render_options = RenderOptions(args);
+  report::RenderStageOptions render_options = RenderOptions(args);
+  Progress progress("pwsim run", args.Flag("quiet"));  // stages on stderr (app/progress.h)
+  render_options.progress = progress.callback();
   report::McaChoice mca_choice;
   if (args.Has("mca")) {
     const std::string name = args.Get("mca");
@@ -128,8 +132,11 @@ int RunCommand(const ParsedArgs& args) {
     car.height = render_options.height_px;
     car.fps = render_options.fps;
     car.mca = mca_choice;
+    car.progress = progress.callback();
     OutputFolder folder(out_dir, "run");  // replaces what the last command wrote there
+    progress.Stage("simulate the car and its motion cueing");
     report::RunCarScene(car_scene, scene_path, car, out_dir);
+    progress.Finish();
     std::cout << "pwsim run: car scene '" << car_scene.name << "' (" << scene_path.string() << "), "
               << car_scene.tick_count() << " ticks at " << car_scene.clock.rate_hz << " Hz\n";
     folder.Print(std::cout, "pwsim run");
@@ -142,24 +149,29 @@ int RunCommand(const ParsedArgs& args) {
   (void)report::SkillOf(scene);  // a skill item's skill: section, before any output
   OutputFolder folder(out_dir, "run");  // replaces what the last command wrote there
   if (scene.is_circuit()) {  // the full-DoF chair through a circuit, every platform axis
+    progress.Stage("simulate the chair through the circuit and its motion cueing");
     std::string skill_line;  // a skill item's score (report/skill_score.h)
     report::RunCircuitScene(scene, scene_path.string(), static_cast<int>(decimate), render_options, out_dir,
                             mca_choice, &skill_line);
+    progress.Finish();
     std::cout << "pwsim run: circuit scene '" << scene.name << "' (" << scene_path.string() << "), "
               << scene.tick_count() << " ticks at " << scene.clock.rate_hz << " Hz\n";
     if (!skill_line.empty()) std::cout << "  " << skill_line << "\n";
     folder.Print(std::cout, "pwsim run");
     return 0;
   }
+  progress.Stage("simulate the chair");
   const std::vector<ChairSample> samples = SimulateScene(scene);
   TrialTable table = report::ChairColumns(scene, samples);
   nlohmann::ordered_json summary = report::RunSummary(scene, scene_path.string(), table);
+  progress.Stage("motion cueing");
   report::AddMotionCueing(scene, samples, table, summary, out_dir, mca_choice);  // platform, visual, vestibular
 
   std::filesystem::create_directories(out_dir);
   table.WriteCsv(out_dir / "trial.csv", static_cast<int>(decimate));
   report::RenderTrial(scene, table, render_options, summary, out_dir);  // video, frames.csv
   WriteFileAtomically(out_dir / "summary.json", summary.dump(2) + "\n");
+  progress.Finish();
   std::cout << "pwsim run: scene '" << scene.name << "' (" << scene_path.string() << "), "
             << samples.size() << " ticks at " << scene.clock.rate_hz << " Hz\n";
   folder.Print(std::cout, "pwsim run");

@@ -16,6 +16,7 @@
 
 #include "app/commands.h"
 #include "app/output_folder.h"
+#include "app/progress.h"
 #include "engine/atomic_file.h"
 #include "report/skill_sheet.h"
 #include "report/study_report.h"
@@ -90,6 +91,7 @@ const CommandSpec& StudySpec() {
           {"participants", "N", "-", "18", "plan: number of participants"},
           {"seed", "S", "-", "1", "plan: seed of the randomised sequence assignment"},
           {"circuit", "SCENE", "-", "", "plan: also DIR/runs.csv, a run of this circuit scene per participant and condition (for pwsim study metrics)"},
+          QuietOption(),
       },
       "RATINGS.csv  participant,condition,rating[,order] (shared/spec/study.md); or `plan`; or `metrics RUNS.csv` (participant,condition,report[,...]: report/training_study.h); or `skills SHEET.csv...` (sheet.csv of pwsim skills, one per participant: report/skill_sheet.h)"};
   return spec;
@@ -103,7 +105,10 @@ int MetricsCommand(const ParsedArgs& args) {
   if (args.positional().size() != 2) throw UsageError("study metrics: expected one RUNS.csv");
   const fs::path out = OutDir(args, "metrics");
   OutputFolder folder(out, "study metrics");  // what the last command wrote there goes
+  Progress progress("pwsim study metrics", args.Flag("quiet"));  // stages on stderr (app/progress.h)
+  progress.Stage("analyse the training metrics");
   const std::vector<std::string> analysed = report::WriteTrainingStudy(args.positional()[1], out);
+  progress.Finish();
   std::cout << "pwsim study metrics: " << analysed.size() << " of " << report::kStudyMetrics.size()
             << " training metrics analysed\n";
   folder.Print(std::cout, "pwsim study metrics");
@@ -154,9 +159,14 @@ int StudyCommand(const ParsedArgs& args) {
     options.conditions = std::make_pair(names[0], names[1]);
   }
   if (args.Has("reported")) options.reported = study::ParseReported(args.Get("reported"));
+  Progress progress("pwsim study", args.Flag("quiet"));  // stages on stderr (app/progress.h)
+  progress.Stage("read the ratings");
   const study::Ratings ratings = study::ReadRatings(ratings_file);
+  progress.Stage("analyse the ratings");
   const study::StudyAnalysis analysis = study::Analyse(ratings, options);
+  progress.Stage("write the report");
   report::WriteStudyReport(out, ratings_file, ratings, analysis);
+  progress.Finish();
 
   const study::PairComparison& main = analysis.pairs[analysis.main_pair];
   std::cout << "pwsim study: " << ratings.rows.size() << " ratings, " << ratings.participants.size()

@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "app/commands.h"
+#include "app/progress.h"
 #include "engine/atomic_file.h"
 #include "engine/chair.h"
 #include "engine/input_error.h"
@@ -84,8 +85,16 @@ fs::path OneDir(const ParsedArgs& args, const std::string& sub) {
 int Plan(const ParsedArgs& args) {
   RequireOnly(args, "plan", {"out", "force"});
   if (args.positional().size() != 2) throw UsageError("usage: pwsim sweep plan SWEEP.yaml [--out DIR]");
+  Progress progress("pwsim sweep plan", args.Flag("quiet"));  // stages on stderr (app/progress.h)
+  progress.Stage("read the sweep file");
   const sweep::SweepSpec spec = sweep::ReadSweepFile(args.positional()[1], KnownCommands());
-  const sweep::Manifest manifest = sweep::Plan(spec, OutDir(args), args.Flag("force"), CheckTaskInput);
+  progress.Stage("plan and check the tasks' inputs");
+  int checked = 0;
+  const sweep::Manifest manifest = sweep::Plan(spec, OutDir(args), args.Flag("force"), [&](const fs::path& input) {
+    CheckTaskInput(input);
+    progress.Report("plan and check the tasks' inputs", ++checked, 0);
+  });
+  progress.Finish();
   std::cout << "pwsim sweep plan: '" << manifest.name << "': " << manifest.tasks.size() << " tasks of 'pwsim";
   for (const auto& word : manifest.command) std::cout << " " << word;
   std::cout << "'\n  " << (manifest.dir / "manifest.json").string() << "\n  "
@@ -111,7 +120,11 @@ int Run(const ParsedArgs& args) {
               << " tasks)\n";
     return sweep::kExitBadInput;
   }
+  Progress progress("pwsim sweep run", args.Flag("quiet"));  // stages on stderr (app/progress.h)
+  progress.Stage("task " + std::to_string(index) + " (" + manifest.tasks[index].id + "): pwsim " +
+                 (manifest.command.empty() ? std::string() : manifest.command.front()));
   const sweep::TaskOutcome outcome = sweep::RunTask(manifest, index, SelfExecutable());
+  progress.Finish();
   std::cout << "pwsim sweep run: task " << index << " (" << manifest.tasks[index].id << "), attempt "
             << outcome.attempt << ": " << sweep::StatusName(outcome.status)
             << (outcome.reason.empty() ? "" : ": " + outcome.reason) << "\n";
@@ -200,6 +213,7 @@ const CommandSpec& SweepSpec() {
           {"retries", "R", "-", "", "submit: resubmissions of a failed task (default: the sweep file's)"},
           {"poll-s", "S", "s", "10", "submit --engine slurm: time between squeue queries"},
           {"sbatch", "\"OPTS\"", "-", "", "submit --engine slurm: more sbatch options (space separated)"},
+          QuietOption(),
       },
       "plan SWEEP.yaml  validate a pwsim-sweep/1 file and write DIR/manifest.json, DIR/tasks/N/\n"
       "run DIR          run one task; exit 0 ok, 65 bad input, 75 retryable failure\n"

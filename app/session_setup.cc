@@ -183,11 +183,16 @@ int RunAndReport(const std::string& who, const ParsedArgs& args, SessionSetup& s
             << report.schedule_slips << " schedule slips (" << report.schedule_slip_ms << " ms)\n"
             << "  visual-platform skew p50 " << report.skew_ms.p50 << " ms, p99 " << report.skew_ms.p99
             << " ms, jitter (sd) " << report.skew_ms.stddev << " ms over " << report.skew_ms.n << " frames\n";
-  if (report.has_live_input) {
+  if (report.has_live_input) {  // the HMD part only with a headset (not --hmd none)
     std::cout << "  joystick -> platform command p50 " << report.input_to_platform_ms.p50 << " ms, p99 "
-              << report.input_to_platform_ms.p99 << " ms; joystick -> HMD frame p50 " << report.input_to_hmd_ms.p50
-              << " ms, p99 " << report.input_to_hmd_ms.p99 << " ms (" << report.input_to_platform_ms.n << " / "
-              << report.input_to_hmd_ms.n << " readings)\n";
+              << report.input_to_platform_ms.p99 << " ms";
+    if (config.hmd_required) {
+      std::cout << "; joystick -> HMD frame p50 " << report.input_to_hmd_ms.p50 << " ms, p99 "
+                << report.input_to_hmd_ms.p99 << " ms (" << report.input_to_platform_ms.n << " / "
+                << report.input_to_hmd_ms.n << " readings)\n";
+    } else {
+      std::cout << " (" << report.input_to_platform_ms.n << " readings; no headset: --hmd none)\n";
+    }
   }
   std::cout << "  refused datagrams from senders other than the peers: CAN " << report.can_rx_refused << ", HMD "
             << report.hmd_rx_refused << "\n"

@@ -57,7 +57,7 @@ void ChairDriveSource::StepChair(const JoystickInput& deflection) {
 
 void ChairDriveSource::Fill(std::int64_t tick, bool drive, bool frame, std::int64_t now_ns, SessionInputs* in) {
   last_ = joystick_.Poll(tick, now_ns);
-  if (!last_.valid) ++invalid_polls_;
+  if (!last_.valid && tick <= max_ticks_) ++invalid_polls_;  // during the drive, not the park after it
   const JoystickInput deflection = ChairDeflectionFromJoystick(last_);
   while (chair_tick_ < tick) StepChair(deflection);
   if (drive) in->setpoint = cue_.command().pose;

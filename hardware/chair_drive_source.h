@@ -58,6 +58,7 @@ class ChairDriveSource final : public SessionSource {
   mca::MpcStats mpc_stats() const { return cue_.mpc_stats(); }
   /// Largest |pose command| per axis of the MCA so far [m | rad].
   const mca::DofArray& peak() const { return peak_; }
+  /// Polls of ticks 0..max_ticks (the drive; not the park after it) that found the joystick invalid.
   std::uint64_t invalid_polls() const { return invalid_polls_; }
 
  private:

@@ -201,6 +201,7 @@ void RenderCarTrial(const vehicle::CarScene& scene, const std::vector<CarSample>
     const double t = scene.clock.TimeAt(s.tick);
     render::Image image = render::CopyImage(renderer.Render(X_WV, X_WC, t));
     render::DashboardReading reading;
+  if (options.progress) options.progress("render", 0, static_cast<int>(frames));
     reading.engine_rpm = vehicle::EngineRpm(s.state);
     reading.speed_kmh = vehicle::Speed(s.state) * 3.6;
     reading.gear = s.input.gear;
@@ -224,6 +225,7 @@ void RenderCarTrial(const vehicle::CarScene& scene, const std::vector<CarSample>
   table.Add("cam_x_m", cx);
   table.Add("cam_y_m", cy);
   table.Add("cam_z_m", cz);
+    if (options.progress) options.progress("render", static_cast<int>(k + 1), static_cast<int>(frames));
   table.Add("cam_yaw_rad", cyaw);
   table.WriteCsv(out_dir / "frames.csv");
   summary["render"] = {{"video", "video.mp4"},

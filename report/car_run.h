@@ -20,6 +20,8 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <functional>
+#include <string_view>
 #include <optional>
 #include <string>
 #include <vector>
@@ -37,6 +39,8 @@ struct CarRunOptions {
   int width{0}, height{0};  ///< 0: the scene's render.size
   int fps{0};               ///< 0: the scene's render.fps
   McaChoice mca;  ///< what --mca overrides
+  /// Called with ("render", frames done, frames) before the first frame and after each; none: silent.
+  std::function<void(std::string_view stage, int done, int total)> progress;
 };
 
 /// The trial.csv columns of the drive itself (no MCA).

@@ -146,30 +146,6 @@ std::vector<VestibularCue> VestibularCues(const TrialTable& table, const std::st
   return cues;
 }
 
-/// A terminal progress bar on stderr (redrawn in place on a terminal, sparse lines otherwise).
-class ProgressBar {
- public:
-  explicit ProgressBar(std::int64_t total) : total_(total), tty_(::isatty(2) != 0) {}
-  void Update(std::int64_t done, double fps) {
-    const int percent = static_cast<int>(100 * done / std::max<std::int64_t>(total_, 1));
-    if (!tty_ && percent < last_percent_ + 25 && done != total_) return;
-    last_percent_ = percent;
-    constexpr int kWidth = 30;
-    const int filled = static_cast<int>(kWidth * done / std::max<std::int64_t>(total_, 1));
-    char line[160];
-    std::snprintf(line, sizeof(line), "render [%s%s] %3d%% %lld/%lld frames %6.1f fps",
-                  std::string(static_cast<std::size_t>(filled), '#').c_str(),
-                  std::string(static_cast<std::size_t>(kWidth - filled), '.').c_str(), percent,
-                  static_cast<long long>(done), static_cast<long long>(total_), fps);
-    std::cerr << (tty_ ? "\r" : "") << line << (tty_ && done != total_ ? "" : "\n") << std::flush;
-  }
-
- private:
-  std::int64_t total_;
-  bool tty_;
-  int last_percent_{-100};
-};
-
 nlohmann::ordered_json ComparisonJson(const render::SeriesComparison& c, const std::string& ref) {
   return {{"reference", ref},         {"gain", c.gain},
           {"lag_s", c.lag},           {"correlation", c.correlation},
@@ -286,7 +262,8 @@ void RenderTrial(const Scene& scene, const TrialTable& table, const RenderStageO
         channel.planar() ? render::SceneModel::kRigid : render::SceneModel::kFloorPlane);
   }
 
-  ProgressBar progress(static_cast<std::int64_t>(frame_count));
+  const int frames_total = static_cast<int>(frame_count);
+  if (options.progress) options.progress("render", 0, frames_total);
   const auto start = std::chrono::steady_clock::now();
   for (std::size_t k = 0; k < frame_count; ++k) {
     const std::size_t row = k * static_cast<std::size_t>(ticks_per_frame);  // frame k = tick k·N
@@ -324,9 +301,7 @@ void RenderTrial(const Scene& scene, const TrialTable& table, const RenderStageO
       pose_step[k] = step.angle() * step.axis();
     }
     previous_R_WC = X_WC.linear();
-    const double elapsed =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    progress.Update(static_cast<std::int64_t>(k + 1), static_cast<double>(k + 1) / elapsed);
+    if (options.progress) options.progress("render", static_cast<int>(k + 1), frames_total);
   }
   h264.Close();
   if (lossless) lossless->Close();

@@ -6,6 +6,8 @@
 // summary["visual_check"] (visual_check.png via plot/, with .svg and .csv beside it). Frame k is tick k·N, N = clock rate / fps.
 
 #include <filesystem>
+#include <functional>
+#include <string_view>
 #include <nlohmann/json.hpp>
 
 #include "engine/scene.h"
@@ -23,6 +25,9 @@ struct RenderStageOptions {
   bool no_video{false};         ///< skip the stage
   bool lossless{false};         ///< also video_lossless.mkv
   bool png_frames{false};       ///< also frames/frame_NNNNN.png
+  /// Called with ("render", frames done, frames) before the first frame and after each (the
+  /// command shows it: app/progress.h); none: silent.
+  std::function<void(std::string_view stage, int done, int total)> progress;
 };
 
 /// Checks the scene's render: section with the command line's overrides, as RenderTrial will,

@@ -1,6 +1,7 @@
 #include "sysid/diagnose/diagnose.h"
 
 #include <algorithm>
+#include <atomic>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -378,6 +379,10 @@ std::optional<Candidate> BestJoint(const Splits& splits, const std::vector<RankE
     if (std::find(found.begin(), found.end(), solo.effect) == found.end()) tried.push_back(&solo);
   std::vector<std::optional<Candidate>> joint(tried.size());  // fitted concurrently
   std::vector<VisitedModel> fitted_models(tried.size());
+  const std::string stage = "fit cause " + std::to_string(found.size() + 1) + " jointly";
+  const int total = static_cast<int>(tried.size());
+  std::atomic<int> fitted{0};
+  if (options.progress) options.progress(stage, 0, total);
   ParallelFor(tried.size(), [&](std::size_t i) {
     std::vector<EffectId> list = found;
     list.push_back(tried[i]->effect);
@@ -390,6 +395,7 @@ std::optional<Candidate> BestJoint(const Splits& splits, const std::vector<RankE
     }
     fitted_models[i] = {fit.effects, ChannelMeanSquares(splits.selection, fit.params)};
     joint[i] = judge(std::move(fit));
+    if (options.progress) options.progress(stage, ++fitted, total);
   }, Waiting::kAnyTask);
   visited.insert(visited.end(), fitted_models.begin(), fitted_models.end());
   std::vector<Candidate> earning;
@@ -496,6 +502,9 @@ void VisitRanking(const Splits& splits, Diagnosis& dx) {
 std::vector<RankEntry> Rank(const Splits& splits, const FitResult& base, double base_sel,
                             const ChannelWeights& w, double noise_ms, const DiagnoseOptions& options) {
   std::vector<RankEntry> ranking(options.candidates.size());
+  const int total = static_cast<int>(options.candidates.size());
+  std::atomic<int> fitted{0};
+  if (options.progress) options.progress("rank the candidates alone", 0, total);
   ParallelFor(options.candidates.size(), [&](std::size_t i) {
     RankEntry& e = ranking[i];
     e.effect = options.candidates[i];
@@ -505,6 +514,7 @@ std::vector<RankEntry> Rank(const Splits& splits, const FitResult& base, double 
     e.selection_gain = SelectionGain(base_sel, e.selection_error, noise_ms);
     e.earns = e.delta_bic < options.bic_threshold && e.selection_gain >= options.min_selection_gain;
     e.parameters = NamedParameters(e.fit);
+    if (options.progress) options.progress("rank the candidates alone", ++fitted, total);
   }, Waiting::kAnyTask);
   std::stable_sort(ranking.begin(), ranking.end(), [](const RankEntry& a, const RankEntry& b) {
     if (a.earns != b.earns) return a.earns;
@@ -741,6 +751,10 @@ Diagnosis DiagnoseOnPool(const std::vector<effects::TrialRecord>& given, const D
   Diagnosis dx;
   dx.options = given_options;
   std::vector<bool> report;
+  const auto stage = [&](const char* name, int step) {
+    if (given_options.progress) given_options.progress(name, step - 1, 7);
+  };
+  stage("split the trials", 1);
   const std::vector<effects::TrialRecord> records = SplitThreeWays(given, report, dx);  // 1
   LeverFromTrack(records, report, dx);
   const DiagnoseOptions& options = dx.options;
@@ -750,12 +764,15 @@ Diagnosis DiagnoseOnPool(const std::vector<effects::TrialRecord>& given, const D
   std::deque<Splits> geometries{MakeSplits(records, report, dx.selection, nullptr, nullptr, options.rest_window)};
   const Splits& first = geometries.front();
   const ChannelWeights w = MakeChannelWeights(first.training);
+  stage("fit the base model", 2);
   dx.base = FitBase(first.training, dx.chair.lm.value_or(LumpedParams{}), w, options.fit);  // 2
+  stage("estimate the noise", 3);
   EstimateNoise(records, report, first, dx);  // 3
   if (AddDriftTerms(dx.noise, geometries.front()))  // drift: the base model again, drift terms beside it
     dx.base = FitBase(first.training, dx.base.params.lm, w, options.fit);
   const NoiseCheck base_selection =    // 4: decided on the selection trials
       Check(first.selection, records, first.selection_index, dx.base.params, dx.noise, options.verdict);
+  stage("analyse the residuals", 5);
   dx.trials = BaseAnalysis(records, report, first.all, dx.base.params);  // 5
   dx.residuals = Analyse(dx.trials, dx.chair, records);
   const double base_sel = HeldOutError(first.selection, dx.base.params, w);  // 6
@@ -763,10 +780,12 @@ Diagnosis DiagnoseOnPool(const std::vector<effects::TrialRecord>& given, const D
   dx.ranking = Rank(first, dx.base, base_sel, w, dx.selection_noise_ms, options);
   VisitRanking(first, dx);
   std::vector<Stage> models{{dx.base, &first}};  // the model after each cause
+  stage("select the causes", 6);
   if (!base_selection.NoiseLike()) ForwardSelect(records, report, geometries, base_sel, w, models, dx);
   dx.extended = models.back().fit;
   dx.selected = dx.extended;
   dx.probabilities = EffectProbabilities(dx.visited, options.candidates);  // 8, selection data only
+  stage("check on the held-out trials", 7);
   ReportOnHeldOut(records, models, w, dx.selection_noise_ms, dx);  // 7: the gains' N is the selection's
   return dx;
 }

@@ -56,8 +56,10 @@
 // (diagnose.cc GainOnTrials): the gain at D ∓ 1.645 s gives its one-sided 95 % lower and upper
 // bounds, and since the gain grows with D, lower ≤ gain ≤ upper.
 
+#include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "sysid/diagnose/greybox_fit.h"
@@ -85,6 +87,9 @@ struct DiagnoseOptions {
   /// same to the bit whatever the count.
   int threads{2};
   VerdictOptions verdict;
+  /// Told each stage as it starts and each candidate fitted in the ranking and the joint rounds
+  /// (stage, items done, items; may be called from the pool's threads); no effect on the results.
+  std::function<void(std::string_view stage, int done, int total)> progress;
 };
 
 struct FitPct {
