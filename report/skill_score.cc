@@ -108,7 +108,6 @@ std::optional<SkillSpec> SkillOf(const Scene& scene) {
 SkillScore ScoreSkill(const SkillSpec& spec, const CircuitSpec& circuit, const std::vector<TrainingTick>& trace,
                       double dt) {
   SkillScore score;
-  score.training = ComputeTrainingMetrics(circuit, trace, dt);
   score.gates_total = static_cast<int>(circuit.gates.size());
   // the goal: gates in order (the runner counts them) and the heading turned
   double turned = 0.0;
@@ -127,6 +126,9 @@ SkillScore ScoreSkill(const SkillSpec& spec, const CircuitSpec& circuit, const s
   }
   score.turned_deg = turned * kRadToDeg;
   score.window_s = trace[end].t;
+  score.duration_s = trace.back().t;
+  score.training = ComputeTrainingMetrics(
+      circuit, std::vector<TrainingTick>(trace.begin(), trace.begin() + static_cast<std::ptrdiff_t>(end) + 1), dt);
   score.gates_passed = trace[end].gates_passed;
   // the events in the window
   int events = trace.front().contact_events;
@@ -190,6 +192,7 @@ SkillScore ScoreSkill(const SkillSpec& spec, const CircuitSpec& circuit, const s
 }
 
 nlohmann::ordered_json SkillScoreJson(const SkillSpec& spec, const SkillScore& score, const std::string& scene_path) {
+  const double duration_s = score.duration_s;
   auto nullable = [](const std::optional<double>& v) { return v ? nlohmann::ordered_json(*v) : nlohmann::ordered_json(nullptr); };
   nlohmann::ordered_json j;
   j["format"] = "pwsim-skill-score/1";
@@ -223,7 +226,7 @@ nlohmann::ordered_json SkillScoreJson(const SkillSpec& spec, const SkillScore& s
     j["deviation_m"] = nullptr;
   }
   j["window_s"] = score.window_s;
-  j["duration_s"] = score.training.duration_s;
+  j["duration_s"] = duration_s;
   j["training"] = TrainingJson(score.training);
   return j;
 }

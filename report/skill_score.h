@@ -19,7 +19,8 @@
 //
 // The score carries what the level rests on: the time to the goal, every contact with what
 // was hit, when, and the approach speed (circuit.h), the near-tips' times, the deviation from
-// the route (engine/training_metrics.h) and the reason for the level in words. No number of
+// the route over the window (engine/training_metrics.h: the training metrics of the window)
+// and the reason for the level in words. No number of
 // the rule is pwsim's own: the levels are the source's, the events are the simulator's.
 //
 //   std::optional<SkillSpec> item = SkillOf(scene);           // @throws InputError
@@ -77,7 +78,8 @@ struct SkillScore {
   std::vector<double> near_tip_t_s;     ///< near-tip episodes' starts in the window [s]
   std::optional<double> tip_over_t_s;   ///< first tip-over in the window [s]
   int lift_offs{0};                     ///< wheel lift-off episodes in the window (reported, not graded)
-  TrainingMetrics training;             ///< the whole drive's metrics (deviation, jerk, ...)
+  double duration_s{0.0};               ///< the whole drive [s]
+  TrainingMetrics training;             ///< the window's training metrics (deviation, jerk, ...)
 };
 
 /// The score of a drive's trace (TrainingTrace of a run, ChairDriveSource::trace of a live

@@ -151,7 +151,7 @@ void WriteItemFigure(const std::vector<SkillAttempt>& attempts, const std::strin
     }
   }
   figure.title = "pwsim skills: " + item + " (" + title + ")";
-  figure.x_label = "attempt (in the order run) [number]";
+  figure.x_label = "attempt, in the order run [number] (the sessions side by side around it)";
   plot::Panel score;
   score.title = "capacity score per attempt (WST: 2 pass, 1 pass with difficulty, 0 fail)";
   score.y_label = "capacity score [0 fail, 1 with difficulty, 2 pass]";
@@ -160,15 +160,21 @@ void WriteItemFigure(const std::vector<SkillAttempt>& attempts, const std::strin
   plot::Panel time;
   time.title = "time to the goal per attempt (none: not reached)";
   time.y_label = "time to the goal [s]";
-  for (const std::string& participant : InOrder(attempts, &SkillAttempt::participant)) {
-    for (const std::string& session : InOrder(attempts, &SkillAttempt::session)) {
+  const std::vector<std::string> participants = InOrder(attempts, &SkillAttempt::participant);
+  const std::vector<std::string> sessions = InOrder(attempts, &SkillAttempt::session);
+  const double series_count = static_cast<double>(participants.size() * sessions.size());
+  double index = 0.0;  // each series a little apart, so equal scores stay visible
+  for (const std::string& participant : participants) {
+    for (const std::string& session : sessions) {
+      const double shift = 0.3 * ((index + 0.5) / series_count - 0.5);
+      index += 1.0;
       plot::Series s{participant + " " + session, {}, {}, plot::Style::kLinesPoints, 0};
       plot::Series t = s;
       for (const SkillAttempt& a : attempts) {
         if (a.item != item || a.participant != participant || a.session != session) continue;
-        s.x.push_back(a.attempt);
+        s.x.push_back(a.attempt + shift);
         s.y.push_back(a.score);
-        t.x.push_back(a.attempt);
+        t.x.push_back(a.attempt + shift);
         t.y.push_back(a.time_s ? *a.time_s : kNaN);
       }
       if (s.x.empty()) continue;
@@ -186,12 +192,12 @@ SkillAttempt ReadSkillAttempt(const fs::path& run_dir, const std::string& partic
   const fs::path file = run_dir / "score.json";
   const std::string name = file.string();
   if (!fs::is_directory(run_dir)) {
-    throw InputError(run_dir.string(), 0, "", "a run folder of `pwsim run` or `pwsim drive` on a skill item",
+    throw InputError(run_dir.string(), 0, "RUN_DIR", "a run folder of `pwsim run` or `pwsim drive` on a skill item",
                      "no such folder");
   }
   std::ifstream in(file);
   if (!in) {
-    throw InputError(name, 0, "", "the score of a skill item (score.json, written by `pwsim run` or `pwsim drive` on scenes/skills/*.yaml)",
+    throw InputError(name, 0, "RUN_DIR", "the score of a skill item (score.json, written by `pwsim run` or `pwsim drive` on scenes/skills/*.yaml)",
                      "no score.json in " + run_dir.string() + " (a run of a scene without a skill: section?)");
   }
   const nlohmann::json j = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);

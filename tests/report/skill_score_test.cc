@@ -309,9 +309,9 @@ TEST(SkillInputTest, BadInputsAreRefusedWithFileFieldAndExpectation) {
   const fs::path dir = Scratch("bad");
   // a run folder without a score (a run of a scene that is no skill item)
   fs::create_directories(dir / "plain_run");
-  ExpectInputError([&] { ReadSkillAttempt(dir / "plain_run", "P1", "s"); }, "plain_run/score.json", "",
+  ExpectInputError([&] { ReadSkillAttempt(dir / "plain_run", "P1", "s"); }, "plain_run/score.json", "RUN_DIR",
                    "score.json");
-  ExpectInputError([&] { ReadSkillAttempt(dir / "no_such_run", "P1", "s"); }, "no_such_run", "", "run folder");
+  ExpectInputError([&] { ReadSkillAttempt(dir / "no_such_run", "P1", "s"); }, "no_such_run", "RUN_DIR", "run folder");
   // a score.json with a field misspelt
   fs::create_directories(dir / "typo");
   std::ofstream(dir / "typo/score.json")
