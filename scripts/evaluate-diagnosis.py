@@ -32,6 +32,7 @@ import csv
 import glob
 import io
 import json
+import math
 import os
 import shutil
 import subprocess
@@ -46,6 +47,8 @@ OUTSIDE = {"occupant_seat"}
 NOISE_KINDS = ["white", "lowpass", "drift", "outliers", "mix"]
 UNSEEN_KINDS = ["pink", "sine", "step", "burst", "quantised"]
 VERDICTS = ["adequate", "explained", "partly_explained", "unexplained", "failed"]
+CATALOGUE = ["wheel_radius", "tyre_compliance", "cushion_compliance", "heave_pitch_coupling",
+             "nonlinear_stiffness", "suspension_friction", "inertial_pitch", "marker_offset"]
 
 
 def write_atomic(path, text):
@@ -117,10 +120,15 @@ def run_set(args, task, commit):
     if proc.returncode == 0 and os.path.exists(dx_json):
         d = json.load(open(dx_json))
         os.replace(tmp, dx_dir)
+        # Every cause forward selection added, confirmed or not (`selected_causes`; before issue 41
+        # `causes` held them all), so that "found" below keeps its meaning.
+        selected = d.get("selected_causes", d.get("causes", []))
         result.update({"verdict": d["verdict"], "cause": d.get("cause", "none"),
                        "causes": [{"effect": c["effect"], "gain_pct": c.get("heldout_gain_pct"),
-                                   "confirmed": c.get("confirmed")} for c in d.get("causes", [])],
-                       "heldout_fit_pct": d.get("heldout_fit_pct")})
+                                   "confirmed": c.get("confirmed")} for c in selected],
+                       "heldout_fit_pct": d.get("heldout_fit_pct"),
+                       "probability": d.get("effect_probability"),
+                       "probability_inputs": d.get("effect_probability_inputs")})
     else:
         result.update({"verdict": "failed", "cause": "none", "causes": [],
                        "error": (proc.stderr or proc.stdout)[-400:]})
@@ -190,6 +198,147 @@ def goals(results):
              rate(sum(r["verdict"] == "adequate" for r in outside), len(outside)))]
 
 
+def probabilities(inputs, prior, samples_per_unit):
+    """sysid/diagnose/diagnose.cc EffectProbabilities from diagnosis.json's inputs, for other
+    constants: every effect set weighs (π/(1−π))^|m| Π_u MS_u^(−ν/2) (its best fit when visited
+    twice), normalised; P(e) = Σ of the weights of the sets holding e."""
+    best = {}
+    for m in inputs["models"]:
+        ms = m["selection_ms"]
+        if not ms or any(not (v > 0) or v != v or v == float("inf") for v in ms):
+            continue
+        lw = len(m["effects"]) * math.log(prior / (1 - prior)) - 0.5 * samples_per_unit * sum(map(math.log, ms))
+        key = tuple(sorted(m["effects"]))
+        best[key] = max(best.get(key, -math.inf), lw)
+    if not best:
+        return {}
+    top = max(best.values())
+    weights = {k: math.exp(v - top) for k, v in best.items()}
+    total = sum(weights.values())
+    effects = {e for k in weights for e in k} | set(CATALOGUE)
+    return {e: sum(w for k, w in weights.items() if e in k) / total for e in effects}
+
+
+def probability_pairs(results, constants=None):
+    """(predicted probability, present 0/1) for every catalogue effect of every set with
+    probabilities; `constants` (prior, ν) recomputes them from the stored inputs."""
+    pairs = []
+    for r in results:
+        p = r.get("probability")
+        if constants and r.get("probability_inputs"):
+            p = probabilities(r["probability_inputs"], *constants)
+        if not p:
+            continue
+        present = set(effects_of(r["row"]))
+        for e in CATALOGUE:
+            if e in p:
+                pairs.append((p[e], int(e in present)))
+    return pairs
+
+
+def brier(pairs):
+    return sum((p - y) ** 2 for p, y in pairs) / len(pairs) if pairs else float("nan")
+
+
+def reliability(pairs, bins=10):
+    """Per bin of predicted probability [k/bins, (k+1)/bins): (k, count, mean predicted, observed
+    frequency, Wilson 90 % interval of the frequency)."""
+    out = []
+    z = 1.6448536269514722
+    for k in range(bins):
+        inside = [(p, y) for p, y in pairs if min(int(p * bins), bins - 1) == k]
+        if not inside:
+            continue
+        n = len(inside)
+        f = sum(y for _, y in inside) / n
+        centre = (f + z * z / (2 * n)) / (1 + z * z / n)
+        half = z * math.sqrt(f * (1 - f) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+        out.append((k, n, sum(p for p, _ in inside) / n, f, max(0.0, centre - half), min(1.0, centre + half)))
+    return out
+
+
+def reliability_figure(sets, png):
+    """The reliability figure (gnuplot): observed frequency against predicted probability per
+    bin, with its Wilson 90 % interval, one series per (title, pairs) of `sets`."""
+    if not png or not shutil.which("gnuplot"):
+        return False
+    os.makedirs(os.path.dirname(os.path.abspath(png)), exist_ok=True)
+    tmp = png + ".tmp"
+    data = png + ".dat"
+    with open(data, "w") as f:
+        for title, pairs in sets:
+            f.write(f"# {title}\n")
+            for k, n, mean_p, freq, lo, hi in reliability(pairs):
+                f.write(f"{mean_p:.6f} {freq:.6f} {lo:.6f} {hi:.6f} {n}\n")
+            f.write("\n\n")
+    plots = ["x lw 1 dt 2 lc rgb '#777777' title 'perfectly calibrated'"]
+    colours = ["#D55E00", "#0072B2", "#009E73"]
+    for i, (title, pairs) in enumerate(sets):
+        plots.append(f"'{data}' index {i} using 1:2:3:4 with yerrorbars pt 7 ps 1.2 lc rgb '{colours[i % 3]}' "
+                     f"title '{title} (Brier {brier(pairs):.3f}, {len(pairs)} effect-sets)'")
+        plots.append(f"'{data}' index {i} using 1:2:5 with labels offset 1.6,0.6 font ',9' "
+                     f"tc rgb '{colours[i % 3]}' notitle")
+    script = ("set terminal pngcairo size 760,640 font 'Sans,11'\n"
+              f"set output '{tmp}'\nset xrange [0:1]\nset yrange [-0.02:1.02]\n"
+              "set xlabel 'predicted probability that the effect is present (bin mean)'\n"
+              "set ylabel 'observed frequency (90 % Wilson interval)'\n"
+              "set key top left\nset grid\nset title 'pwsim diagnose: calibration of effect_probability'\n"
+              "plot " + ", ".join(plots) + "\n")
+    subprocess.run(["gnuplot"], input=script, text=True, check=True)
+    os.replace(tmp, png)
+    return True
+
+
+def calibration_section(args, results, md):
+    """The calibration of the per-effect probabilities: reliability per bin and Brier score on
+    each split that has them, with the figure."""
+    splits = [("evaluation", ("evaluation",)), ("evaluation + false alarm", ("evaluation", "false_alarm")),
+              ("development", ("development", "calibration"))]
+    sets = [(name, probability_pairs([r for r in results if r["split"] in members])) for name, members in splits]
+    sets = [(name, pairs) for name, pairs in sets if pairs]
+    if not sets:
+        return
+    md.write("\n## Calibration of the probability per effect\n\n"
+             "Each set's `effect_probability` (diagnosis.json) for every catalogue effect, against whether "
+             "the set holds it (an effect outside the catalogue counts as none present). Per bin of predicted "
+             "probability: the effect-sets in it, their mean prediction and the observed frequency (90 % "
+             "Wilson interval). Brier score = mean (p − y)²; for reference, the Brier score of the constant "
+             "base rate of that split and of the categorical answer (1 for a confirmed cause, else 0).\n\n")
+    png = getattr(args, "reliability_png", "")
+    if png and reliability_figure([(n, p) for n, p in sets if n != "evaluation + false alarm"], png):
+        md.write(f"![reliability](" + os.path.relpath(png, os.path.dirname(os.path.abspath(args.md))) + ")\n\n")
+    for name, pairs in sets:
+        members = dict(splits)[name]
+        rs = [r for r in results if r["split"] in members and r.get("probability")]
+        base = sum(y for _, y in pairs) / len(pairs)
+        categorical = []
+        for r in rs:
+            found = {c["effect"] for c in r["causes"] if c.get("confirmed")}
+            present = set(effects_of(r["row"]))
+            categorical += [(float(e in found), int(e in present)) for e in CATALOGUE]
+        md.write(f"**{name}** ({len(rs)} sets, {len(pairs)} effect-sets, {sum(y for _, y in pairs)} present): "
+                 f"Brier **{brier(pairs):.4f}** (base rate {base:.3f}: {brier([(base, y) for _, y in pairs]):.4f}; "
+                 f"categorical: {brier(categorical):.4f})\n\n")
+        md.write("| predicted | effect-sets | mean predicted | observed | 90 % interval |\n|---|---|---|---|---|\n")
+        for k, n, mean_p, freq, lo, hi in reliability(pairs):
+            md.write(f"| {k / 10:.1f}-{(k + 1) / 10:.1f} | {n} | {mean_p:.3f} | {freq:.3f} | {lo:.2f}-{hi:.2f} |\n")
+        md.write("\n")
+
+
+def fit_probability(results):
+    """The probability's constants (prior π, ν) that minimise the Brier score on the development
+    and calibration sets only (never the evaluation seeds); prints the grid's best."""
+    tuning = [r for r in results if r["split"] in ("development", "calibration")]
+    best = None
+    for prior in (0.02, 0.03, 0.05, 0.07, 0.1, 0.111111, 0.15, 0.2, 0.3):
+        for nu in (0.25, 0.5, 1, 2, 3, 4, 6, 8, 12, 16, 24, 32, 64):
+            score = brier(probability_pairs(tuning, (prior, nu)))
+            if best is None or score < best[0]:
+                best = (score, prior, nu)
+    print(f"development: {len(tuning)} sets; Brier {best[0]:.4f} at prior {best[1]}, samples_per_unit {best[2]}")
+    return best
+
+
 def report(args, results):
     by = lambda split: [r for r in results if r["split"] == split]
     dev, ev, cal, fa = by("development"), by("evaluation"), by("calibration"), by("false_alarm")
@@ -232,6 +381,7 @@ def report(args, results):
                  f"{row_cell(fa)} |\n")
     if unseen:
         md.write(f"| no effect, unseen noise kinds (development) | {row_cell(unseen)} | – |\n")
+    calibration_section(args, results, md)
     write_atomic(args.md, md.getvalue())
     out = io.StringIO()
     w = csv.writer(out)
@@ -266,6 +416,12 @@ def main():
                    help="passed to pwsim diagnose, e.g. --diagnose-arg=--threads=1 (repeatable)")
     p.add_argument("--report-only", action="store_true",
                    help="no new runs: the table of every set in WORK/results")
+    p.add_argument("--no-build", action="store_true",
+                   help="use the build as it is (build it first, under the build lock if shared)")
+    p.add_argument("--reliability-png", default="",
+                   help="the reliability figure of the probabilities (default WORK/reliability.png)")
+    p.add_argument("--fit-probability", action="store_true",
+                   help="no new runs: the probability's constants that fit the development sets in WORK/results")
     p.add_argument("--md", default="", help="table (default WORK/evaluation.md)")
     p.add_argument("--csv", default="", help="one line per set (default WORK/evaluation.csv)")
     args = p.parse_args()
@@ -276,15 +432,20 @@ def main():
     args.diagnose_arg = [a for arg in args.diagnose_arg for a in arg.split("=", 1)]
     args.md = args.md or os.path.join(args.work, "evaluation.md")
     args.csv = args.csv or os.path.join(args.work, "evaluation.csv")
+    args.reliability_png = args.reliability_png or os.path.join(args.work, "reliability.png")
     for sub in ("results", "sets", "dx"):
         os.makedirs(os.path.join(args.work, sub), exist_ok=True)
+    if args.fit_probability:
+        fit_probability([json.load(open(f)) for f in sorted(glob.glob(os.path.join(args.work, "results", "*.json")))])
+        return
     if args.report_only:
         results = [json.load(open(f)) for f in sorted(glob.glob(os.path.join(args.work, "results", "*.json")))]
         report(args, results)
         print(f"table: {args.md}\nper set: {args.csv}")
         return
-    subprocess.run(["cmake", "--build", args.build, "--target", "pwsim", "independent_truth_set", "-j1"],
-                   check=True, stdout=subprocess.DEVNULL)
+    if not args.no_build:
+        subprocess.run(["cmake", "--build", args.build, "--target", "pwsim", "independent_truth_set", "-j1"],
+                       check=True, stdout=subprocess.DEVNULL)
     tasks = plan(args)
     commit = subprocess.run(["git", "describe", "--always", "--dirty"], capture_output=True,
                             text=True).stdout.strip() or "unknown"

@@ -79,6 +79,44 @@ class Goals(unittest.TestCase):
         self.assertEqual(figures["outside the catalogue called `adequate`"], "1/1 (100 %)")
 
 
+class Probability(unittest.TestCase):
+    def test_recomputed_probabilities_follow_the_stated_posterior(self):
+        # The C++ test's three models (EffectProbabilityTest): base (4, 4), {a} (1, 4) twice
+        # (the better counts), {a, b} (1, 2); π = 0.2, ν = 2.
+        inputs = {"models": [{"effects": [], "selection_ms": [4, 4]},
+                             {"effects": ["tyre_compliance"], "selection_ms": [1, 4]},
+                             {"effects": ["tyre_compliance"], "selection_ms": [2, 4]},
+                             {"effects": ["inertial_pitch", "tyre_compliance"], "selection_ms": [1, 2]},
+                             {"effects": ["wheel_radius"], "selection_ms": []}]}
+        p = ev.probabilities(inputs, 0.2, 2.0)
+        w0, wa, wab = 1 / 16, 0.25 / 4, 0.0625 / 2
+        self.assertAlmostEqual(p["tyre_compliance"], (wa + wab) / (w0 + wa + wab), places=12)
+        self.assertAlmostEqual(p["inertial_pitch"], wab / (w0 + wa + wab), places=12)
+        self.assertEqual(p["wheel_radius"], 0.0)
+
+    def test_reliability_bins_and_brier(self):
+        pairs = [(0.05, 0), (0.05, 0), (0.05, 1), (0.95, 1), (0.95, 1), (0.5, 0)]
+        bins = {k: (n, mean_p, f) for k, n, mean_p, f, lo, hi in ev.reliability(pairs)}
+        self.assertEqual(bins[0][0], 3)
+        self.assertAlmostEqual(bins[0][2], 1 / 3)
+        self.assertEqual(bins[9], (2, 0.95, 1.0))
+        self.assertEqual(bins[5][0], 1)
+        self.assertAlmostEqual(ev.brier(pairs), (2 * 0.05 ** 2 + 0.95 ** 2 + 2 * 0.05 ** 2 + 0.25) / 6)
+        for k, n, mean_p, f, lo, hi in ev.reliability(pairs):
+            self.assertLessEqual(lo, f)
+            self.assertGreaterEqual(hi, f)
+
+    def test_pairs_count_every_catalogue_effect_and_outside_effects_as_none(self):
+        r = result("occupant_seat", "partly_explained", [])
+        r["probability"] = {e: 0.1 for e in ev.CATALOGUE}
+        pairs = ev.probability_pairs([r])
+        self.assertEqual(len(pairs), len(ev.CATALOGUE))
+        self.assertTrue(all(y == 0 for _, y in pairs))
+        r2 = result("inertial_pitch+marker_offset", "explained", [])
+        r2["probability"] = {e: 0.5 for e in ev.CATALOGUE}
+        self.assertEqual(sum(y for _, y in ev.probability_pairs([r2])), 2)
+
+
 class Resume(unittest.TestCase):
     def test_a_diagnosed_set_is_not_run_again_and_the_report_is_written_whole(self):
         with tempfile.TemporaryDirectory() as work:
