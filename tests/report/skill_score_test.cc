@@ -15,6 +15,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <cstdio>
 #include <functional>
 #include <map>
 #include <sstream>
@@ -23,6 +24,10 @@
 
 #include "engine/input_error.h"
 #include "engine/scene.h"
+#include "hardware/chair_drive_source.h"
+#include "hardware/rnet_joystick.h"
+#include "hardware/session_streams.h"
+#include "report/run_circuit.h"
 #include "report/training_report.h"
 
 namespace pwsim::report {
@@ -135,6 +140,79 @@ TEST(SkillItemsTest, ATipOverFailsWithItsTime) {
   EXPECT_EQ(s.score.level, SkillLevel::kFail);
   ASSERT_TRUE(s.score.tip_over_t_s.has_value()) << s.score.reason;
   EXPECT_EQ(s.score.reason.rfind("the chair tipped over at t = ", 0), 0u) << s.score.reason;
+}
+
+// `pwsim run` on an item (RunCircuitScene, without video): score.json beside summary.json, the
+// console line, and the same level as the trace scored directly.
+TEST(SkillItemsTest, PwsimRunWritesTheScoreAndItsLine) {
+  const fs::path out = Scratch("run");
+  const Scene scene = LoadScene(kSkills / "wst_turns_180_in_place.yaml");
+  RenderStageOptions render;
+  render.no_video = true;
+  McaChoice mca;
+  mca.compare = false;
+  std::string line;
+  const std::vector<fs::path> written = RunCircuitScene(scene, "scenes/skills/wst_turns_180_in_place.yaml", 10, render,
+                                                        out, mca, &line);
+  EXPECT_NE(std::find(written.begin(), written.end(), out / "score.json"), written.end());
+  EXPECT_EQ(line.rfind("skill wst_turns_180_in_place: pass (goal reached at ", 0), 0u) << line;
+  std::ifstream in(out / "score.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["format"], "pwsim-skill-score/1");
+  EXPECT_EQ(j["level"], "pass");
+  EXPECT_EQ(j["score"], 2);
+  EXPECT_EQ(j["scene"], "scenes/skills/wst_turns_180_in_place.yaml");
+  EXPECT_GE(j["turned_deg"].get<double>(), 180.0);
+  EXPECT_EQ(j["contacts"]["count"], 0);
+  EXPECT_TRUE(j["deviation_m"].is_null());  // no gates, no route: turning in place
+}
+
+/// A candump log of an R-Net joystick (hardware/rnet_joystick.h: 0x02000000#XxYy, signed
+/// percent, every 10 ms) held at (x, y) % for `seconds`, then centred for 2 s.
+fs::path RnetLog(const fs::path& dir, const std::string& name, int x, int y, double seconds) {
+  const fs::path file = dir / (name + ".log");
+  std::ofstream log(file);
+  char line[96];
+  for (int k = 0; k * 0.01 < seconds + 2.0; ++k) {
+    const bool held = k * 0.01 < seconds;
+    const int bx = held ? x : 0, by = held ? y : 0;
+    const long long us = 1700000000LL * 1000000 + 10000LL * k + 250;
+    std::snprintf(line, sizeof line, "(%lld.%06lld) can0 02000000#%02X%02X\n", us / 1000000, us % 1000000, bx & 0xFF,
+                  by & 0xFF);
+    log << line;
+  }
+  return file;
+}
+
+/// The doorway driven live (hardware/chair_drive_source.h, the drive source of `pwsim drive`)
+/// by a recorded R-Net joystick, session steps every 2 ticks; its trace scored as the drive
+/// scores it (ScoreSkillItem).
+nlohmann::json LiveDoorway(const fs::path& dir, const std::string& name, int x, int y) {
+  const Scene scene = LoadScene(kSkills / "wst_gets_through_doorway.yaml");
+  const std::int64_t ticks = scene.clock.TicksFor(10.0);
+  hw::RnetLogJoystick joystick(hw::ReadCandumpFile(RnetLog(dir, name, x, y, 8.0)), scene.clock.rate_hz, {-1, 100},
+                               name);
+  hw::ChairDriveSource source(scene, joystick, ticks, hw::SessionMcaConfig(scene));
+  for (std::int64_t tick = 0; tick <= ticks; tick += 2) {
+    hw::SessionInputs in;
+    source.Fill(tick, tick % 4 == 0, false, tick, &in);
+  }
+  EXPECT_FALSE(ScoreSkillItem(scene, "live", source.trace(), dir / name).empty());
+  std::ifstream in(dir / name / "score.json");
+  return nlohmann::json::parse(in);
+}
+
+// A live drive scores the same way: straight through the doorway at 50 % forward passes; pushed
+// 15 % to the right as well, the chair curves into the right frame and fails, naming it.
+TEST(SkillItemsTest, LiveDrivesAreScoredTheSameWay) {
+  const fs::path dir = Scratch("live");
+  const nlohmann::json straight = LiveDoorway(dir, "straight", 0, 50);
+  EXPECT_EQ(straight["level"], "pass") << straight["reason"];
+  EXPECT_EQ(straight["contacts"]["count"], 0);
+  const nlohmann::json veer = LiveDoorway(dir, "veer", 15, 50);
+  EXPECT_EQ(veer["level"], "fail") << veer["reason"];
+  ASSERT_GE(veer["contacts"]["count"].get<int>(), 1);
+  EXPECT_EQ(veer["contacts"]["events"][0]["what"], "door_frame_right") << veer["reason"];
 }
 
 /// A trace over a straight route through one gate at x = 2 m (the circuit below), 1 m/s.
