@@ -13,12 +13,12 @@
 #include "app/output_folder.h"
 #include "app/progress.h"
 #include "app/session_setup.h"
-#include "plot/plot.h"
 #include "engine/atomic_file.h"
 #include "engine/number_format.h"
 #include "engine/scene.h"
 #include "mca/config.h"
 #include "mca/omct.h"
+#include "report/omct_report.h"
 
 namespace pwsim::app {
 
@@ -81,40 +81,13 @@ int OmctCommand(const ParsedArgs& args) {
   std::filesystem::create_directories(out_dir);
   WriteFileAtomically(out_dir / "omct.csv", csv.str());
 
-  plot::Figure figure;
-  figure.title = std::string("OMCT, ") + mca::McaAlgorithmName(config.algorithm) + ", platform " + config.platform.name;
-  figure.x_label = "frequency [rad/s]";
-  figure.log_x = true;
-  plot::Panel gain;
-  gain.title = "gain";
-  progress.Finish();
-  gain.y_label = "gain, output/input [-]";
-  gain.log_y = true;
-  plot::Panel phase;
-  phase.title = "phase";
-  phase.y_label = "phase [deg]";
-  for (const mca::OmctTest& test : mca::OmctTests()) {
-    plot::Series g;
-    g.label = test.name;
-    g.style = plot::Style::kLinesPoints;
-    for (const mca::OmctPoint& p : points) {
-      if (p.test != test.name) continue;
-      g.x.push_back(p.frequency);
-      g.y.push_back(p.gain);
-    }
-    if (g.x.empty()) continue;
-    plot::Series ph = g;
-    ph.y.clear();
-    for (const mca::OmctPoint& p : points) {
-      if (p.test == test.name) ph.y.push_back(p.phase);
-    }
-    gain.series.push_back(std::move(g));
-    phase.series.push_back(std::move(ph));
-  }
-  figure.panels = {gain, phase};
-  figure.panel_height_px = 420;
-  plot::WriteFigure(out_dir / "omct.png", figure);
+  report::WriteOmctFigure(out_dir / "omct.png", std::string(config.algorithm == mca::McaAlgorithm::kMpc
+                                                          ? "the model-predictive cueing (MPC)"
+                                                          : "the classical washout") +
+                                             " on platform " + config.platform.name,
+                  points);
 
+  progress.Finish();
   std::cout << "pwsim omct: " << mca::McaAlgorithmName(config.algorithm) << ", platform '" << config.platform.name << "', " << points.size()
             << " points (" << points.size() / 12 << " tests x 12 frequencies)\n";
   folder.Print(std::cout, "pwsim omct");

@@ -112,30 +112,62 @@ std::string CsvText(const Figure& figure) {
   return out.str();
 }
 
-const char* StyleText(Style style) {
-  switch (style) {
-    case Style::kPoints: return "points pt 7 ps 0.6";
-    case Style::kLinesPoints: return "linespoints pt 7 ps 0.6";
-    case Style::kSteps: return "steps";
-    case Style::kLines: break;
+// Filled circle, square, triangle, diamond, down-triangle, then the open ones: series of one
+// panel drawn with points never share a shape, so one over another stays visible.
+constexpr int kPointTypes[] = {7, 5, 9, 13, 11, 6, 4, 8, 12, 10};
+
+std::string StyleText(const Series& series, std::size_t index) {
+  const int pt = kPointTypes[index % std::size(kPointTypes)];
+  std::string text;
+  switch (series.style) {
+    case Style::kPoints: text = "points pt " + std::to_string(pt) + " ps 0.6"; break;
+    case Style::kLinesPoints: text = "linespoints pt " + std::to_string(pt) + " ps 0.6"; break;
+    case Style::kSteps: text = "steps"; break;
+    case Style::kLines: text = "lines"; break;
   }
-  return "lines";
+  if (series.dash > 1) text += " dt " + std::to_string(series.dash);
+  return text;
+}
+
+// " (y axis magnified: ...)" for a linear, autoscaled panel whose values all share one sign and
+// span less than 5 % of their size, where the axis would make a small change fill the panel.
+std::string MagnifiedNote(const Panel& panel) {
+  if (panel.log_y || panel.y_min < panel.y_max || panel.equal_axes || !panel.boxes.empty()) return "";
+  double lo = INFINITY, hi = -INFINITY;
+  for (const Series& s : panel.series)
+    for (double y : s.y)
+      if (std::isfinite(y)) lo = std::min(lo, y), hi = std::max(hi, y);
+  if (!(lo <= hi) || !(lo > 0.0 || hi < 0.0)) return "";
+  const double size = std::max(std::abs(lo), std::abs(hi));
+  const double share = (hi - lo) / size;
+  if (share >= 0.05 || hi == lo) return "";
+  char pct[32];
+  std::snprintf(pct, sizeof pct, "%.2g", 100.0 * share);
+  return std::string(" (y axis magnified: the values vary by only ") + pct + " %)";
 }
 
 // Where the key goes so that it never covers a curve nor leaves the image: outside, right of
-// the plots when the longest label leaves the plots at least 60 % of the width (at about
-// 7 px per character of the 10 pt font, plus the sample line), else below them.
+// the plots when the longest label leaves the plots at least 60 % of the width (gnuplot sizes
+// the key at about 8 px per character of the 10 pt font, plus the sample line), else below them.
 std::string KeyPlacement(const Figure& figure) {
   std::size_t longest = 0;
   for (const Panel& panel : figure.panels)
-    for (const Series& s : panel.series) longest = std::max(longest, s.label.size());
-  const double key_px = 7.0 * static_cast<double>(longest) + 60.0;
+    for (const Series& s : panel.series) {
+      std::size_t chars = 0;  // UTF-8 code points: "m/s²" is 4 characters
+      for (char c : s.label) chars += (static_cast<unsigned char>(c) & 0xC0u) != 0x80u ? 1 : 0;
+      longest = std::max(longest, chars);
+    }
+  const double key_px = 8.0 * static_cast<double>(longest) + 60.0;
   const double key_share = key_px / static_cast<double>(std::max(figure.width_px, 200));
   std::ostringstream gp;
   if (key_share <= 0.4) {
     const double right = std::clamp(1.0 - key_share, 0.6, 0.9);
-    gp << "set key outside right top vertical Left reverse samplen 2 spacing 1.1\n"
-       << "set rmargin at screen " << FormatDouble(std::round(right * 100.0) / 100.0) << "\n";
+    // The key's left edge just right of the plots (gnuplot would right-align it to the image
+    // and, overestimating its width, push it over the plots).
+    const double edge = std::round(right * 100.0) / 100.0;
+    gp << "set key at screen " << FormatDouble(edge + 0.015)
+       << ", graph 1 left top vertical Left reverse samplen 2 spacing 1.1\n"
+       << "set rmargin at screen " << FormatDouble(edge) << "\n";
   } else {
     gp << "set key outside below center horizontal Left reverse samplen 2 spacing 1.1 maxcols 2\n"
        << "set rmargin 4\n";
@@ -158,13 +190,18 @@ std::string PlotBody(const Figure& figure, const std::string& data_file) {
   for (std::size_t p = 0; p < n; ++p) {
     const Panel& panel = figure.panels[p];
     gp << "unset logscale\nunset xtics\nunset ytics\nset xtics\nset ytics\nset autoscale\n";
-    gp << "set title " << Quote(panel.title) << "\n";
+    gp << "set title " << Quote(panel.title + MagnifiedNote(panel)) << "\n";
     gp << "set ylabel " << Quote(panel.y_label) << "\n";
-    if (panel.log_y) gp << "set logscale y\n";
+    // A logarithmic axis labels its decades as numbers (0.001, 10), not in gnuplot's "% h".
+    gp << (panel.log_y ? "set logscale y\nset format y '%g'\n" : "set format y '% h'\n");
     if (panel.y_min < panel.y_max)
       gp << "set yrange [" << FormatDouble(panel.y_min) << ":" << FormatDouble(panel.y_max) << "]\n";
     else
       gp << "set yrange [*:*]\n";
+    // Autoscaled: 5 % of the height free above and below the data before gnuplot extends the
+    // range to the next tic, so that a peak never lies on the frame.
+    const bool autoscaled = !(panel.y_min < panel.y_max) && panel.boxes.empty() && !panel.equal_axes;
+    gp << (autoscaled ? "set offsets 0, 0, graph 0.05, graph 0.05\n" : "set offsets 0, 0, 0, 0\n");
     if (!panel.boxes.empty()) {
       gp << (panel.box_show_points ? "set jitter overlap 0.5 spread 2.5 wrap 10\n" : "unset jitter\n");
       gp << "set xlabel ''\nset style data boxplot\n"
@@ -198,7 +235,7 @@ std::string PlotBody(const Figure& figure, const std::string& data_file) {
       const Series& series = panel.series[s];
       const unsigned color = series.color ? series.color : kPalette[s % std::size(kPalette)];
       gp << (s ? ", \\\n     " : "") << Quote(data_file) << " index " << index
-         << " using 1:2 with " << StyleText(series.style) << " lw 1.5 lc rgb '" << Hex(color)
+         << " using 1:2 with " << StyleText(series, s) << " lw 1.5 lc rgb '" << Hex(color)
          << "' title " << Quote(series.label);
     }
     if (panel.series.empty()) gp << "NaN notitle";
@@ -324,8 +361,9 @@ void WriteFigure(const fs::path& stem, const Figure& figure) {
 
 void WriteSharedXFigure(const fs::path& stem, const std::vector<double>& x,
                         const std::vector<SharedXPanel>& panels, const std::string& x_label,
-                        int width_px, int panel_height_px) {
+                        int width_px, int panel_height_px, const std::string& title) {
   Figure figure;
+  figure.title = title;
   figure.x_label = x_label;
   figure.width_px = width_px;
   figure.panel_height_px = panel_height_px;

@@ -27,12 +27,29 @@ namespace pwsim::plot {
 
 enum class Style { kLines, kPoints, kLinesPoints, kSteps };
 
+/// The palette every figure draws from (Okabe & Ito 2008, safe for colour-blind readers), and
+/// the roles that keep one meaning across figures: the vehicle (what the occupant would feel in
+/// the real chair or car) always blue, the platform always vermillion, tilt coordination orange.
+namespace color {
+inline constexpr unsigned kBlue = 0x0072B2, kVermillion = 0xD55E00, kGreen = 0x009E73,
+                          kPurple = 0xCC79A7, kOrange = 0xE69F00, kSkyBlue = 0x56B4E9,
+                          kBlack = 0x111111, kGrey = 0x777777;  // (0 means "the next colour")
+inline constexpr unsigned kVehicle = kBlue, kPlatform = kVermillion, kTilt = kOrange;
+/// A simulation checked against a closed form or a measurement: the simulation blue, the
+/// reference vermillion.
+inline constexpr unsigned kSimulated = kBlue, kReference = kVermillion;
+}  // namespace color
+
 struct Series {
   std::string label;
   std::vector<double> x;
   std::vector<double> y;  ///< same length as x; a non-finite y leaves a gap in the curve
   Style style{Style::kLines};
   unsigned color{0};  ///< 0xRRGGBB; 0 = the next colour of the palette
+  /// gnuplot dash type (0 or 1: solid; 2: dashed, 3: dotted, 4: dash-dot), so that a curve drawn
+  /// over an equal one leaves it visible. Points take a different shape per series (filled
+  /// circle, square, triangle, diamond, ...), for the same reason.
+  int dash{0};
 };
 
 /// One box of a box plot: the box spans the quartiles, the whiskers reach the most extreme
@@ -49,7 +66,11 @@ struct Panel {
   std::vector<Series> series;
   std::vector<BoxGroup> boxes;  ///< if non-empty, the panel is a box plot (series ignored)
   bool log_y{false};
-  double y_min{0.0}, y_max{0.0};  ///< fixed y range when y_min < y_max; autoscaled otherwise
+  /// Fixed y range when y_min < y_max. Otherwise autoscaled with 5 % of the height free above
+  /// and below the data, so that no peak touches the frame; a linear axis whose values all share
+  /// one sign and span less than 5 % of their size says so in the panel title (the axis magnifies
+  /// a small change).
+  double y_min{0.0}, y_max{0.0};
   /// Box plots: whiskers reach the smallest and largest values (no outliers drawn), as a
   /// "median, quartiles and extremes" figure, instead of Tukey's 1.5 IQR.
   bool box_whiskers_to_extremes{false};
@@ -87,8 +108,8 @@ struct SharedXPanel {
 };
 void WriteSharedXFigure(const std::filesystem::path& stem, const std::vector<double>& x,
                         const std::vector<SharedXPanel>& panels,
-                        const std::string& x_label = "t [s]", int width_px = 1100,
-                        int panel_height_px = 300);
+                        const std::string& x_label = "time [s]", int width_px = 1100,
+                        int panel_height_px = 300, const std::string& title = "");
 
 /// The paths WriteFigure writes for `stem`.
 struct FigureFiles {

@@ -361,6 +361,24 @@ std::vector<std::filesystem::path> WritePlatformDiagnosisReport(const sp::AxisDi
   return written;
 }
 
+namespace {
+
+double HighestFrequency(const sp::JointFrequencyResponse& j) {
+  double w_hi = 0.0;
+  for (const auto& p : j.points) w_hi = std::max(w_hi, p.w_rad_s);
+  return w_hi;
+}
+
+/// Why there is no nonparametric bandwidth (0 in the JSON): the measured gain never fell 3 dB.
+std::string NoBandwidthNote(double w_hi) {
+  return "not measured: the measured gain never falls 3 dB below its low-frequency value up to " +
+         Fixed(w_hi, 1) +
+         " rad/s, the highest frequency the recording excites (it is not a chirp reaching beyond the "
+         "bandwidth); record a chirp to higher frequencies to measure it";
+}
+
+}  // namespace
+
 std::vector<std::filesystem::path> WriteFrequencyResponseReport(
     const std::vector<sp::JointFrequencyResponse>& joints, const std::filesystem::path& dir) {
   std::vector<std::filesystem::path> written;
@@ -370,14 +388,15 @@ std::vector<std::filesystem::path> WriteFrequencyResponseReport(
   std::ostringstream md;
   md << "# Frequency response (reference → position)\n\n";
   plot::Figure fig;
-  fig.title = "Bode: H1 estimate and fits";
-  fig.x_label = "w [rad/s]";
+  fig.title = "Frequency response of each joint's position loop, reference to measured position: measured and fitted";
+  fig.x_label = "frequency [rad/s]";
   fig.log_x = true;
   for (const auto& j : joints) {
     Json x;
     x["joint"] = j.joint;
     x["bandwidth_rad_s"] = j.bandwidth_rad_s;
     x["bandwidth_nonparametric_rad_s"] = j.bandwidth_nonparametric_rad_s;
+    if (!(j.bandwidth_nonparametric_rad_s > 0.0)) x["bandwidth_nonparametric_note"] = NoBandwidthNote(HighestFrequency(j));
     x["segments"] = j.segments;
     Json fits = Json::array();
     for (const auto& f : j.fits) {
@@ -392,8 +411,12 @@ std::vector<std::filesystem::path> WriteFrequencyResponseReport(
     }
     x["fits"] = fits;
     Json pts = Json::array();
-    plot::Series g{"H1", {}, {}, plot::Style::kPoints}, ph{"H1", {}, {}, plot::Style::kPoints},
+    plot::Series g{"measured (H1 estimate)", {}, {}, plot::Style::kPoints},
+        ph{"measured (H1 estimate)", {}, {}, plot::Style::kPoints},
         coh{"coherence", {}, {}, plot::Style::kLinesPoints};
+    g.color = ph.color = plot::color::kBlack;
+    coh.color = plot::color::kBlack;
+    double w_lo = INFINITY, w_hi = 0.0;
     for (const auto& p : j.points) {
       Json y;
       y["w_rad_s"] = p.w_rad_s;
@@ -408,30 +431,40 @@ std::vector<std::filesystem::path> WriteFrequencyResponseReport(
       ph.y.push_back(p.phase_deg);
       coh.x.push_back(p.w_rad_s);
       coh.y.push_back(p.coherence);
+      w_lo = std::min(w_lo, p.w_rad_s);
+      w_hi = std::max(w_hi, p.w_rad_s);
     }
     x["points"] = pts;
     arr.push_back(x);
     plot::Panel pg, pp, pc;
-    pg.title = j.joint + ": gain";
+    pg.title = "joint " + j.joint + ": gain, measured position over reference";
     pg.y_label = "gain [dB]";
     pg.series.push_back(g);
-    pp.title = j.joint + ": phase";
+    pp.title = "joint " + j.joint + ": phase of the measured position against the reference";
     pp.y_label = "phase [deg]";
     pp.series.push_back(ph);
-    pc.title = j.joint + ": coherence";
+    pc.title = "joint " + j.joint + ": coherence (1: the position follows the reference linearly and without noise)";
     pc.y_label = "coherence [-]";
+    pc.y_min = 0.0;  // on its whole scale: a dip from 1 to 0.98 is no cause for alarm
+    pc.y_max = 1.05;
     pc.series.push_back(coh);
     for (const auto& f : j.fits) {
-      plot::Series fg{"order " + std::to_string(f.order), {}, {}}, fp{"order " + std::to_string(f.order), {}, {}};
+      const std::string label = "fitted model of order " + std::to_string(f.order) + " (fit " + Fixed(f.fit_pct, 1) + " %)";
+      plot::Series fg{label, {}, {}}, fp{label, {}, {}};
+      fg.color = fp.color = f.order == 2 ? plot::color::kBlue : plot::color::kVermillion;
+      fg.dash = fp.dash = f.order == 2 ? 0 : 2;  // the fits of both orders often coincide
       double prev = 0, unwrap = 0;
       bool first = true;
-      for (const auto& p : j.points) {
-        const std::complex<double> s(0, p.w_rad_s);
+      // The fit drawn as a smooth curve over the measured band (200 log-spaced frequencies).
+      std::vector<double> grid;
+      for (int i = 0; i < 200 && w_hi > w_lo; ++i) grid.push_back(w_lo * std::pow(w_hi / w_lo, i / 199.0));
+      for (const double w : grid) {
+        const std::complex<double> s(0, w);
         std::complex<double> nn(0, 0), dd(0, 0);
         for (double c : f.num) nn = nn * s + c;
         for (double c : f.den) dd = dd * s + c;
         const std::complex<double> h = nn / dd * std::exp(-s * f.delay_s);
-        fg.x.push_back(p.w_rad_s);
+        fg.x.push_back(w);
         fg.y.push_back(20.0 * std::log10(std::abs(h)));
         double a = std::arg(h);
         if (!first) {
@@ -440,7 +473,7 @@ std::vector<std::filesystem::path> WriteFrequencyResponseReport(
         }
         first = false;
         prev = a + unwrap;
-        fp.x.push_back(p.w_rad_s);
+        fp.x.push_back(w);
         fp.y.push_back(prev * 180.0 / M_PI);
       }
       pg.series.push_back(fg);
@@ -451,9 +484,13 @@ std::vector<std::filesystem::path> WriteFrequencyResponseReport(
     fig.panels.push_back(pc);
     md << "## Joint `" << j.joint << "`\n\n"
        << "- −3 dB bandwidth (best fit): " << Fixed(j.bandwidth_rad_s, 3) << " rad/s ("
-       << Fixed(j.bandwidth_rad_s / (2.0 * M_PI), 3) << " Hz)\n"
-       << "- −3 dB bandwidth (nonparametric): " << Fixed(j.bandwidth_nonparametric_rad_s, 3)
-       << " rad/s\n- segments averaged: " << j.segments << "\n\n"
+       << Fixed(j.bandwidth_rad_s / (2.0 * M_PI), 3) << " Hz)"
+       << (j.bandwidth_rad_s > w_hi ? ", extrapolated beyond the highest measured frequency (" + Fixed(w_hi, 1) + " rad/s)"
+                                    : std::string())
+       << "\n- −3 dB bandwidth (nonparametric): "
+       << (j.bandwidth_nonparametric_rad_s > 0.0 ? Fixed(j.bandwidth_nonparametric_rad_s, 3) + " rad/s"
+                                                 : NoBandwidthNote(w_hi))
+       << "\n- segments averaged: " << j.segments << "\n\n"
        << "| order | num | den | delay | fit |\n|---|---|---|---|---|\n";
     for (const auto& f : j.fits) {
       md << "| " << f.order << " | ";

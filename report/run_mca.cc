@@ -322,7 +322,7 @@ void AddMotionCueingStage(const Scene& scene, const std::vector<double>& t,
   summary["mca"] = mca_json;
 
   // mca.png: vehicle against platform at the head
-  auto series = [&](const char* label, unsigned color, auto get) {
+  auto series = [&](const std::string& label, unsigned color, auto get) {
     plot::Series s;
     s.label = label;
     s.x = t;
@@ -338,21 +338,24 @@ void AddMotionCueingStage(const Scene& scene, const std::vector<double>& t,
     return p;
   };
   plot::Figure figure;
-  figure.title = "pwsim run: vehicle vs platform at the head (" + config.platform.name + ")";
-  figure.x_label = "t [s]";
-  figure.panels.push_back(panel("surge specific force", "f_x [m/s^2]",
-                           {series("vehicle", 0x0072B2, [&](std::size_t k) { return trace.truth[k].fs[0]; }),
-                            series("platform", 0xD55E00, [&](std::size_t k) { return trace.delivered[k].fs[0]; })}));
-  figure.panels.push_back(panel("heave specific force - g", "f_z - g [m/s^2]",
-                           {series("vehicle", 0x0072B2, [&](std::size_t k) { return trace.truth[k].fs[2] - mca::kGravity; }),
-                            series("platform", 0xD55E00, [&](std::size_t k) { return trace.delivered[k].fs[2] - mca::kGravity; })}));
-  figure.panels.push_back(panel("pitch rate (nose-up)", "pitch rate [deg/s]",
-                           {series("vehicle", 0x0072B2, [&](std::size_t k) { return -trace.truth[k].w[1] / mca::kDegToRad; }),
-                            series("platform", 0xD55E00, [&](std::size_t k) { return -trace.delivered[k].w[1] / mca::kDegToRad; })}));
-  figure.panels.push_back(panel("platform pitch and its tilt-coordination part", "pitch [deg]",
-                           {series("platform pitch", 0x009E73,
+  figure.title = "What the occupant feels at the head: in the real chair (vehicle) and on the " +
+                 config.platform.name + " motion platform";
+  figure.x_label = "time [s]";
+  const std::string in_chair = "in the real chair (vehicle)", on_platform = "on the platform";
+  figure.panels.push_back(panel("forward push felt (surge specific force, forward +)", "surge force [m/s²]",
+                           {series(in_chair, plot::color::kVehicle, [&](std::size_t k) { return trace.truth[k].fs[0]; }),
+                            series(on_platform, plot::color::kPlatform, [&](std::size_t k) { return trace.delivered[k].fs[0]; })}));
+  figure.panels.push_back(panel("vertical push felt beyond gravity (heave specific force - g, up +)", "heave force - g [m/s²]",
+                           {series(in_chair, plot::color::kVehicle, [&](std::size_t k) { return trace.truth[k].fs[2] - mca::kGravity; }),
+                            series(on_platform, plot::color::kPlatform, [&](std::size_t k) { return trace.delivered[k].fs[2] - mca::kGravity; })}));
+  figure.panels.push_back(panel("pitch rate (nose-up +)", "pitch rate [deg/s]",
+                           {series(in_chair, plot::color::kVehicle, [&](std::size_t k) { return -trace.truth[k].w[1] / mca::kDegToRad; }),
+                            series(on_platform, plot::color::kPlatform, [&](std::size_t k) { return -trace.delivered[k].w[1] / mca::kDegToRad; })}));
+  figure.panels.push_back(panel("platform pitch (nose-up +) and the part of it that tilts the occupant to present a sustained push",
+                           "pitch angle [deg]",
+                           {series("platform pitch", plot::color::kGreen,
                                    [&](std::size_t k) { return trace.commands[k].pose[mca::Index(Dof::kPitch)] / mca::kDegToRad; }),
-                            series("tilt (not shown)", 0xE69F00,
+                            series("of which tilt coordination", plot::color::kTilt,
                                    [&](std::size_t k) { return trace.commands[k].tilt_pitch / mca::kDegToRad; })}));
   std::filesystem::create_directories(out_dir);
   plot::WriteFigure(out_dir / "mca.png", figure);
@@ -360,23 +363,25 @@ void AddMotionCueingStage(const Scene& scene, const std::vector<double>& t,
 
   // mca_lateral.png: the axes a turning chair adds (sway force by roll tilt, roll and yaw)
   plot::Figure lateral;
-  lateral.title = "pwsim run: lateral axes, vehicle vs platform at the head (" + config.platform.name + ")";
-  lateral.x_label = "t [s]";
-  lateral.panels.push_back(panel("sway specific force (left +)", "f_y [m/s^2]",
-                            {series("vehicle", 0x0072B2, [&](std::size_t k) { return trace.truth[k].fs[1]; }),
-                             series("platform", 0xD55E00, [&](std::size_t k) { return trace.delivered[k].fs[1]; })}));
+  lateral.title = "Sideways motion felt at the head: in the real chair (vehicle) and on the " +
+                  config.platform.name + " motion platform";
+  lateral.x_label = "time [s]";
+  lateral.panels.push_back(panel("sideways push felt (sway specific force, to the left +)", "sway force [m/s²]",
+                            {series(in_chair, plot::color::kVehicle, [&](std::size_t k) { return trace.truth[k].fs[1]; }),
+                             series(on_platform, plot::color::kPlatform, [&](std::size_t k) { return trace.delivered[k].fs[1]; })}));
   lateral.panels.push_back(panel("roll rate (left side up +)", "roll rate [deg/s]",
-                            {series("vehicle", 0x0072B2, [&](std::size_t k) { return trace.truth[k].w[0] / mca::kDegToRad; }),
-                             series("platform", 0xD55E00, [&](std::size_t k) { return trace.delivered[k].w[0] / mca::kDegToRad; })}));
-  lateral.panels.push_back(panel("yaw rate (left +)", "yaw rate [deg/s]",
-                            {series("vehicle", 0x0072B2, [&](std::size_t k) { return trace.truth[k].w[2] / mca::kDegToRad; }),
-                             series("platform", 0xD55E00, [&](std::size_t k) { return trace.delivered[k].w[2] / mca::kDegToRad; })}));
-  lateral.panels.push_back(panel("platform roll and its tilt-coordination part; platform yaw", "angle [deg]",
-                            {series("platform roll", 0x009E73,
+                            {series(in_chair, plot::color::kVehicle, [&](std::size_t k) { return trace.truth[k].w[0] / mca::kDegToRad; }),
+                             series(on_platform, plot::color::kPlatform, [&](std::size_t k) { return trace.delivered[k].w[0] / mca::kDegToRad; })}));
+  lateral.panels.push_back(panel("yaw rate (turning left +)", "yaw rate [deg/s]",
+                            {series(in_chair, plot::color::kVehicle, [&](std::size_t k) { return trace.truth[k].w[2] / mca::kDegToRad; }),
+                             series(on_platform, plot::color::kPlatform, [&](std::size_t k) { return trace.delivered[k].w[2] / mca::kDegToRad; })}));
+  lateral.panels.push_back(panel("platform roll (left side up +), the part of it that tilts the occupant, and platform yaw",
+                            "angle [deg]",
+                            {series("platform roll", plot::color::kGreen,
                                     [&](std::size_t k) { return trace.commands[k].pose[mca::Index(Dof::kRoll)] / mca::kDegToRad; }),
-                             series("roll tilt (not shown)", 0xE69F00,
+                             series("of which tilt coordination", plot::color::kTilt,
                                     [&](std::size_t k) { return trace.commands[k].tilt_roll / mca::kDegToRad; }),
-                             series("platform yaw", 0xCC79A7,
+                             series("platform yaw", plot::color::kPurple,
                                     [&](std::size_t k) { return trace.commands[k].pose[mca::Index(Dof::kYaw)] / mca::kDegToRad; })}));
   plot::WriteFigure(out_dir / "mca_lateral.png", lateral);
 }

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "engine/number_format.h"
+#include "plot/labels.h"
 #include "plot/plot.h"
 
 namespace pwsim::report {
@@ -50,40 +51,64 @@ std::vector<fs::path> WriteSweepPlots(const sweep::Manifest& manifest, const swe
     for (const auto& row : collection.rows) texts.push_back(row.values[v]);
     const auto x = Numeric(texts);
     if (!x || std::set<double>(x->begin(), x->end()).size() < 2) continue;
+    const plot::Quantity x_quantity = plot::QuantityFromKey(collection.variables[v]);
     plot::Figure figure;
-    figure.title = "sweep " + manifest.name + ": fields against " + collection.variables[v];
-    figure.x_label = collection.variables[v];
+    figure.title = "Sweep " + manifest.name + ": each result against " + x_quantity.words + " (one point per task)";
+    figure.x_label = plot::AxisLabel(x_quantity);
     for (std::size_t f = 0; f < collection.field_names.size(); ++f) {
+      const plot::Quantity y_quantity = plot::QuantityFromKey(collection.field_names[f]);
       plot::Panel panel;
-      panel.title = collection.field_names[f];
-      panel.y_label = collection.field_names[f];
+      panel.title = y_quantity.words;
+      panel.y_label = plot::AxisLabel(y_quantity);
       std::map<std::string, std::vector<std::pair<double, double>>> groups;
-      bool any = false;
+      bool any = false, positive = false, negative = false;
       for (std::size_t r = 0; r < collection.rows.size(); ++r) {
         std::string label;
         for (std::size_t o = 0; o < n_vars; ++o) {
           if (o == v) continue;
-          const std::string& key = collection.variables[o];  // its last word keeps the legend short
-          label += (label.empty() ? "" : ", ") + key.substr(key.rfind('.') + 1) + "=" + collection.rows[r].values[o];
+          const plot::Quantity other = plot::QuantityFromKey(collection.variables[o]);
+          const std::optional<double> value = ParseFiniteNumber(collection.rows[r].values[o]);
+          label += (label.empty() ? "" : ", ") + other.words + " " +
+                   (value ? FormatDouble(*value * other.scale) + (other.unit.empty() ? "" : " " + other.unit)
+                          : collection.rows[r].values[o]);
         }
-        const double y = collection.rows[r].numbers[f];
+        const double y = collection.rows[r].numbers[f] * y_quantity.scale;
         any = any || std::isfinite(y);
+        positive = positive || y > 0.0;
+        negative = negative || y < 0.0;
         groups[label].push_back({(*x)[r], y});
       }
       if (!any) continue;
+      // A signed result that changes sign across the sweep (the largest excursion flips from
+      // one side to the other): joining the signed values would draw a swing that no task had.
+      // Its size is drawn instead, and the tasks where it was negative are marked.
+      const bool sign_changes = positive && negative;
+      plot::Series negatives;
+      negatives.label = "negative in these tasks (size drawn)";
+      negatives.style = plot::Style::kPoints;
+      negatives.color = plot::color::kBlack;
+      if (sign_changes) {
+        panel.title += ": size (its sign changes across the sweep)";
+        panel.y_label = "size of " + panel.y_label;
+      }
       std::size_t shown = 0;
       for (auto& [label, points] : groups) {
         if (++shown > 12) break;  // a legend beyond a dozen curves is unreadable
         std::sort(points.begin(), points.end());
         plot::Series series;
-        series.label = label.empty() ? collection.field_names[f] : label;
+        series.label = label.empty() ? "all tasks" : label;
         series.style = plot::Style::kLinesPoints;
         for (const auto& [px, py] : points) {
           series.x.push_back(px);
-          series.y.push_back(py);
+          series.y.push_back(sign_changes ? std::abs(py) : py);
+          if (sign_changes && py < 0.0) {
+            negatives.x.push_back(px);
+            negatives.y.push_back(-py);
+          }
         }
         panel.series.push_back(series);
       }
+      if (sign_changes) panel.series.push_back(negatives);
       figure.panels.push_back(panel);
     }
     if (figure.panels.empty()) continue;
