@@ -135,23 +135,32 @@ void AddCarCueing(const vehicle::CarScene& scene, const std::vector<CarSample>& 
   auto col = [&](auto get) { return Column(m, [&](std::size_t j) { return get(j * stride); }); };
   const std::vector<double> t = col([&](std::size_t k) { return scene.clock.TimeAt(samples[k].tick); });
   std::vector<plot::SharedXPanel> panels;
-  panels.push_back({"surge specific force at the head", "fs_x [m/s^2]",
-                    {{"vehicle", col([&](std::size_t k) { return trace.truth[k].fs[0]; }), 0x1f77b4},
-                     {"platform", col([&](std::size_t k) { return trace.delivered[k].fs[0]; }), 0xd62728}}});
-  panels.push_back({"lateral specific force at the head", "fs_y [m/s^2]",
-                    {{"vehicle", col([&](std::size_t k) { return trace.truth[k].fs[1]; }), 0x1f77b4},
-                     {"platform", col([&](std::size_t k) { return trace.delivered[k].fs[1]; }), 0xd62728}}});
-  panels.push_back({"yaw rate", "r [deg/s]",
-                    {{"vehicle", col([&](std::size_t k) { return trace.truth[k].w[2] / mca::kDegToRad; }), 0x1f77b4},
-                     {"platform", col([&](std::size_t k) { return trace.delivered[k].w[2] / mca::kDegToRad; }), 0xd62728}}});
-  panels.push_back({"platform: rail position and turntable yaw", "x [m], yaw [rad]",
-                    {{"rail x [m]", col([&](std::size_t k) { return trace.commands[k].pose[mca::Index(Dof::kSurge)]; }), 0x2ca02c},
-                     {"yaw [rad]", col([&](std::size_t k) { return trace.commands[k].pose[mca::Index(Dof::kYaw)]; }), 0x9467bd}}});
-  panels.push_back({"false cue of the turntable on the rail", "[m/s^2]",
-                    {{"surge -r^2 x", col([&](std::size_t k) { return false_cue.surge[k]; }), 0xff7f0e},
-                     {"sway r' x + 2 r x'", col([&](std::size_t k) { return false_cue.sway[k]; }), 0x8c564b}}});
+  const std::string in_car = "in the real car (vehicle)", on_platform = "on the platform";
+  panels.push_back({"forward push felt at the head (surge specific force, forward +)", "surge force [m/s²]",
+                    {{in_car, col([&](std::size_t k) { return trace.truth[k].fs[0]; }), plot::color::kVehicle},
+                     {on_platform, col([&](std::size_t k) { return trace.delivered[k].fs[0]; }), plot::color::kPlatform}}});
+  panels.push_back({"sideways push felt at the head (sway specific force, to the left +)", "sway force [m/s²]",
+                    {{in_car, col([&](std::size_t k) { return trace.truth[k].fs[1]; }), plot::color::kVehicle},
+                     {on_platform, col([&](std::size_t k) { return trace.delivered[k].fs[1]; }), plot::color::kPlatform}}});
+  panels.push_back({"yaw rate (turning left +)", "yaw rate [deg/s]",
+                    {{in_car, col([&](std::size_t k) { return trace.truth[k].w[2] / mca::kDegToRad; }), plot::color::kVehicle},
+                     {on_platform, col([&](std::size_t k) { return trace.delivered[k].w[2] / mca::kDegToRad; }), plot::color::kPlatform}}});
+  panels.push_back({"platform position along its rail (forward +)", "rail position [m]",
+                    {{"rail position", col([&](std::size_t k) { return trace.commands[k].pose[mca::Index(Dof::kSurge)]; }),
+                      plot::color::kGreen}}});
+  panels.push_back({"platform turntable yaw (left +)", "turntable yaw [deg]",
+                    {{"turntable yaw", col([&](std::size_t k) { return trace.commands[k].pose[mca::Index(Dof::kYaw)] / mca::kDegToRad; }),
+                      plot::color::kPurple}}});
+  panels.push_back({"false push of a turntable riding its rail, felt on the platform, not in the car "
+                    "(r: turntable yaw rate, x: rail position)",
+                    "false push [m/s²]",
+                    {{"forward: -r² x", col([&](std::size_t k) { return false_cue.surge[k]; }), plot::color::kOrange},
+                     {"sideways: r' x + 2 r x'", col([&](std::size_t k) { return false_cue.sway[k]; }),
+                      plot::color::kSkyBlue}}});
   std::filesystem::create_directories(out_dir);
-  plot::WriteSharedXFigure(out_dir / "mca", t, panels);
+  plot::WriteSharedXFigure(out_dir / "mca", t, panels, "time [s]", 1100, 300,
+                           "What the driver feels at the head: in the real car (vehicle) and on the " +
+                               config.platform.name + " motion platform");
 }
 
 void RenderCarTrial(const vehicle::CarScene& scene, const std::vector<CarSample>& samples,
