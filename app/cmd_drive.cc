@@ -5,7 +5,7 @@
 // (--joystick: the chair's R-Net bus listen-only, a recorded R-Net candump log, or an SDL
 // joystick; hardware/car_drive_source.h maps it to a two-pedal car), or from the scene itself;
 // each tick steps the car and the MCA (hardware/car_live.h) and logs the platform command
-// (DIR/drive.csv). With --can the drive is a live session instead: joystick -> car -> MCA ->
+// (DIR/drive.csv), and draws the car's cueing as `pwsim run` does (DIR/mca.png). With --can the drive is a live session instead: joystick -> car -> MCA ->
 // safety supervisor -> CiA 402 over CAN, camera pose to the HMD, the replayable session log,
 // and the joystick -> platform command / HMD frame latencies in DIR/report.json.
 // A circuit scene (a wheelchair scene with `circuit:`) is driven the same way, always as a live
@@ -42,6 +42,7 @@
 #include "hardware/chair_drive_source.h"
 #include "engine/scene.h"
 #include "report/skill_score.h"
+#include "report/car_run.h"
 #include "report/run_circuit.h"
 #include "report/training_report.h"
 #include "hardware/car_live.h"
@@ -338,6 +339,8 @@ int DriveCommand(const ParsedArgs& args) {
   const std::size_t rows = static_cast<std::size_t>(ticks) + 1;
   std::vector<double> t(rows), x(rows), y(rows), yaw(rows), v(rows), rpm(rows), gear(rows), throttle(rows),
       brake(rows), clutch(rows), steer(rows), rail(rows), turn(rows), cue_x(rows), cue_y(rows), late(rows);
+  std::vector<vehicle::CarSample> samples;  // for the figures after the drive
+  samples.reserve(rows);
   InstallStopSignalHandlers();
   const auto start = std::chrono::steady_clock::now();
   const auto period = std::chrono::nanoseconds(1000000000LL / scene.clock.rate_hz);
@@ -357,6 +360,7 @@ int DriveCommand(const ParsedArgs& args) {
     }
     const hw::CarLiveTick& tick = k == 0 ? loop.last() : loop.Step(input);
     const vehicle::CarSample& s = tick.sample;
+    samples.push_back(s);
     t[done] = scene.clock.TimeAt(k);
     x[done] = s.state.x;
     y[done] = s.state.y;
@@ -400,8 +404,15 @@ int DriveCommand(const ParsedArgs& args) {
   const std::filesystem::path out = args.Get("out");
   std::filesystem::create_directories(out);
   table.WriteCsv(out / "drive.csv");
+  // the figure `pwsim run` writes for a car (mca.png, report/car_run.h), of the car as driven
+  report::McaChoice choice;
+  choice.algorithm = McaAlgorithmOption(args);
+  choice.compare = false;  // the drive's cueing, not the comparison of a run
+  TrialTable run_table = report::CarColumns(scene, samples);
+  nlohmann::ordered_json summary;
+  report::AddCarCueing(scene, samples, run_table, summary, out, choice);
   std::cout << "pwsim drive: " << done << " ticks" << (StopRequested().load() ? " (stopped)" : "") << "; wrote "
-            << (out / "drive.csv").string() << "\n";
+            << (out / "drive.csv").string() << ", " << (out / "mca.png").string() << "\n";
   return 0;
 }
 

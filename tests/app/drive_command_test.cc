@@ -11,9 +11,13 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <cmath>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -146,6 +150,61 @@ TEST(DriveCommand, RecordedJoystickEndsTheCircuitDriveAndItsFiguresAreWritten) {
       EXPECT_NE(output.find((dir / "o" / figure).string()), std::string::npos) << figure << " not listed";
     }
   }
+}
+
+/// The rows of a CSV file with a header, as name -> text.
+std::vector<std::map<std::string, std::string>> ReadCsvRows(const fs::path& file) {
+  std::ifstream in(file);
+  std::string line;
+  std::vector<std::string> names;
+  std::vector<std::map<std::string, std::string>> rows;
+  auto split = [](const std::string& text) {
+    std::vector<std::string> cells;
+    std::string cell;
+    bool quoted = false;
+    for (char c : text) {
+      if (c == '"') quoted = !quoted;
+      else if (c == ',' && !quoted) cells.push_back(std::exchange(cell, ""));
+      else cell += c;
+    }
+    cells.push_back(cell);
+    return cells;
+  };
+  if (std::getline(in, line)) names = split(line);
+  while (std::getline(in, line)) {
+    const std::vector<std::string> cells = split(line);
+    std::map<std::string, std::string> row;
+    for (std::size_t i = 0; i < names.size() && i < cells.size(); ++i) row[names[i]] = cells[i];
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+// Tests that a car drive (the scene's own controls, not real time) draws the figure `pwsim run`
+// draws for a car, of the car as driven: mca.png's rail position is drive.csv's platform
+// command at every plotted time, exactly.
+TEST(DriveCommand, CarDriveDrawsTheCueingFigureOfTheDrive) {
+  const fs::path dir = Scratch("car");
+  ChildProcess drive({kPwsim, "drive", std::string(PWSIM_SOURCE_DIR) + "/scenes/car_launch.yaml", "--no-realtime",
+                      "--duration", "6", "--out", (dir / "o").string()});
+  ASSERT_EQ(drive.Wait(), 0) << drive.Output();
+  ASSERT_TRUE(fs::exists(dir / "o" / "mca.png")) << drive.Output();
+  std::map<long, double> command;  // by tick (1 kHz)
+  for (const auto& row : ReadCsvRows(dir / "o" / "drive.csv"))
+    command[std::lround(std::stod(row.at("t_s")) * 1000.0)] = std::stod(row.at("plat_surge_m"));
+  int compared = 0;
+  double largest = 0.0, moved = 0.0;
+  for (const auto& row : ReadCsvRows(dir / "o" / "mca.plot.csv")) {
+    if (row.at("series") != "rail position") continue;
+    const auto at = command.find(std::lround(std::stod(row.at("x")) * 1000.0));
+    ASSERT_NE(at, command.end()) << row.at("x");
+    largest = std::max(largest, std::abs(std::stod(row.at("y")) - at->second));
+    moved = std::max(moved, std::abs(at->second));
+    ++compared;
+  }
+  EXPECT_GT(compared, 500);
+  EXPECT_GT(moved, 0.05);  // the launch moves the rail: the comparison is not of zeros
+  EXPECT_EQ(largest, 0.0);
 }
 
 }  // namespace
