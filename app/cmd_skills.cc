@@ -45,8 +45,11 @@ const CommandSpec& SkillsSpec() {
           {"after", "DIR,...", "-", "", "the runs of the session after training, in attempt order (with --before)"},
       },
       "RUN_DIR  output folders of `pwsim run` or `pwsim drive` on a skill item (each with score.json), in attempt order; "
-      "the attempts of an item are numbered in the order given. Several participants: one sheet each, then "
-      "`pwsim study skills SHEET.csv...`"};
+      "the attempts of an item are numbered in the order given. sheet.md gives per session each item's score (the mean "
+      "of its attempts: 2 pass, 1 pass with difficulty, 0 fail) and the total percentage 100 x sum / (2 x items); "
+      "with --before/--after, comparison.csv gives per item and in total the score, time to the goal, contacts and "
+      "near-tips per attempt before, after and after - before. Several participants: one sheet each, then "
+      "`pwsim study skills SHEET.csv...` (docs/skills.md)"};
   return spec;
 }
 

@@ -358,7 +358,7 @@ std::vector<SkillAttempt> ReadSkillSheets(const std::vector<fs::path>& files) {
   std::vector<SkillAttempt> attempts;
   for (const fs::path& file : files) {
     std::ifstream in(file);
-    if (!in) throw InputError(file.string(), 0, "", "a readable sheet.csv (pwsim skills)", "cannot open");
+    if (!in) throw InputError(file.string(), 0, "SHEET.csv", "a readable sheet.csv (pwsim skills)", "cannot open");
     std::string line;
     int number = 0;
     std::vector<std::string> header;
