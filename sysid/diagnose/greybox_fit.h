@@ -82,7 +82,7 @@ std::vector<TrialResidual> ComputeResiduals(const std::vector<FitTrial>& trials,
                                             const effects::ExtendedParams& params);
 
 struct FitOptions {
-  int max_iterations{15};
+  int max_iterations{30};  ///< Ceres iterations, rejected steps included (greybox_fit.cc Solve)
   double function_tolerance{1e-6};
   /// FitModelJoint multi-starts its last effect; false: every effect starts from `start.fx`
   /// (a refinement of a previous fit).
