@@ -129,6 +129,38 @@ TEST(SkillItemsTest, DriveIntoTheDoorFrameFailsNamingTheFrame) {
   EXPECT_NE(s.score.reason.find("door_frame_left"), std::string::npos) << s.score.reason;
 }
 
+// A driver who starts 0.15 m left of the doorway's axis, drives into the left frame at 0.59 m/s,
+// backs off 0.9 m, turns right, moves over, turns back and passes: the goal is reached with one
+// contact, pass with difficulty, and the reason names the frame, the time and the speed.
+TEST(SkillItemsTest, BumpingTheDoorFrameThenPassingIsPassWithDifficulty) {
+  const std::string table =
+      "table:\n"
+      "      - [0.0, 0.0, 0.0]\n      - [0.5, 0.4, 0.0]\n      - [4.4, 0.4, 0.0]\n      - [4.6, 0.0, 0.0]\n"
+      "      - [5.0, -0.4, 0.0]\n      - [9.0, -0.4, 0.0]\n      - [9.2, 0.0, 0.0]\n"      // back off
+      "      - [9.4, 0.0, -0.3]\n      - [10.0, 0.0, -0.3]\n      - [10.2, 0.0, 0.0]\n"     // turn right
+      "      - [10.6, 0.4, 0.0]\n      - [11.6, 0.4, 0.0]\n      - [11.8, 0.0, 0.0]\n"     // move over
+      "      - [12.2, 0.0, 0.3]\n      - [12.55, 0.0, 0.3]\n      - [12.75, 0.0, 0.0]\n"    // turn back
+      "      - [13.4, 0.4, 0.0]\n      - [20.0, 0.4, 0.0]\n      - [20.3, 0.0, 0.0]";     // through
+  std::string text = Text(kSkills / "wst_gets_through_doorway.yaml");
+  for (const auto& [from, to] : {std::pair<std::string, std::string>{"driver: {speed_mps: 0.8, lookahead_m: 0.9}", table},
+                                 {"position_m: [0, 0]", "position_m: [0, 0.15]"},
+                                 {"duration_s: 15", "duration_s: 24"}}) {
+    const std::size_t at = text.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+  }
+  const Scored s = Drive(ParseScene(text, kSkills / "wst_gets_through_doorway_bumped.yaml"));
+  EXPECT_EQ(s.score.level, SkillLevel::kPassWithDifficulty) << s.score.reason;
+  ASSERT_EQ(s.score.contacts.size(), 1u) << s.score.reason;
+  EXPECT_EQ(s.score.contacts[0].what, "door_frame_left");
+  EXPECT_GT(s.score.contacts[0].speed_mps, 0.5);
+  // the chair's front (0.63 m ahead of O_V) meets the frame's face (2.95 m) after 2.32 m at 0.59 m/s
+  EXPECT_NEAR(s.score.contacts[0].t_s, 0.5 + 2.32 / 0.59, 0.5);
+  ASSERT_TRUE(s.score.time_s.has_value());
+  EXPECT_GT(*s.score.time_s, 13.4);  // after the second approach
+  EXPECT_NE(s.score.reason.find("with 1 contact (door_frame_left at t = "), std::string::npos) << s.score.reason;
+}
+
 // The 5 cm level change raised to 0.35 m under the left wheels only: the floor rolls the chair by
 // asin(0.35 / 0.56) = 39 deg, beyond its static roll limit atan(0.28 / 0.43) = 33 deg (half track
 // over the centre of mass height): it tips over, and the item fails for that.
