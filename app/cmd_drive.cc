@@ -32,6 +32,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
+#include "app/output_folder.h"
 #include "app/stop_signal.h"
 #include "engine/trial_table.h"
 #include "engine/vehicle/car_scene.h"
@@ -66,7 +67,7 @@ const CommandSpec& DriveSpec() {
           {"device", "NAME", "-", "", "part of the joystick's name (default: session.controls.device or the first)"},
           {"duration", "S", "s", "", "drive time (default: the scene's duration_s; a recorded joystick, rnet-log:FILE, ends the drive when its log ends)"},
           {"no-realtime", "", "-", "", "step as fast as possible instead of at the clock rate"},
-          {"out", "DIR", "-", "out/drive", "output folder (drive.csv; with --can: session.log, can.log, report.json, joystick.json)"},
+          OutOption("drive", "drive.csv, mca.png; with --can: session.log, can.log, report.json, joystick.json; a circuit: also training.md and the figures of pwsim run"),
           McaAlgorithmOptionSpec(),
           PlatformOptionSpec(),
       },
@@ -292,7 +293,10 @@ int DriveCommand(const ParsedArgs& args) {
     const std::unique_ptr<hw::JoystickSource> joystick = OpenJoystick(
         args.Get("joystick"), scene.clock.rate_hz, args.GetDouble("joystick-timeout-ms", 1.0, 10'000.0));
     duration = DriveDuration(duration, *joystick, scene.clock);
-    return DriveChairSession(args, scene, scene_path.string(), *joystick, duration, mca_config);
+    OutputFolder folder(OutDir(args), "drive");  // replaces what the last command wrote there
+    const int status = DriveChairSession(args, scene, scene_path.string(), *joystick, duration, mca_config);
+    folder.Print(std::cout, "pwsim drive");
+    return status;
   }
   const vehicle::CarScene scene = vehicle::LoadCarScene(scene_path);
   if (args.Has("platform")) throw UsageError("option --platform: a car scene drives its own platform (its platform: section)");
@@ -319,7 +323,10 @@ int DriveCommand(const ParsedArgs& args) {
   const std::int64_t ticks = scene.clock.TicksFor(duration);
   if (args.Has("can")) {
     if (!joystick) throw UsageError("option --can (a live session) needs --joystick");
-    return DriveSession(args, scene, *joystick, duration);
+    OutputFolder folder(OutDir(args), "drive");  // replaces what the last command wrote there
+    const int status = DriveSession(args, scene, *joystick, duration);
+    folder.Print(std::cout, "pwsim drive");
+    return status;
   }
 
   std::unique_ptr<hw::SdlWheel> wheel;
@@ -334,6 +341,7 @@ int DriveCommand(const ParsedArgs& args) {
   }
   const mca::McaConfig mca_config = DriveMcaConfig(args, scene);
   hw::CarLiveLoop loop(scene, mca_config);
+  OutputFolder folder(OutDir(args), "drive");  // replaces what the last command wrote there
   std::cout << "pwsim drive: mca " << mca::McaAlgorithmName(mca_config.algorithm) << " on platform '"
             << mca_config.platform.name << "'\n";
   const std::size_t rows = static_cast<std::size_t>(ticks) + 1;
@@ -401,8 +409,7 @@ int DriveCommand(const ParsedArgs& args) {
   table.Add("false_cue_surge_mps2", cut(cue_x));
   table.Add("false_cue_sway_mps2", cut(cue_y));
   table.Add("tick_lateness_us", cut(late));
-  const std::filesystem::path out = args.Get("out");
-  std::filesystem::create_directories(out);
+  const std::filesystem::path out = folder.dir();
   table.WriteCsv(out / "drive.csv");
   // the figure `pwsim run` writes for a car (mca.png, report/car_run.h), of the car as driven
   report::McaChoice choice;
@@ -411,8 +418,8 @@ int DriveCommand(const ParsedArgs& args) {
   TrialTable run_table = report::CarColumns(scene, samples);
   nlohmann::ordered_json summary;
   report::AddCarCueing(scene, samples, run_table, summary, out, choice);
-  std::cout << "pwsim drive: " << done << " ticks" << (StopRequested().load() ? " (stopped)" : "") << "; wrote "
-            << (out / "drive.csv").string() << ", " << (out / "mca.png").string() << "\n";
+  std::cout << "pwsim drive: " << done << " ticks" << (StopRequested().load() ? " (stopped)" : "") << "\n";
+  folder.Print(std::cout, "pwsim drive");
   return 0;
 }
 

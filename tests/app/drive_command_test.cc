@@ -182,13 +182,22 @@ std::vector<std::map<std::string, std::string>> ReadCsvRows(const fs::path& file
 
 // Tests that a car drive (the scene's own controls, not real time) draws the figure `pwsim run`
 // draws for a car, of the car as driven: mca.png's rail position is drive.csv's platform
-// command at every plotted time, exactly.
+// command at every plotted time, exactly; into a folder where `study plan` wrote, the drive
+// leaves none of the plan's files and lists its own.
 TEST(DriveCommand, CarDriveDrawsTheCueingFigureOfTheDrive) {
   const fs::path dir = Scratch("car");
+  ChildProcess plan({kPwsim, "study", "plan", "--out", (dir / "o").string()});  // another command's outputs there
+  ASSERT_EQ(plan.Wait(), 0) << plan.Output();
+  ASSERT_TRUE(fs::exists(dir / "o" / "plan.csv"));
   ChildProcess drive({kPwsim, "drive", std::string(PWSIM_SOURCE_DIR) + "/scenes/car_launch.yaml", "--no-realtime",
                       "--duration", "6", "--out", (dir / "o").string()});
   ASSERT_EQ(drive.Wait(), 0) << drive.Output();
   ASSERT_TRUE(fs::exists(dir / "o" / "mca.png")) << drive.Output();
+  // the drive replaced the plan's files and lists its own (app/output_folder.h)
+  EXPECT_FALSE(fs::exists(dir / "o" / "plan.csv"));
+  EXPECT_FALSE(fs::exists(dir / "o" / "ratings_template.csv"));
+  for (const char* file : {"drive.csv", "mca.png", "mca.svg"})
+    EXPECT_NE(drive.Output().find("  " + (dir / "o" / file).string() + "\n"), std::string::npos) << file << drive.Output();
   std::map<long, double> command;  // by tick (1 kHz)
   for (const auto& row : ReadCsvRows(dir / "o" / "drive.csv"))
     command[std::lround(std::stod(row.at("t_s")) * 1000.0)] = std::stod(row.at("plat_surge_m"));
