@@ -164,9 +164,13 @@ int Submit(const ParsedArgs& args) {
       }
     }
   }
-  options.log = &std::cout;
+  Progress progress("pwsim sweep submit", args.Flag("quiet"));  // stages on stderr (app/progress.h)
+  ProgressLog log(progress, std::cout);  // the engine's lines on stdout, never on the progress line
+  options.log = &log;
+  options.progress = progress.callback();
   const sweep::SubmitReport report =
       engine == "slurm" ? sweep::SubmitSlurm(manifest, options) : sweep::SubmitLocal(manifest, options);
+  progress.Finish();
   std::cout << "pwsim sweep submit: " << report.ok.size() << " of " << manifest.tasks.size() << " tasks ok";
   if (!report.bad_input.empty()) std::cout << ", bad input: " << sweep::ArrayList(report.bad_input);
   if (!report.failed.empty()) std::cout << ", failed after retries: " << sweep::ArrayList(report.failed);

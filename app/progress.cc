@@ -74,7 +74,15 @@ void Progress::Report(std::string_view stage, int done, int total) {
 
 void Progress::Draw(const std::string& line) {
   out_ << "\r" << line << "\x1b[K" << std::flush;  // the line rewritten in place, its old tail erased
+  shown_ = line;
   line_open_ = true;
+}
+
+void Progress::Line(std::ostream& to, const std::string& line) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  if (line_open_) out_ << "\r\x1b[K" << std::flush;
+  to << line << "\n" << std::flush;
+  if (line_open_) out_ << "\r" << shown_ << "\x1b[K" << std::flush;
 }
 
 ProgressCallback Progress::callback() {
@@ -87,6 +95,19 @@ void Progress::Finish() {
   if (line_open_) out_ << "\r\x1b[K" << std::flush;
   line_open_ = false;
   stage_.clear();
+}
+
+ProgressLog::ProgressLog(Progress& progress, std::ostream& to) : std::ostream(&buffer_), buffer_(progress, to) {}
+
+int ProgressLog::Buffer::overflow(int c) {
+  if (c == traits_type::eof()) return traits_type::not_eof(c);
+  if (c == '\n') {
+    progress_.Line(to_, line_);
+    line_.clear();
+  } else {
+    line_ += static_cast<char>(c);
+  }
+  return c;
 }
 
 OptionSpec QuietOption() {

@@ -54,6 +54,9 @@ class Progress {
   ProgressCallback callback();
   /// Erases the terminal line; later reports draw again.
   void Finish();
+  /// Writes `line` and a newline to `to` (e.g. std::cout) with the terminal line erased first
+  /// and drawn again after it, so that the two never share a line; quiet or piped: `line` alone.
+  void Line(std::ostream& to, const std::string& line);
 
   /// A duration as shown: "12 s", "3 min 05 s", "2 h 10 min".
   static std::string FormatSeconds(double seconds);
@@ -74,6 +77,7 @@ class Progress {
   double redraw_s_;
   std::mutex mutex_;
   std::string stage_;                      ///< the stage shown last
+  std::string shown_;                      ///< the terminal line shown last
   std::map<std::string, StageClock> clocks_;
   double last_draw_s_{-1e300};
   bool line_open_{false};  ///< a terminal line is on screen
@@ -81,5 +85,27 @@ class Progress {
 
 /// --quiet: no progress on stderr (the command's results on stdout are unchanged).
 OptionSpec QuietOption();
+
+/// An output stream whose lines go through Progress::Line to `to`: for a library that logs its
+/// own lines (sweep::EngineOptions::log) while the progress is shown.
+class ProgressLog : public std::ostream {
+ public:
+  ProgressLog(Progress& progress, std::ostream& to);
+
+ private:
+  class Buffer : public std::streambuf {
+   public:
+    Buffer(Progress& progress, std::ostream& to) : progress_(progress), to_(to) {}
+
+   protected:
+    int overflow(int c) override;
+
+   private:
+    Progress& progress_;
+    std::ostream& to_;
+    std::string line_;
+  };
+  Buffer buffer_;
+};
 
 }  // namespace pwsim::app

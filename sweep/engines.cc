@@ -86,6 +86,12 @@ SubmitReport SubmitLocal(const Manifest& manifest, const EngineOptions& options)
                    " tasks to run, at most " + std::to_string(parallel) + " at a time");
   std::map<pid_t, std::size_t> running;
   std::map<std::size_t, int> runs;
+  const int to_run = static_cast<int>(queue.size());
+  int finished = 0;
+  const auto told = [&] {
+    if (options.progress) options.progress("run the tasks", finished, to_run);
+  };
+  told();
   while (!queue.empty() || !running.empty()) {
     while (!queue.empty() && static_cast<int>(running.size()) < parallel) {
       const std::size_t index = queue.front();
@@ -117,10 +123,12 @@ SubmitReport SubmitLocal(const Manifest& manifest, const EngineOptions& options)
     if (exit.exited && exit.code == kExitOk && result == "ok") {
       report.ok.push_back(index);
       Log(options, "local: task " + std::to_string(index) + " ok");
+      ++finished;
     } else if (exit.exited && (exit.code == kExitBadInput || exit.code == 2) ) {
       report.bad_input.push_back(index);
       Log(options, "local: task " + std::to_string(index) + " bad input (" + how + "), not retried; see " +
                        (TaskDir(manifest.dir, index) / "result.json").string());
+      ++finished;
     } else if (runs[index] <= retries) {
       queue.push_back(index);
       Log(options, "local: task " + std::to_string(index) + " failed (" + how + "), resubmitted (" +
@@ -129,7 +137,9 @@ SubmitReport SubmitLocal(const Manifest& manifest, const EngineOptions& options)
       report.failed.push_back(index);
       Log(options, "local: task " + std::to_string(index) + " failed (" + how + ") after " +
                        std::to_string(retries) + " retries");
+      ++finished;
     }
+    told();
   }
   std::sort(report.ok.begin(), report.ok.end());
   return report;

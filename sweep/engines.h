@@ -9,8 +9,10 @@
 //        (when the cluster keeps accounting), and resubmits the retryable tasks as a new array.
 
 #include <filesystem>
+#include <functional>
 #include <ostream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "sweep/plan.h"
@@ -25,6 +27,9 @@ struct EngineOptions {
   std::size_t max_array_size{0};    ///< slurm: 0 = read MaxArraySize from `scontrol show config`
   std::vector<std::string> sbatch_options;  ///< slurm: more sbatch words for this submission
   std::ostream* log{nullptr};       ///< progress lines (may be null)
+  /// local: told ("run the tasks", tasks finished, tasks to run) at the start and as each task
+  /// ends for good (ok, bad input, or failed after its retries); none: not told.
+  std::function<void(std::string_view stage, int done, int total)> progress;
 };
 
 struct SubmitReport {

@@ -109,6 +109,30 @@ TEST(Progress, QuietPrintsNothing) {
   }
 }
 
+// Tests other output while the progress is shown: on a terminal the progress line is erased
+// before the other line (written to its own stream) and drawn again after it; piped, the other
+// line alone. ProgressLog hands a library's log lines over whole, one per newline.
+TEST(Progress, OtherLinesNeverShareTheProgressLine) {
+  FakeClock clock;
+  std::ostringstream err, out;
+  Progress progress("p", false, true, err, clock.Fn());
+  progress.Report("run the tasks", 1, 4);
+  err.str("");
+  {
+    ProgressLog log(progress, out);
+    log << "local: task 2 ok\n" << "local: task " << 3 << " ok\n";
+  }
+  EXPECT_EQ(out.str(), "local: task 2 ok\nlocal: task 3 ok\n");
+  EXPECT_EQ(err.str(), "\r\x1b[K\rp: run the tasks 1/4\x1b[K\r\x1b[K\rp: run the tasks 1/4\x1b[K");
+
+  std::ostringstream piped_err, piped_out;
+  Progress piped("p", false, false, piped_err, clock.Fn());
+  piped.Stage("run the tasks", 4);
+  piped.Line(piped_out, "local: task 2 ok");
+  EXPECT_EQ(piped_out.str(), "local: task 2 ok\n");
+  EXPECT_EQ(piped_err.str(), "p: run the tasks (0/4)\n");
+}
+
 TEST(Progress, FormatsDurations) {
   EXPECT_EQ(Progress::FormatSeconds(0.4), "0 s");
   EXPECT_EQ(Progress::FormatSeconds(59.4), "59 s");
