@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "engine/check.h"
@@ -469,6 +470,228 @@ CircuitSpec ParseCircuit(YamlMap& map, const Chair& chair, double load_kg) {
     map.Fail("start", "a start pose clear of every wall and obstacle", "the chair's footprint overlaps " + what);
   }
   return circuit;
+}
+
+namespace {
+
+/// Peak responses of one base-excited axis J ẍ = C (ẏ − ẋ) + K (y − x) + Γ (ComputeHeadForceBound,
+/// link 5) to a unit step of the base's rate (y = t) and to a unit step of Γ, integrated by RK4
+/// at 1/1000 of a radian until e^-40 of the decay.
+struct AxisGains {
+  double rate_to_rate{1.0};      ///< max |ẋ| / ẏ (the overshoot) [-]
+  double rate_to_accel{0.0};     ///< max |ẍ| / ẏ (C/J at the step) [1/s]
+  double torque_to_rate{0.0};    ///< max |ẋ| / Γ [1/(kg m² s) s]
+  double torque_to_accel{0.0};   ///< max |ẍ| / Γ (1/J at the step)
+};
+
+AxisGains GainsOf(double inertia, double damping, double stiffness) {
+  AxisGains gains;
+  if (!(damping > 0.0 && stiffness > 0.0 && inertia > 0.0)) {
+    const double inf = std::numeric_limits<double>::infinity();
+    return {inf, inf, inf, inf};
+  }
+  const double omega = std::sqrt(stiffness / inertia);
+  const double zeta = damping / (2.0 * std::sqrt(stiffness * inertia));
+  const double h = 1e-3 / omega;
+  const long steps = static_cast<long>(40.0 / (zeta * omega) / h) + 1;
+  // x relative to the base (e = x − y, ė = ẋ − ẏ), base rate `rate` and torque `torque` held:
+  // ë = (−C ė − K e + Γ) / J; the absolute ẋ = ė + rate, ẍ = ë
+  const auto peaks = [&](double rate, double torque, double& rate_peak, double& accel_peak) {
+    double e = 0.0, de = -rate;  // at 0+: the body still, the base moving
+    const auto accel = [&](double ee, double dd) { return (-damping * dd - stiffness * ee + torque) / inertia; };
+    rate_peak = 0.0;
+    accel_peak = std::abs(accel(e, de));
+    for (long k = 0; k < steps; ++k) {
+      const double a1 = accel(e, de);
+      const double e2 = e + 0.5 * h * de, d2 = de + 0.5 * h * a1, a2 = accel(e2, d2);
+      const double e3 = e + 0.5 * h * d2, d3 = de + 0.5 * h * a2, a3 = accel(e3, d3);
+      const double e4 = e + h * d3, d4 = de + h * a3, a4 = accel(e4, d4);
+      e += h / 6.0 * (de + 2.0 * d2 + 2.0 * d3 + d4);
+      de += h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4);
+      rate_peak = std::max(rate_peak, std::abs(de + rate));
+      accel_peak = std::max(accel_peak, std::abs(accel(e, de)));
+    }
+  };
+  peaks(1.0, 0.0, gains.rate_to_rate, gains.rate_to_accel);
+  peaks(0.0, 1.0, gains.torque_to_rate, gains.torque_to_accel);
+  return gains;
+}
+
+/// Steepest slope of the envelope of a wheel of radius R over an edge of height h (tan β, where
+/// the disc first touches the edge); ∞ at h >= R or for a point (R = 0).
+double EdgeSlope(double h, double radius) {
+  h = std::abs(h);
+  if (h == 0.0) return 0.0;
+  if (!(radius > h)) return std::numeric_limits<double>::infinity();
+  return std::sqrt(2.0 * radius * h - h * h) / (radius - h);
+}
+
+/// A rise of h over a taper r taken by that wheel: min(h / r, tan β).
+double RiseSlope(double h, double ramp, double radius) {
+  const double taper = ramp > 0.0 ? std::abs(h) / ramp : std::numeric_limits<double>::infinity();
+  return std::min(taper, EdgeSlope(h, radius));
+}
+
+bool Overlap(const FloorFeature& a, const FloorFeature& b) {
+  return a.x_min < b.x_max && b.x_min < a.x_max && a.y_min < b.y_max && b.y_min < a.y_max;
+}
+
+/// max |plane value| over its rectangle [m].
+double PlaneRise(const FloorFeature& f) {
+  const double xc = f.has_origin ? f.origin_x : 0.5 * (f.x_min + f.x_max);
+  const double yc = f.has_origin ? f.origin_y : 0.5 * (f.y_min + f.y_max);
+  return std::abs(f.grade_x) * std::max(std::abs(f.x_max - xc), std::abs(f.x_min - xc)) +
+         std::abs(f.grade_y) * std::max(std::abs(f.y_max - yc), std::abs(f.y_min - yc));
+}
+
+}  // namespace
+
+HeadForceBound ComputeHeadForceBound(const Chair& chair, const CircuitSpec& circuit, double load_kg,
+                                     PitchTorqueParams pitch_torque, const std::array<double, 3>& head_offset,
+                                     double peak_speed, double peak_yaw_rate) {
+  PWSIM_DEMAND(chair.gm.has_value() && chair.lm.has_value());
+  const double g = kStandardGravity;
+  const PlanarLayout& layout = circuit.layout;
+  const FloorMap& floor = circuit.floor;
+  const int rows = chair.wheel_count();
+  HeadForceBound bound;
+
+  // the floor: its grades, its highest bump
+  double grade = 0.0, bump_max = 0.0;
+  for (const FloorFeature& f : floor.features) {
+    if (f.kind == FloorFeature::Kind::kPlane) {
+      grade += std::hypot(f.grade_x, f.grade_y);
+    } else {
+      bump_max = std::max(bump_max, std::abs(f.height));
+    }
+  }
+  double profile_slope = 0.0, profile_range = 0.0;
+  const Terrain& p = floor.profile;
+  for (std::size_t k = 0; k + 1 < p.x.size(); ++k) profile_slope = std::max(profile_slope, std::abs((p.z[k + 1] - p.z[k]) / (p.x[k + 1] - p.x[k])));
+  for (double z : p.z) profile_range = std::max(profile_range, std::abs(z));
+  double grid_slope = 0.0, grid_range = 0.0;
+  if (floor.grid) {
+    const HeightGrid& grid = *floor.grid;
+    for (int j = 0; j < grid.ny; ++j) {
+      for (int i = 0; i < grid.nx; ++i) {
+        const double z = grid.z[static_cast<std::size_t>(j * grid.nx + i)];
+        grid_range = std::max(grid_range, std::abs(z));
+        if (i + 1 < grid.nx) grid_slope = std::max(grid_slope, std::abs(grid.z[static_cast<std::size_t>(j * grid.nx + i + 1)] - z) / grid.cell);
+        if (j + 1 < grid.ny) grid_slope = std::max(grid_slope, std::abs(grid.z[static_cast<std::size_t>((j + 1) * grid.nx + i)] - z) / grid.cell);
+      }
+    }
+  }
+  grade += profile_slope;
+
+  // 1. wheel speed over the floor
+  int drive_row = 0;
+  for (int i = 0; i < rows; ++i) {
+    if (layout.rows[static_cast<std::size_t>(i)].role == WheelRole::kDrive) drive_row = i;
+  }
+  const double drive_x = chair.wheels[static_cast<std::size_t>(drive_row)].x;
+  double reach = 0.0;
+  for (int i = 0; i < rows; ++i) {
+    const WheelRow& row = layout.rows[static_cast<std::size_t>(i)];
+    const double trail = row.role == WheelRole::kCaster ? layout.caster.trail : 0.0;
+    reach = std::max(reach, std::hypot(std::abs(chair.wheels[static_cast<std::size_t>(i)].x - drive_x) + trail, row.half_track));
+  }
+  bound.wheel_speed = peak_speed + peak_yaw_rate * reach;
+
+  // 2.-3. per row: the steepest envelope and the contact's vertical speed through the tyre
+  for (int i = 0; i < rows; ++i) {
+    const WheelRow& row = layout.rows[static_cast<std::size_t>(i)];
+    const double radius = layout.rolling_envelope ? chair.wheels[static_cast<std::size_t>(i)].radius : 0.0;
+    double bumps = 0.0, planes = 0.0;
+    for (std::size_t a = 0; a < floor.features.size(); ++a) {
+      const FloorFeature& f = floor.features[a];
+      if (f.kind == FloorFeature::Kind::kPlane) {
+        const double edge = PlaneRise(f);
+        planes += std::hypot(f.grade_x, f.grade_y) + (edge > 0.0 ? RiseSlope(edge, f.ramp, radius) : 0.0);
+        continue;
+      }
+      double here = RiseSlope(f.height, f.ramp, radius);
+      for (std::size_t b = 0; b < floor.features.size(); ++b) {
+        const FloorFeature& o = floor.features[b];
+        if (b != a && o.kind == FloorFeature::Kind::kBump && Overlap(f, o)) here += RiseSlope(o.height, o.ramp, radius);
+      }
+      bumps = std::max(bumps, here);
+    }
+    double grid_edge = 0.0;
+    if (floor.grid) grid_edge = EdgeSlope(grid_range, radius) + grid_slope;
+    const double profile_edge = p.x.empty() ? 0.0 : EdgeSlope(std::max(std::abs(p.z.front()), std::abs(p.z.back())), radius);
+    const double slope = bumps + planes + profile_slope + profile_edge + grid_edge;
+    bound.envelope_slope.push_back(slope);
+    const double period = !layout.rolling_envelope ? 0.0
+                          : row.role == WheelRole::kDrive ? layout.drive_tyre_period : layout.caster_tyre_period;
+    double tyre_gain = 1.0;
+    if (period > 0.0) {
+      const double omega = 2.0 * std::numbers::pi / period;
+      tyre_gain = GainsOf(1.0, 2.0 * layout.tyre_damping * omega, omega * omega).rate_to_rate;
+    }
+    // a wheel leaves an edge where its centre's arc asks more than g (v² / R > g): free fall
+    const bool flies = bound.wheel_speed * bound.wheel_speed > g * radius;
+    bound.contact_rate.push_back(std::max(tyre_gain * bound.wheel_speed * slope, flies ? std::sqrt(2.0 * g * bump_max) : 0.0));
+  }
+
+  // 4. the GM's rates, one wheel row meeting an edge at a time
+  const std::vector<double>& alpha = chair.gm->alpha;
+  double track_min = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < rows; ++i) {
+    const auto u = static_cast<std::size_t>(i);
+    const double rate = bound.contact_rate[u];
+    if (alpha[u] != 0.0) bound.gm_z_rate = std::max(bound.gm_z_rate, std::abs(alpha[u]) * rate);
+    double pitch_rate = 0.0;
+    for (const PairWeight& pair : chair.gm->beta) {
+      if ((pair.i != i && pair.j != i) || pair.weight == 0.0) continue;
+      const double dx = std::abs(chair.wheels[static_cast<std::size_t>(pair.i)].x - chair.wheels[static_cast<std::size_t>(pair.j)].x);
+      const double s = std::min(0.99, grade + bump_max / dx);
+      pitch_rate += std::abs(pair.weight) * rate / (dx * std::sqrt(1.0 - s * s));
+    }
+    bound.gm_pitch_rate = std::max(bound.gm_pitch_rate, pitch_rate);
+    const WheelRow& row = layout.rows[u];
+    const double w = 2.0 * row.half_track;
+    track_min = std::min(track_min, w);
+    const double s = std::min(0.99, grade + bump_max / w);
+    if (row.roll_weight != 0.0) bound.gm_roll_rate = std::max(bound.gm_roll_rate, std::abs(row.roll_weight) * rate / (w * std::sqrt(1.0 - s * s)));
+  }
+
+  // 6. the planar motion (before 5: the torques follow the accelerations)
+  const double mass = MovingMass(chair, load_kg);
+  const double e = layout.cm_x - drive_x;
+  const double yaw_inertia = layout.yaw_inertia * mass / chair.mass + mass * e * e;
+  const double track = 2.0 * layout.rows[static_cast<std::size_t>(drive_row)].half_track;
+  const double a_x = layout.friction * g + g * grade + (layout.caster.rolling_resistance + layout.rolling_resistance) * g +
+                     std::abs(e) * peak_yaw_rate * peak_yaw_rate;
+  bound.yaw_accel = layout.friction * mass * g * track / yaw_inertia;
+  const double a_y = peak_speed * peak_yaw_rate + std::abs(drive_x) * bound.yaw_accel;
+  bound.planar_accel = std::hypot(a_x, a_y);
+
+  // 5. the LM axes
+  const LumpedModelParams lm = MakeLumpedModelParams(chair, load_kg);
+  const AxisGains heave = GainsOf(lm.heave.inertia, lm.heave.damping, lm.heave.stiffness);
+  const AxisGains pitch = GainsOf(lm.pitch.inertia, lm.pitch.damping, lm.pitch.stiffness);
+  const AxisGains roll = GainsOf(layout.roll_inertia + chair.cm_height * chair.cm_height * mass, layout.c_roll, layout.k_roll);
+  const double roll_floor = std::asin(std::min(1.0, (bump_max + grid_range) / track_min)) + std::atan(grade);
+  const double pitch_torque_dev = std::abs(pitch_torque.per_accel) * a_x;
+  const double roll_torque_dev = std::abs(circuit.roll_torque.per_lateral_accel) * a_y +
+                                 std::abs(circuit.roll_torque.gravity_lever) * g * std::sin(std::min(roll_floor, std::numbers::pi / 2));
+  bound.heave_accel = heave.rate_to_accel * bound.gm_z_rate;
+  bound.pitch_accel = pitch.rate_to_accel * bound.gm_pitch_rate + pitch.torque_to_accel * pitch_torque_dev;
+  bound.pitch_rate = pitch.rate_to_rate * bound.gm_pitch_rate + pitch.torque_to_rate * pitch_torque_dev;
+  bound.roll_accel = roll.rate_to_accel * bound.gm_roll_rate + roll.torque_to_accel * roll_torque_dev;
+  bound.roll_rate = roll.rate_to_rate * bound.gm_roll_rate + roll.torque_to_rate * roll_torque_dev;
+
+  // 7. the head
+  const double wheelbase = std::abs(chair.wheels.front().x - chair.wheels.back().x);
+  const double pitch_floor = std::asin(std::min(1.0, (bump_max + grid_range) / wheelbase)) + std::atan(grade);
+  bound.tilt = pitch.rate_to_rate * pitch_floor + roll.rate_to_rate * roll_floor;
+  const double r = std::sqrt(head_offset[0] * head_offset[0] + head_offset[1] * head_offset[1] + head_offset[2] * head_offset[2]);
+  const double r_h = std::hypot(head_offset[0], head_offset[1]);
+  // |Ω|² = φ̇² + θ̇² + ω² to first order in the tilts
+  const double spin2 = bound.roll_rate * bound.roll_rate + bound.pitch_rate * bound.pitch_rate + peak_yaw_rate * peak_yaw_rate;
+  bound.total = bound.planar_accel + bound.heave_accel + r * (bound.roll_accel + bound.pitch_accel + spin2) +
+                r_h * bound.yaw_accel + g * bound.tilt;
+  return bound;
 }
 
 CircuitRunner::CircuitRunner(const Chair& chair, const CircuitSpec& circuit, double load_kg, double dt,

@@ -23,6 +23,7 @@
 // [0, 1] forward and [-1, 1] turn: the driver knows the chair it drives. At the path's end the
 // joystick is released.
 
+#include <array>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -124,6 +125,58 @@ double PointSegmentDistance(Point2 p, Point2 a, Point2 b);
 
 /// A contact ends when the chair is this far clear of everything it touched [m].
 inline constexpr double kContactReleaseGap = 0.01;
+
+/// Plausibility bound on the occupant's head specific force over a circuit: how far
+/// f_H = R_HWᵀ (a_H − g_W) may depart from its rest value (0, 0, g) given the floor, the chair
+/// and the speeds driven. Derived link by link, each a worst case within two stated
+/// assumptions: (a) floor edges meet one wheel row at a time (rows further apart than a climb,
+/// √(2Rh − h²)), and (b) an edge is a step of the contact's vertical speed (the disc's first
+/// touch) that then decays along the arc, so each linear link passes it with the peak of its
+/// step response (its overshoot), not its L1 norm:
+///  1. wheel speed over the floor v_w = v_peak + ω_peak ρ (ρ: the farthest contact from D);
+///  2. the steepest envelope under a wheel of radius R: for a bump of height h tapered over r,
+///     S = min(h / r, tan β), tan β = √(2Rh − h²) / (R − h) the slope at which the disc first
+///     touches the edge (∞ for h >= R: a wall, or for a point contact on a sharp step); a
+///     plane's grade plus its taper's rise over r; a profile's or grid's steepest piece; bumps
+///     taken one at a time (summed where they overlap), planes, profile and grid added;
+///  3. the contact's vertical speed through the tyre, V = max(N_t v_w S, √(2 g h_max)), N_t the
+///     tyre's rate overshoot, the second term a free fall off the highest bump where
+///     v_w² / R > g;
+///  4. the GM's rates with one row on an edge: Ż_GM <= α_i V_i, θ̇_GM <= Σ_j β_ij V_i / (Δx_ij cos),
+///     φ̇_GM <= |γ_i| V_i / (w_i cos) (cos of the steepest asin argument, G + h_max / Δx), the
+///     largest row;
+///  5. each LM axis (J, C, K) with step peaks: accel <= (max |ẍ| per unit step of ẏ) rate
+///     (C/J at the step), rate <= overshoot × rate; its torque deviation ΔΓ likewise
+///     (1/J at the step); ΔΓ_θ = |per_accel| a_x, ΔΓ_φ = M d (a_y + g sin φ_floor);
+///  6. the planar motion: a_x <= μ g + g G + (f_c + f_r) g + |e| ω², a_y <= v ω + |x_D| ω̇,
+///     ω̇ <= μ M g b / I_D (both drive wheels at their grip, opposite);
+///  7. the head at r = |p_VH| (its horizontal part r_h): |a_H| <= |a_O| + |Z̈_M|
+///     + r (|φ̈| + |θ̈| + φ̇² + θ̇² + ω²) + r_h ω̇, plus the tilt's share of gravity
+///     g (φ_max + θ_max), the tilts from the floor (bump height over track and wheelbase, grade)
+///     times the axes' overshoot.
+/// A wall contact is a rigid impact (the normal speed lost within a tick, an impulse): the bound
+/// holds away from wall contacts, whose approach speeds are reported on their own.
+struct HeadForceBound {
+  double wheel_speed{0.0};                    ///< v_w [m/s]
+  std::vector<double> envelope_slope;         ///< S per wheel row [-]
+  std::vector<double> contact_rate;           ///< V per wheel row [m/s]
+  double gm_z_rate{0.0}, gm_pitch_rate{0.0}, gm_roll_rate{0.0};  ///< [m/s], [rad/s]
+  double heave_accel{0.0};                    ///< |Z̈_M| [m/s²]
+  double pitch_accel{0.0}, roll_accel{0.0};   ///< [rad/s²]
+  double pitch_rate{0.0}, roll_rate{0.0};     ///< [rad/s]
+  double planar_accel{0.0};                   ///< |a_O| in the plane [m/s²]
+  double yaw_accel{0.0};                      ///< ω̇ [rad/s²]
+  double tilt{0.0};                           ///< φ_max + θ_max [rad]
+  double total{0.0};                          ///< bound on |f_H − (0, 0, g)| [m/s²]
+};
+
+/// The bound for `circuit` driven with the chair at most at `peak_speed` [m/s] and
+/// `peak_yaw_rate` [rad/s] (a run's own peaks, or the controller's maxima). Infinite where a
+/// floor feature is a step at least as high as a wheel's radius, or a sharp step taken by a
+/// point contact (rolling_envelope false).
+HeadForceBound ComputeHeadForceBound(const Chair& chair, const CircuitSpec& circuit, double load_kg,
+                                     PitchTorqueParams pitch_torque, const std::array<double, 3>& head_offset,
+                                     double peak_speed, double peak_yaw_rate);
 
 /// Runs one circuit on the clock: sample 0 is the start, then one sample per tick.
 class CircuitRunner {

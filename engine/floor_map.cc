@@ -170,11 +170,52 @@ double FloorMap::MaxHeightBound() const {
   return bound;
 }
 
-double FloorMap::EnvelopeOffLevel(double x_W, double y_W, double dir_x, double dir_y, double radius,
-                                  double z_point) const {
+bool FloorMap::LinearUnder(double x_W, double y_W, double dir_x, double dir_y, double radius, const FloorHint& hint,
+                           double& slope) const {
+  const double reach_x = radius * std::abs(dir_x), reach_y = radius * std::abs(dir_y);
+  const double lo = x_W - reach_x, hi = x_W + reach_x;
+  const bool layers = !features.empty() || grid.has_value();
+  // every layer but the active feature adds 0 under the disc
+  if (layers && !(lo > hint.clear_lo && hi < hint.clear_hi)) return false;
+  double m = 0.0;
+  const std::vector<double>& xs = profile.x;
+  if (!xs.empty() && !(hi < xs.front() || lo > xs.back())) {
+    const std::size_t k = hint.segment;
+    if (!(k + 1 < xs.size() && lo > xs[k] && hi < xs[k + 1])) return false;
+    m = (profile.z[k + 1] - profile.z[k]) / (xs[k + 1] - xs[k]) * dir_x;
+  }
+  if (layers && hint.active >= 0) {  // beside its y span (it adds 0), or its taper 1 under the whole disc
+    const FloorFeature& f = features[static_cast<std::size_t>(hint.active)];
+    if (y_W - reach_y > f.y_max || y_W + reach_y < f.y_min) {
+      slope = m;
+      return true;
+    }
+    if (!(lo > f.x_min + f.ramp && hi < f.x_max - f.ramp && y_W - reach_y > f.y_min + f.ramp &&
+          y_W + reach_y < f.y_max - f.ramp)) {
+      return false;
+    }
+    if (f.kind == FloorFeature::Kind::kPlane) m += f.grade_x * dir_x + f.grade_y * dir_y;
+  }
+  slope = m;
+  return true;
+}
+
+double FloorMap::EnvelopeOffLevel(double x_W, double y_W, double dir_x, double dir_y, double radius, double z_point,
+                                  const FloorHint& hint) const {
+  double m = 0.0;
+  if (LinearUnder(x_W, y_W, dir_x, dir_y, radius, hint, m)) {
+    // centre at the tangent point s* = R m / √(1 + m²): z_point + R (√(1 + m²) - 1)
+    return m == 0.0 ? z_point : z_point + radius * m * m / (1.0 + std::sqrt(1.0 + m * m));
+  }
+  return EnvelopeByBreakpoints(x_W, y_W, dir_x, dir_y, radius, z_point, hint);
+}
+
+double FloorMap::EnvelopeByBreakpoints(double x_W, double y_W, double dir_x, double dir_y, double radius,
+                                       double z_point, const FloorHint& hint) const {
+  FloorHint near = hint;  // the lookups under the disc start from the wheel's own (same bits as HeightAt)
   const double r = radius;
   // Breakpoints s in (-R, R) where the line p + s u crosses a knot of some layer.
-  std::array<double, kEnvelopeBreakpoints> knots{};
+  std::array<double, kEnvelopeBreakpoints> knots;  // the first n set (no zeroing: this runs per wheel per tick)
   int n = 0;
   bool overflow = false;
   const auto add = [&](double knot, double origin, double u) {
@@ -237,8 +278,8 @@ double FloorMap::EnvelopeOffLevel(double x_W, double y_W, double dir_x, double d
     const double sa = a + inset, sb = b - inset;
     a = b;
     if (!(sb > sa)) continue;
-    const double za = HeightAt(x_W + sa * dir_x, y_W + sa * dir_y);
-    const double zb = HeightAt(x_W + sb * dir_x, y_W + sb * dir_y);
+    const double za = HeightAtNear(x_W + sa * dir_x, y_W + sa * dir_y, near);
+    const double zb = HeightAtNear(x_W + sb * dir_x, y_W + sb * dir_y, near);
     best = std::max(best, std::max(candidate(sa, za), candidate(sb, zb)));
     const double m = (zb - za) / (sb - sa);
     const double tangent = r * m / std::sqrt(1.0 + m * m);  // where the line's slope meets the arc's

@@ -159,10 +159,22 @@ struct FloorMap {
   /// Radius 0: z_point. On a level piece holding the whole disc: z_point, without a lookup.
   double EnvelopeAt(double x_W, double y_W, double dir_x, double dir_y, double radius, double z_point,
                     const FloorHint& hint) const {
-    if (radius <= 0.0) return z_point;
-    if (hint.level_feature < 0 && x_W - radius > hint.level_lo && x_W + radius < hint.level_hi) return z_point;
-    return EnvelopeOffLevel(x_W, y_W, dir_x, dir_y, radius, z_point);
+    if (radius <= 0.0 || LevelUnder(x_W, y_W, radius, hint)) return z_point;
+    return EnvelopeOffLevel(x_W, y_W, dir_x, dir_y, radius, z_point, hint);
   }
+  /// Is the floor level under the whole disc: the hint's level piece holds it, with no feature
+  /// active or beside the active one's y span (where it adds 0)?
+  bool LevelUnder(double x_W, double y_W, double radius, const FloorHint& hint) const {
+    if (!(x_W - radius > hint.level_lo && x_W + radius < hint.level_hi)) return false;
+    if (hint.level_feature < 0) return true;
+    const FloorFeature& f = features[static_cast<std::size_t>(hint.level_feature)];
+    return y_W - radius > f.y_max || y_W + radius < f.y_min;
+  }
+  /// EnvelopeAt off a level piece. Where the floor along the wheel is one linear piece under the
+  /// whole disc (a profile segment, a plane feature's plateau: the hint tells), of slope m along
+  /// u, z_env = z_point + R (√(1 + m²) − 1) without a lookup; otherwise by the breakpoints.
+  double EnvelopeOffLevel(double x_W, double y_W, double dir_x, double dir_y, double radius, double z_point,
+                          const FloorHint& hint) const;
   /// The friction coefficient at (x, y): min(`wheel`, μ of every patch holding the point).
   double FrictionAt(double x_W, double y_W, double wheel) const {
     double mu = wheel;
@@ -174,7 +186,12 @@ struct FloorMap {
 
  private:
   /// EnvelopeAt by the breakpoints of the floor under the disc (see the header's comment).
-  double EnvelopeOffLevel(double x_W, double y_W, double dir_x, double dir_y, double radius, double z_point) const;
+  double EnvelopeByBreakpoints(double x_W, double y_W, double dir_x, double dir_y, double radius, double z_point,
+                               const FloorHint& hint) const;
+  /// The slope along (dir_x, dir_y) where the floor is one linear piece under the disc; false
+  /// where the hint cannot tell.
+  bool LinearUnder(double x_W, double y_W, double dir_x, double dir_y, double radius, const FloorHint& hint,
+                   double& slope) const;
   /// HeightAtNear outside the hint's level interval; sets the hint's intervals around x.
   double HeightAtNearUpdatingHint(double x_W, double y_W, FloorHint& hint) const;
   /// z_profile + Σ_k f_k + z_grid, summed in HeightAt's order; sets hint's clear interval.

@@ -352,19 +352,20 @@ void FullChairSimulator::ContactsAt(const PlanarState& pose, TyreUpdate update) 
     contact.y = pose.y + s * body_x_[k] + c * body_y_[k];
     const double point = floor_.HeightAtNear(contact.x, contact.y, floor_hints_[k]);
     double h = point;
-    if (envelope && radius_[k] > 0.0) {
+    if (envelope && radius_[k] > 0.0 && !floor_.LevelUnder(contact.x, contact.y, radius_[k], floor_hints_[k])) {
       // the wheel's heading in W: ψ, or ψ - δ for a caster (cos δ = 1, sin δ = 0 otherwise)
       const double ux = c * caster_cos_[k] + s * caster_sin_[k];
       const double uy = s * caster_cos_[k] - c * caster_sin_[k];
-      h = floor_.EnvelopeAt(contact.x, contact.y, ux, uy, radius_[k], point, floor_hints_[k]);
+      h = floor_.EnvelopeOffLevel(contact.x, contact.y, ux, uy, radius_[k], point, floor_hints_[k]);
     }
     contact.floor_z = h;
     if (update == TyreUpdate::kStep && tyre_omega2_[k] > 0.0) {
-      // the tyre (header): e = h - u, ė = ḣ - u̇; at rest on the floor nothing moves, exactly
-      const double floor_rate = (h - floor_z_before_[k]) * inv_dt_;
-      const double e = h - contact.z;
-      const double e_rate = floor_rate - tyre_rate_[k];
-      if (e != 0.0 || e_rate != 0.0) {
+      // the tyre (header): e = h - u, ė = ḣ - u̇; at rest on the floor (h unchanged, u = h,
+      // u̇ = 0) nothing moves, exactly
+      if (h != floor_z_before_[k] || contact.z != h || tyre_rate_[k] != 0.0) {
+        const double floor_rate = (h - floor_z_before_[k]) * inv_dt_;
+        const double e = h - contact.z;
+        const double e_rate = floor_rate - tyre_rate_[k];
         const double push = tyre_omega2_[k] * e + tyre_2zw_[k] * e_rate;
         const bool on_floor = e > -tyre_static_[k] && push > -kStandardGravity;
         tyre_rate_[k] += (on_floor ? push : -kStandardGravity) * lumped_.dt;

@@ -5,12 +5,16 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 #include <vector>
 
+#include "engine/circuit.h"
 #include "engine/floor_map.h"
 #include "engine/full_chair.h"
+#include "engine/scene.h"
 
 namespace pwsim {
 namespace {
@@ -184,6 +188,71 @@ TEST(WheelEnvelopeTest, LevelRestIsExactAndPointContactsFallIn) {
   EXPECT_NEAR(deepest(false), -0.05, 1e-12);
   // the envelope's V at the gap's middle (slope ±tan 30°) is sampled every v dt = 0.5 mm
   EXPECT_NEAR(deepest(true), -(0.1 - std::sqrt(0.1 * 0.1 - 0.05 * 0.05)), 0.6 * 0.5e-3);
+}
+
+using Vec3 = std::array<double, 3>;
+
+/// The head's position in W of a sample: p = (x, y, Z_M) + Rz(ψ) Ry(−θ_M) Rx(φ_M) p_VH.
+Vec3 HeadPosition(const FullChairSample& s, const Vec3& r) {
+  const double cr = std::cos(s.roll), sr = std::sin(s.roll);
+  const double cp = std::cos(-s.lm.pitch), sp = std::sin(-s.lm.pitch);
+  const double cy = std::cos(s.planar.yaw), sy = std::sin(s.planar.yaw);
+  const Vec3 a{r[0], cr * r[1] - sr * r[2], sr * r[1] + cr * r[2]};   // Rx
+  const Vec3 b{cp * a[0] + sp * a[2], a[1], -sp * a[0] + cp * a[2]};  // Ry
+  return {s.planar.x + cy * b[0] - sy * b[1], s.planar.y + sy * b[0] + cy * b[1], s.lm.z + b[2]};
+}
+
+/// |f_H − (0, 0, g)| at sample k by central differences: f_H = Rᵀ (p̈ + g e_z), so
+/// |f_H − g e_z| = |p̈ + g e_z − R g e_z| (a rotation keeps lengths).
+double HeadForceDeviation(const std::vector<FullChairSample>& run, std::size_t k, const Vec3& r, double dt) {
+  const Vec3 a = HeadPosition(run[k - 1], r), b = HeadPosition(run[k], r), c = HeadPosition(run[k + 1], r);
+  const FullChairSample& s = run[k];
+  // R e_z: the third column of Rz(ψ) Ry(−θ) Rx(φ)
+  const double cr = std::cos(s.roll), sr = std::sin(s.roll), cp = std::cos(-s.lm.pitch), sp = std::sin(-s.lm.pitch);
+  const double cy = std::cos(s.planar.yaw), sy = std::sin(s.planar.yaw);
+  const Vec3 col_b{cp * 0.0 + sp * cr, -sr, -sp * 0.0 + cp * cr};
+  const Vec3 up{cy * col_b[0] - sy * col_b[1], sy * col_b[0] + cy * col_b[1], col_b[2]};
+  double sum = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    const double accel = (c[i] - 2.0 * b[i] + a[i]) / (dt * dt) + (i == 2 ? kG : 0.0);
+    sum += (accel - kG * up[i]) * (accel - kG * up[i]);
+  }
+  return std::sqrt(sum);
+}
+
+// Tests the plausibility bound (engine/circuit.h ComputeHeadForceBound) on every shipped
+// circuit: the head's specific force, by central differences of the head's position written
+// here, stays within the bound computed from the run's own peak speed and yaw rate at every tick
+// away from a wall contact; the bound is finite (rolling envelope) and not vacuous (below
+// 100 g); with point contacts a sharp-edged floor admits no finite bound.
+TEST(HeadForceBoundTest, ShippedCircuitsStayWithinTheirBound) {
+  const std::filesystem::path scenes = std::filesystem::path(PWSIM_SOURCE_DIR) / "scenes";
+  for (const char* name : {"circuit_course.yaml", "circuit_room.yaml", "circuit_recorded.yaml"}) {
+    const Scene scene = LoadScene(scenes / name);
+    const std::vector<FullChairSample> run = SimulateCircuitScene(scene);
+    double peak_speed = 0.0, peak_yaw_rate = 0.0;
+    for (const FullChairSample& s : run) {
+      peak_speed = std::max(peak_speed, std::abs(s.planar.v));
+      peak_yaw_rate = std::max(peak_yaw_rate, std::abs(s.planar.yaw_rate));
+    }
+    const Vec3 r = scene.occupant.head_offset;
+    const HeadForceBound bound = ComputeHeadForceBound(scene.chair, *scene.circuit, scene.load_kg, scene.pitch_torque, r,
+                                                       peak_speed, peak_yaw_rate);
+    ASSERT_TRUE(std::isfinite(bound.total)) << name;
+    EXPECT_LT(bound.total, 100.0 * kG) << name;
+    double peak = 0.0;
+    for (std::size_t k = 1; k + 1 < run.size(); ++k) {
+      if (run[k - 1].in_contact || run[k].in_contact || run[k + 1].in_contact) continue;
+      peak = std::max(peak, HeadForceDeviation(run, k, r, scene.clock.dt()));
+    }
+    EXPECT_LT(peak, bound.total) << name;
+    EXPECT_GT(peak, 0.0) << name;
+  }
+  Scene course = LoadScene(scenes / "circuit_course.yaml");
+  course.circuit->layout.rolling_envelope = false;
+  course.circuit->floor.features.push_back(BumpFeature(30.0, 31.0, -1.0, 1.0, 0.05, 0.0));  // a sharp step
+  EXPECT_TRUE(std::isinf(ComputeHeadForceBound(course.chair, *course.circuit, course.load_kg, course.pitch_torque,
+                                               course.occupant.head_offset, 1.0, 1.0).total));
 }
 
 }  // namespace
