@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
+#include "app/output_folder.h"
 #include "app/stop_signal.h"
 #include "app/scene_path.h"
 #include "app/session_setup.h"
@@ -137,7 +138,7 @@ const CommandSpec& SessionSpec() {
       "Run an immersive session: MCA -> safety -> CiA 402 over CAN, camera poses to the HMD.",
       {
           {"duration", "S", "s", "", "motion time before the soft stop (default: the scene's)"},
-          {"out", "DIR", "-", "out/session", "output folder (session.log, can.log, report.json, trial.json)"},
+          OutOption("session", "session.log, can.log, report.json, trial.json"),
           {"trial", "TRIAL_DIR", "-", "", "replay this measured trial (measured-trials.md) instead of the scene's chair"},
           {"source", "S", "-", "measured", "with --trial: measured (tracked motion, T_r) or model (T_m)"},
           {"plan", "PLAN.csv", "-", "", "follow a study plan (pwsim study plan): the condition of --participant's trial"},
@@ -201,15 +202,17 @@ int SessionCommand(const ParsedArgs& args) {
   const hw::SessionConfig& config = setup.config;
 
   std::string source;
-  const std::filesystem::path out_dir = args.Get("out");
-  std::filesystem::create_directories(out_dir);
+  OutputFolder folder(OutDir(args), "session");  // replaces what the last command wrote there
+  const std::filesystem::path out_dir = folder.dir();
   std::filesystem::remove(out_dir / "trial.json");
   const hw::SessionStreams streams = is_car ? CarStreams(args, *car_scene, config, out_dir, &source)
                                               : ChooseStreams(args, *chair_scene, config, mca_config,
                                                               platform ? &*platform : nullptr, out_dir, &source);
   std::cout << "pwsim session: scene '" << scene_name << "', " << source << "\n";
   hw::StreamsSource streams_source(config, streams);
-  return RunAndReport("pwsim session", args, setup, streams_source, out_dir);
+  const int status = RunAndReport("pwsim session", args, setup, streams_source, out_dir);
+  folder.Print(std::cout, "pwsim session");
+  return status;
 }
 
 }  // namespace pwsim::app
