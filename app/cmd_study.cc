@@ -82,7 +82,7 @@ int PlanCommand(const ParsedArgs& args) {
 const CommandSpec& StudySpec() {
   static const CommandSpec spec{
       "study",
-      "pwsim study RATINGS.csv [--out DIR] [options] | pwsim study plan --participants N [options] | pwsim study metrics RUNS.csv [--out DIR] | pwsim study skills SHEET.csv... [--out DIR]",
+      "pwsim study RATINGS.csv|SHEET.csv... [--out DIR] [options] | pwsim study plan --participants N [options] | pwsim study metrics RUNS.csv [--out DIR] | pwsim study skills SHEET.csv... [--out DIR]",
       "User-study statistics (seed 000, sec. V): Shapiro-Wilk, Wilcoxon, boxplot; or a study plan (with --circuit: a circuit run per trial); or the training metrics of planned circuit runs through the same statistics.",
       {
           OutOption("study", "study.json, study.md, boxplot.png (plan: default out/study-plan; metrics: out/study-metrics)"),
@@ -115,16 +115,19 @@ int MetricsCommand(const ParsedArgs& args) {
   return 0;
 }
 
-/// pwsim study skills SHEET.csv... --out DIR: skill score sheets per participant and session
-/// (the condition) through the ratings' statistics (report/skill_sheet.h).
-int SkillsStudyCommand(const ParsedArgs& args) {
-  if (args.positional().size() < 2) throw UsageError("study skills: expected SHEET.csv... (sheet.csv of pwsim skills)");
+/// pwsim study skills SHEET.csv... --out DIR (or pwsim study SHEET.csv...: a score sheet is
+/// recognised by its header): skill score sheets per participant and session (the condition)
+/// through the ratings' statistics (report/skill_sheet.h). The sheets are the positional
+/// arguments from `first` on.
+int SkillsStudyCommand(const ParsedArgs& args, std::size_t first) {
+  if (args.positional().size() <= first) throw UsageError("study skills: expected SHEET.csv... (sheet.csv of pwsim skills)");
   std::vector<std::string> conditions;
   if (args.Has("conditions")) {
     conditions = SplitNames("conditions", args.Get("conditions"));
     if (conditions.size() != 2) throw UsageError("option --conditions: expected two sessions A,B (e.g. before,after)");
   }
-  const std::vector<fs::path> sheets(args.positional().begin() + 1, args.positional().end());
+  const std::vector<fs::path> sheets(args.positional().begin() + static_cast<std::ptrdiff_t>(first),
+                                     args.positional().end());
   (void)report::ReadSkillSheets(sheets);  // a bad sheet is refused before the output folder is touched
   const fs::path out = OutDir(args, "skills");
   OutputFolder folder(out, "study skills");  // what the last command wrote there goes
@@ -140,7 +143,8 @@ int SkillsStudyCommand(const ParsedArgs& args) {
 int StudyCommand(const ParsedArgs& args) {
   if (!args.positional().empty() && args.positional()[0] == "plan") return PlanCommand(args);
   if (!args.positional().empty() && args.positional()[0] == "metrics") return MetricsCommand(args);
-  if (!args.positional().empty() && args.positional()[0] == "skills") return SkillsStudyCommand(args);
+  if (!args.positional().empty() && args.positional()[0] == "skills") return SkillsStudyCommand(args, 1);
+  if (!args.positional().empty() && report::IsSkillSheet(args.positional()[0])) return SkillsStudyCommand(args, 0);
   if (!args.positional().empty() && !fs::exists(args.positional()[0])) {  // a misspelt sub-command?
     const std::string hint = DidYouMean(args.positional()[0], {"plan", "metrics", "skills"});
     if (!hint.empty()) throw UsageError("no ratings file '" + args.positional()[0] + "'" + hint);

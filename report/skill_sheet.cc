@@ -354,6 +354,18 @@ std::vector<fs::path> WriteSkillSheet(const std::vector<SkillAttempt>& attempts,
   return written;
 }
 
+bool IsSkillSheet(const fs::path& file) {
+  std::ifstream in(file);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.find_first_not_of(" \t\r") == std::string::npos || line[0] == '#') continue;
+    const std::vector<std::string> header = SplitFields(line);
+    auto has = [&](const char* name) { return std::find(header.begin(), header.end(), name) != header.end(); };
+    return has("session") && has("item") && has("score");
+  }
+  return false;
+}
+
 std::vector<SkillAttempt> ReadSkillSheets(const std::vector<fs::path>& files) {
   std::vector<SkillAttempt> attempts;
   for (const fs::path& file : files) {

@@ -70,6 +70,10 @@ std::string SkillSheetCsv(const std::vector<SkillAttempt>& attempts);
 std::vector<std::filesystem::path> WriteSkillSheet(const std::vector<SkillAttempt>& attempts,
                                                    const std::filesystem::path& out);
 
+/// Is `file` a skill score sheet (a header with session, item and score columns)? False for a
+/// file that cannot be read (the caller's reader then says why).
+bool IsSkillSheet(const std::filesystem::path& file);
+
 /// Reads sheet.csv files (several participants' sheets together). @throws InputError naming
 /// file, line and field (a missing column, a wrong field count, a score not 0, 1 or 2).
 std::vector<SkillAttempt> ReadSkillSheets(const std::vector<std::filesystem::path>& files);

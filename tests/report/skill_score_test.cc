@@ -391,6 +391,10 @@ TEST(SkillSheetTest, TwoSessionsOfRealRunsGiveTheSheetAndItsComparison) {
     sheets.push_back(dir / (p + ".csv"));
     std::ofstream(sheets.back()) << SkillSheetCsv(copy);
   }
+  EXPECT_TRUE(IsSkillSheet(sheets[0]));  // `pwsim study SHEET.csv` takes it as a sheet
+  std::ofstream(dir / "ratings.csv") << "participant,condition,rating\nP01,a,1\n";
+  EXPECT_FALSE(IsSkillSheet(dir / "ratings.csv"));
+  EXPECT_FALSE(IsSkillSheet(dir / "no_such.csv"));
   EXPECT_EQ(SkillRatingsCsv(ReadSkillSheets(sheets), ""),
             "participant,condition,rating\nP01,before,50\nP01,after,100\nP02,before,50\nP02,after,100\n"
             "P03,before,50\nP03,after,100\n");
