@@ -54,6 +54,7 @@ std::vector<std::string> SplitFields(const std::string& line) {
 }  // namespace
 
 std::vector<PlannedRun> ReadPlannedRuns(const std::filesystem::path& file) {
+  RequireReadableFile(file, "a runs.csv (pwsim study plan --circuit)");
   std::ifstream in(file);
   if (!in) throw InputError(file.string(), 0, "", "a readable runs.csv", "cannot open");
   std::string line;

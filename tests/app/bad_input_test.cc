@@ -91,12 +91,16 @@ TEST(BadInputEndToEnd, DuplicateKeyInAScene) {
                 "mapping, got \"speed_mps\" again (first on line " + std::to_string(first) + ")");
 }
 
-// Tests a folder given where a scene file belongs.
-TEST(BadInputEndToEnd, DirectoryWhereASceneBelongs) {
+// Tests a folder given where a file belongs: a scene, a ratings file, the runs of a study's
+// metrics (was "expected a header with participant, condition and report").
+TEST(BadInputEndToEnd, DirectoryWhereAFileBelongs) {
   const fs::path dir = Scratch("directory");
   fs::create_directories(dir / "scene.yaml");
   ExpectRefused(dir, "run scene.yaml --no-video",
                 "scene.yaml: field '(file)': expected a readable YAML file, got a path that is a directory");
+  ExpectRefused(dir, "study scene.yaml", "scene.yaml: field '(file)': expected a ratings CSV, got a path that is a directory");
+  ExpectRefused(dir, "study metrics scene.yaml",
+                "scene.yaml: field '(file)': expected a runs.csv (pwsim study plan --circuit), got a path that is a directory");
 }
 
 /// The shipped speed sweep with its scene given by absolute path and `from` replaced by `to`.
