@@ -222,6 +222,80 @@ void AddCircuitMotionCueing(const Scene& scene, const std::vector<FullChairSampl
       mca::HeadMotionFromBodyTrack(body, scene.occupant.head_offset, scene.clock.dt());
   const std::vector<double> t = table.Column("t_s");  // a copy: the stage adds columns
   AddMotionCueingStage(scene, t, head, visual, table, summary, out_dir, mca_choice);
+  AddHeadForceBound(scene, samples, head, t, summary, out_dir);
+}
+
+void AddHeadForceBound(const Scene& scene, const std::vector<FullChairSample>& samples,
+                       const std::vector<mca::HeadMotion>& head, const std::vector<double>& t,
+                       nlohmann::ordered_json& summary, const std::filesystem::path& out_dir) {
+  double peak_speed = 0.0, peak_yaw_rate = 0.0;
+  for (const FullChairSample& s : samples) {
+    peak_speed = std::max(peak_speed, std::abs(s.planar.v));
+    peak_yaw_rate = std::max(peak_yaw_rate, std::abs(s.planar.yaw_rate));
+  }
+  const HeadForceBound bound = ComputeHeadForceBound(scene.chair, *scene.circuit, scene.load_kg, scene.pitch_torque,
+                                                     scene.occupant.head_offset, peak_speed, peak_yaw_rate);
+  // |f_H − (0, 0, g)| per tick; a wall contact (the tick before to the tick after) apart
+  const std::size_t n = std::min(head.size(), samples.size());
+  std::vector<double> deviation(n, kNaN), at_wall(n, kNaN), limit(n, bound.total);
+  double peak = 0.0, peak_t = 0.0, wall_peak = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const mca::HeadMotion& h = head[k];
+    const double d = std::sqrt(h.fs[0] * h.fs[0] + h.fs[1] * h.fs[1] + (h.fs[2] - mca::kGravity) * (h.fs[2] - mca::kGravity));
+    const bool wall = samples[k].in_contact || (k > 0 && samples[k - 1].in_contact) || (k + 1 < n && samples[k + 1].in_contact);
+    (wall ? at_wall : deviation)[k] = d;
+    if (wall) {
+      wall_peak = std::max(wall_peak, d);
+    } else if (d > peak) {
+      peak = d;
+      peak_t = k < t.size() ? t[k] : 0.0;
+    }
+  }
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+  for (std::size_t i = 0; i < bound.envelope_slope.size(); ++i) {
+    rows.push_back({{"envelope_slope", bound.envelope_slope[i]}, {"contact_rate_mps", bound.contact_rate[i]}});
+  }
+  summary["head_force"] = {
+      {"bound_mps2", bound.total},
+      {"peak_mps2", peak},
+      {"peak_t_s", peak_t},
+      {"within_bound", peak <= bound.total},
+      {"wall_contact_peak_mps2", wall_peak},
+      {"derivation", "engine/circuit.h ComputeHeadForceBound; docs/circuits.md, head specific-force bound"},
+      {"links", {{"wheel_speed_mps", bound.wheel_speed},
+                 {"rows", rows},
+                 {"gm_rates", {bound.gm_z_rate, bound.gm_pitch_rate, bound.gm_roll_rate}},
+                 {"heave_accel_mps2", bound.heave_accel},
+                 {"pitch_accel_radps2", bound.pitch_accel},
+                 {"roll_accel_radps2", bound.roll_accel},
+                 {"pitch_rate_radps", bound.pitch_rate},
+                 {"roll_rate_radps", bound.roll_rate},
+                 {"planar_accel_mps2", bound.planar_accel},
+                 {"yaw_accel_radps2", bound.yaw_accel},
+                 {"tilt_rad", bound.tilt}}}};
+  // head_force.png: the deviation against the bound (log scale: the bound is loose)
+  plot::Figure figure;
+  figure.title = "pwsim run: " + scene.name + ", head specific force against its plausibility bound";
+  figure.x_label = "t [s]";
+  plot::Panel panel;
+  panel.title = "|f_H - (0, 0, g)| at the head; the bound (engine/circuit.h) from the floor, chair and peak speeds";
+  panel.y_label = "[m/s^2]";
+  panel.log_y = true;
+  const auto series = [&](const char* label, unsigned color, const std::vector<double>& y, int dash) {
+    plot::Series s;
+    s.label = label;
+    s.x.assign(t.begin(), t.begin() + static_cast<std::ptrdiff_t>(std::min(n, t.size())));
+    s.y.assign(y.begin(), y.begin() + static_cast<std::ptrdiff_t>(s.x.size()));
+    for (double& v : s.y) v = v > 1e-3 ? v : kNaN;  // log axis: nothing below 1 mm/s^2
+    s.color = color;
+    s.dash = dash;
+    return s;
+  };
+  panel.series.push_back(series("head |f - g|", 0x0072B2, deviation, 0));
+  if (wall_peak > 0.0) panel.series.push_back(series("at a wall contact (impact, outside the bound)", 0xD55E00, at_wall, 0));
+  panel.series.push_back(series("bound", 0x111111, limit, 2));
+  figure.panels.push_back(panel);
+  plot::WriteFigure(out_dir / "head_force.png", figure);
 }
 
 void WriteCircuitFigures(const Scene& scene, const std::vector<FullChairSample>& samples,
@@ -397,7 +471,7 @@ std::vector<std::filesystem::path> RunCircuitScene(const Scene& scene, const std
   RenderTrial(scene, table, render, summary, out_dir);  // the occupant's view of the circuit
   WriteFileAtomically(out_dir / "summary.json", summary.dump(2) + "\n");
   std::vector<std::filesystem::path> written;
-  for (const char* name : {"trial.csv", "summary.json", "mca.png", "mca_lateral.png", "top_view.png",
+  for (const char* name : {"trial.csv", "summary.json", "mca.png", "mca_lateral.png", "head_force.png", "top_view.png",
                            "wheels.png", "training.md", "score.json", "video.mp4", "video_lossless.mkv", "frames.csv"}) {
     if (std::filesystem::exists(out_dir / name)) written.push_back(out_dir / name);
   }

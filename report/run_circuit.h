@@ -35,10 +35,12 @@
 #include <string>
 #include <vector>
 
+#include "engine/circuit.h"
 #include "engine/full_chair.h"
 #include "engine/scene.h"
 #include "engine/trial_table.h"
 #include "report/render_stage.h"
+#include "mca/head_motion.h"
 #include "report/run_mca.h"
 
 namespace pwsim::report {
@@ -56,6 +58,14 @@ nlohmann::ordered_json CircuitSummary(const Scene& scene, const std::vector<Full
 void AddCircuitMotionCueing(const Scene& scene, const std::vector<FullChairSample>& samples,
                             TrialTable& table, nlohmann::ordered_json& summary,
                             const std::filesystem::path& out_dir, const McaChoice& mca_choice = {});
+
+/// The head's specific force against its plausibility bound (engine/circuit.h
+/// ComputeHeadForceBound, from the run's peak speed and yaw rate): summary["head_force"] (bound,
+/// peak away from wall contacts, within_bound, the wall contacts' peak, the bound's links) and
+/// DIR/head_force.png.
+void AddHeadForceBound(const Scene& scene, const std::vector<FullChairSample>& samples,
+                       const std::vector<mca::HeadMotion>& head, const std::vector<double>& t,
+                       nlohmann::ordered_json& summary, const std::filesystem::path& out_dir);
 
 /// DIR/top_view.png and DIR/wheels.png (each with .svg, .plot.csv, .gp).
 void WriteCircuitFigures(const Scene& scene, const std::vector<FullChairSample>& samples,
