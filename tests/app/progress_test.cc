@@ -188,5 +188,28 @@ TEST(ProgressEndToEnd, RunPipedPrintsOneLinePerStageAndNothingWithQuiet) {
   EXPECT_EQ(ReadText(dir / "stdout.txt"), listed);
 }
 
+// Tests two more commands piped and with --quiet: identify (two demo trials) and generate (one
+// trial) print exactly their stage lines, and nothing with --quiet.
+TEST(ProgressEndToEnd, IdentifyAndGeneratePipedAndQuiet) {
+  const fs::path dir = fs::path(PWSIM_BINARY_DIR) / "test_out" / "progress" / "identify_generate";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string trials = std::string(PWSIM_SOURCE_DIR) + "/assets/trials-demo/";
+  const struct {
+    std::string args, lines;
+  } cases[] = {
+      {"identify " + trials + "v0.60_m0_cushion_r1 " + trials + "v1.20_m100_cushion_r1 --out o",
+       "pwsim identify: read the trials (0/2)\npwsim identify: identify the chair\npwsim identify: write the report\n"},
+      {"generate --speeds 0.6 --loads 0 --cushion with --repeats 1 --out g",
+       "pwsim generate: simulate the trials\npwsim generate: write the trials (0/1)\n"},
+  };
+  for (const auto& c : cases) {
+    ASSERT_EQ(PwsimTo(c.args, dir), 0) << c.args << "\n" << ReadText(dir / "stderr.txt");
+    EXPECT_EQ(ReadText(dir / "stderr.txt"), c.lines) << c.args;
+    ASSERT_EQ(PwsimTo(c.args + " --quiet", dir), 0) << c.args;
+    EXPECT_EQ(ReadText(dir / "stderr.txt"), "") << c.args;
+  }
+}
+
 }  // namespace
 }  // namespace pwsim::app
