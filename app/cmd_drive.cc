@@ -59,7 +59,7 @@ const CommandSpec& DriveSpec() {
     CommandSpec c{
       "drive",
       "pwsim drive SCENE [options]",
-      "Drive a car scene live (a wheel and pedals with --wheel, a chair joystick with --joystick), car + MCA per tick; with --can a live session to the platform and the headset. A circuit scene (wheelchair) is driven by --joystick as a live session (--can), with training metrics.",
+      "Drive a car scene live (a wheel and pedals with --wheel, a chair joystick with --joystick), car + MCA per tick; with --can a live session to the platform and the headset. A circuit scene (wheelchair) is always driven by --joystick as a live session (to --can, its default unless given), with training metrics and the figures of pwsim run; a recorded joystick ends the drive when its log ends.",
       {
           {"wheel", "", "-", "", "read the controls from an SDL2 joystick (wheel, pedals, shifter)"},
           {"joystick", "SPEC", "-", "", "drive with a chair joystick: rnet:IFACE (R-Net bus, listen-only SocketCAN), rnet-log:FILE (a candump log of one), sdl or sdl:NAME (an SDL joystick), sdl-script:FILE.yaml (a pwsim-joystick-script/1 played on an SDL virtual joystick)"},
