@@ -29,6 +29,8 @@ function(pwsim_add_test name)
   cmake_parse_arguments(ARG "" "" "SOURCES;LIBS;LABELS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_LIBS} GTest::gtest GTest::gtest_main)
+  # the tests' shared helpers (tests/run_command.h, tests/hardware/child_process.h) by full path
+  target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR})
   target_compile_definitions(${name} PRIVATE
       PWSIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}" PWSIM_BINARY_DIR="${PROJECT_BINARY_DIR}")
   pwsim_set_warnings(${name})

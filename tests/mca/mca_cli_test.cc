@@ -10,6 +10,8 @@
 #include <sstream>
 #include <string>
 
+#include "tests/run_command.h"
+
 namespace {
 
 const std::filesystem::path kBinary = std::filesystem::path(PWSIM_BINARY_DIR) / "pwsim";
@@ -66,7 +68,13 @@ TEST(McaCliTest, OmctWritesCsvAndPlot) {
   while (std::getline(in, line)) ++rows;
   EXPECT_EQ(rows, 24);
   EXPECT_TRUE(std::filesystem::exists(out / "omct.png"));
-  EXPECT_NE(RunPwsim("omct --platform scenes/platforms/none.yaml --out '" + out.string() + "' 2>/dev/null"), 0);
+  const pwsim::testing::TempDir dir("mca_cli_omct_no_platform");
+  EXPECT_TRUE(pwsim::testing::Refused(
+      pwsim::testing::RunCommand("cd '" + kSource.string() + "' && '" + kBinary.string() +
+                                     "' omct --platform scenes/platforms/none.yaml --out " + dir.Quoted("out"),
+                                 dir),
+      1, {"scenes/platforms/none.yaml", "expected a readable YAML file", "no such file"}));
+  EXPECT_FALSE(std::filesystem::exists(dir / "out" / "omct.csv"));
 }
 
 // Tests the paper's validation on a generated trial: cross-correlations above 0.98.
@@ -78,6 +86,22 @@ TEST(McaCliTest, ValidationOnGeneratedTrial) {
   EXPECT_TRUE(report["pass"].get<bool>());
   EXPECT_GT(report["trials"][0]["heave_xcorr"].get<double>(), 0.98);
   EXPECT_GT(report["trials"][0]["pitch_xcorr"].get<double>(), 0.98);
+}
+
+// Tests the refusal check the CLI tests use (tests/run_command.h): a crash that printed the right
+// words, a refusal of something else and a different exit code all fail it.
+TEST(RefusalCheck, TellsARefusalFromACrashOrAnotherError) {
+  const pwsim::testing::TempDir dir("refusal_check");
+  const auto refusal = pwsim::testing::RunCommand("echo 'option --mca: expected washout' >&2; exit 2", dir);
+  EXPECT_TRUE(pwsim::testing::Refused(refusal, 2, {"option --mca"}));
+  const auto crash = pwsim::testing::RunCommand("echo 'option --mca'; kill -SEGV $$", dir);
+  EXPECT_EQ(crash.signal, 11);
+  EXPECT_FALSE(pwsim::testing::Refused(crash, 2, {"option --mca"}));
+  EXPECT_FALSE(pwsim::testing::Refused(pwsim::testing::RunCommand("echo 'option --out'; exit 2", dir), 2, {"option --mca"}));
+  EXPECT_FALSE(pwsim::testing::Refused(pwsim::testing::RunCommand("echo 'option --mca'; exit 1", dir), 2, {"option --mca"}));
+  EXPECT_TRUE(std::filesystem::is_directory(dir.path()));
+  const std::filesystem::path kept = dir.path();
+  { const pwsim::testing::TempDir other("refusal_check"); EXPECT_NE(other.path(), kept); }
 }
 
 }  // namespace

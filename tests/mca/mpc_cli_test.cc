@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "tests/run_command.h"
+
 namespace {
 
 const std::filesystem::path kBinary = std::filesystem::path(PWSIM_BINARY_DIR) / "pwsim";
@@ -97,7 +99,11 @@ TEST(MpcCliTest, CarScenesWithMpcAndOffline) {
     ExpectInsideLimits(mpc);
     EXPECT_EQ(mpc["algorithm"]["fallbacks_to_washout"].get<int>(), 0) << scene;
   }
-  EXPECT_NE(std::system(("'" + kBinary.string() + "' run --mca fuzzy --no-video --out /tmp/pwsim_mpc_bad > /dev/null 2>&1").c_str()), 0);
+  const pwsim::testing::TempDir dir("mpc_cli_bad_mca");
+  EXPECT_TRUE(pwsim::testing::Refused(
+      pwsim::testing::RunCommand("'" + kBinary.string() + "' run --mca fuzzy --no-video --out " + dir.Quoted("out"), dir),
+      2, {"option --mca", "washout, mpc or offline", "'fuzzy'"}));
+  EXPECT_FALSE(std::filesystem::exists(dir / "out" / "summary.json"));
 }
 
 
@@ -266,16 +272,26 @@ TEST(MpcCliTest, DriveOptionReachesTheLoop) {
   EXPECT_GT(difference, 1e-3);  // [m] of rail
   EXPECT_NE(scene_text.find("mca washout"), std::string::npos) << scene_text;
   EXPECT_NE(mpc_text.find("mca mpc"), std::string::npos) << mpc_text;
-  std::string refused;
-  EXPECT_TRUE(DriveSurge("--mca lqr", "drive_refused", &refused).empty());
+  const pwsim::testing::TempDir dir("mpc_cli_drive_refused");
+  EXPECT_TRUE(pwsim::testing::Refused(
+      pwsim::testing::RunCommand("cd '" + kSource.string() + "' && '" + kBinary.string() +
+                                     "' drive scenes/car_launch.yaml --no-realtime --duration 3 --mca lqr --out " +
+                                     dir.Quoted("out"),
+                                 dir),
+      2, {"option --mca", "'lqr'"}));
+  EXPECT_FALSE(std::filesystem::exists(dir / "out" / "drive.csv"));
 }
 
 // Tests `pwsim omct --mca mpc` refusals: a tick rate that does not divide the MPC's control
 // period, and an unknown algorithm.
 TEST(MpcCliTest, OmctMpcRefusals) {
-  const std::string base = "'" + kBinary.string() + "' omct --out /tmp/pwsim_omct_mpc_bad ";
-  EXPECT_NE(std::system((base + "--mca mpc --rate-hz 250 > /dev/null 2>&1").c_str()), 0);
-  EXPECT_NE(std::system((base + "--mca fuzzy > /dev/null 2>&1").c_str()), 0);
+  const pwsim::testing::TempDir dir("mpc_cli_omct_refused");
+  const std::string base = "'" + kBinary.string() + "' omct --out " + dir.Quoted("out") + " ";
+  EXPECT_TRUE(pwsim::testing::Refused(pwsim::testing::RunCommand(base + "--mca mpc --rate-hz 250", dir), 2,
+                                      {"option --rate-hz", "control period", "whole number of ticks"}));
+  EXPECT_TRUE(pwsim::testing::Refused(pwsim::testing::RunCommand(base + "--mca fuzzy", dir), 2,
+                                      {"option --mca", "'fuzzy'"}));
+  EXPECT_FALSE(std::filesystem::exists(dir / "out" / "omct.csv"));
 }
 
 }  // namespace

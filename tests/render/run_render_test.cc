@@ -13,19 +13,19 @@
 #include <vector>
 
 #include "tests/render/ffprobe.h"
+#include "tests/run_command.h"
 
 namespace pwsim::app {
 namespace {
 
 const std::string kPwsim = PWSIM_BINARY_DIR "/pwsim";
 
-std::filesystem::path RunPwsim(const std::string& name, const std::string& options) {
-  const auto dir = std::filesystem::temp_directory_path() / ("pwsim_run_render_test_" + name);
-  std::filesystem::remove_all(dir);
-  const std::string command = "cd '" PWSIM_SOURCE_DIR "' && '" + kPwsim + "' run --out '" +
-                              dir.string() + "' " + options + " > '" + dir.string() + ".log' 2>&1";
-  EXPECT_EQ(std::system(command.c_str()), 0) << command;
-  return dir;
+/// `pwsim run` with `options` into dir/out (returned), its output logged in `dir`.
+std::filesystem::path RunPwsim(const pwsim::testing::TempDir& dir, const std::string& options) {
+  const pwsim::testing::CommandResult r = pwsim::testing::RunCommand(
+      "cd '" PWSIM_SOURCE_DIR "' && '" + kPwsim + "' run --out " + dir.Quoted("out") + " " + options, dir);
+  EXPECT_EQ(r.exit_code, 0) << r.command << "\n" << r.output;
+  return dir / "out";
 }
 
 nlohmann::json ReadJson(const std::filesystem::path& file) {
@@ -56,7 +56,8 @@ std::vector<double> CsvColumn(const std::filesystem::path& file, const std::stri
 // Tests that the trial video has one frame per N ticks, that ffprobe reads that many frames
 // and a duration of frames / fps, and that the pixel check agrees with the pose log.
 TEST(RunRenderTest, VideoFramesCsvAndPixelCheckAgree) {
-  const auto dir = RunPwsim("mono", "--size 320x180 --fps 25");
+  const pwsim::testing::TempDir temp("run_render_mono");
+  const auto dir = RunPwsim(temp, "--size 320x180 --fps 25");
   const nlohmann::json summary = ReadJson(dir / "summary.json");
   const nlohmann::json& render = summary.at("render");
   const int frames = render.at("frames").get<int>();
@@ -86,21 +87,19 @@ TEST(RunRenderTest, VideoFramesCsvAndPixelCheckAgree) {
 
 // Tests that --no-video skips rendering.
 TEST(RunRenderTest, NoVideoSkipsRendering) {
-  const auto dir = RunPwsim("novideo", "--no-video");
+  const pwsim::testing::TempDir temp("run_render_novideo");
+  const auto dir = RunPwsim(temp, "--no-video");
   EXPECT_FALSE(std::filesystem::exists(dir / "video.mp4"));
   EXPECT_EQ(ReadJson(dir / "summary.json").at("render").at("skipped"), "--no-video");
 }
 
 // Tests that a frame rate that does not divide the clock rate is refused with a clear message.
 TEST(RunRenderTest, FpsMustDivideClockRate) {
-  const auto dir = std::filesystem::temp_directory_path() / "pwsim_run_render_test_fps";
-  const std::string command = "'" + kPwsim + "' run --fps 60 --out '" + dir.string() + "' > '" +
-                              dir.string() + ".log' 2>&1";
-  EXPECT_NE(std::system(command.c_str()), 0);
-  std::ifstream log(dir.string() + ".log");
-  std::stringstream text;
-  text << log.rdbuf();
-  EXPECT_NE(text.str().find("divisor of the clock rate"), std::string::npos) << text.str();
+  const pwsim::testing::TempDir dir("run_render_fps");
+  EXPECT_TRUE(pwsim::testing::Refused(
+      pwsim::testing::RunCommand("'" + kPwsim + "' run --fps 60 --out " + dir.Quoted("out"), dir), 2,
+      {"option --fps", "divisor of the clock rate", "got 60"}));
+  EXPECT_FALSE(std::filesystem::exists(dir / "out" / "video.mp4"));
 }
 
 }  // namespace
