@@ -330,7 +330,7 @@ def fit_probability(results):
     and calibration sets only (never the evaluation seeds); prints the grid's best."""
     tuning = [r for r in results if r["split"] in ("development", "calibration")]
     best = None
-    for prior in (0.02, 0.03, 0.05, 0.07, 0.1, 0.111111, 0.15, 0.2, 0.3):
+    for prior in (0.002, 0.005, 0.01, 0.02, 0.03, 0.05, 0.07, 0.1, 0.111111, 0.15, 0.2, 0.3):
         for nu in (0.25, 0.5, 1, 2, 3, 4, 6, 8, 12, 16, 24, 32, 64):
             score = brier(probability_pairs(tuning, (prior, nu)))
             if best is None or score < best[0]:
