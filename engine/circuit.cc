@@ -248,11 +248,44 @@ int FootprintHit(const CircuitSpec& circuit, const PlanarState& pose, double mar
   return -1;
 }
 
+Point2 ContactNormal(const CircuitSpec& circuit, int hit, const PlanarState& pose) {
+  const PlanarLayout& layout = circuit.layout;
+  const double mid = 0.5 * (layout.footprint_front + layout.footprint_rear);
+  const Point2 c{pose.x + mid * std::cos(pose.yaw), pose.y + mid * std::sin(pose.yaw)};  // the footprint's centre
+  const auto unit = [](double x, double y) {
+    const double length = std::hypot(x, y);
+    return length > 0.0 ? Point2{x / length, y / length} : Point2{1.0, 0.0};
+  };
+  const int walls = static_cast<int>(circuit.walls.size());
+  if (hit < walls) {
+    const Wall& w = circuit.walls[static_cast<std::size_t>(hit)];
+    const double dx = w.to.x - w.from.x, dy = w.to.y - w.from.y;
+    const double along = ((c.x - w.from.x) * dx + (c.y - w.from.y) * dy) / (dx * dx + dy * dy);
+    if (along < 0.0) return unit(c.x - w.from.x, c.y - w.from.y);  // round the wall's end
+    if (along > 1.0) return unit(c.x - w.to.x, c.y - w.to.y);
+    const Point2 n = unit(-dy, dx);
+    return (c.x - w.from.x) * n.x + (c.y - w.from.y) * n.y >= 0.0 ? n : Point2{-n.x, -n.y};
+  }
+  const Obstacle& o = circuit.obstacles[static_cast<std::size_t>(hit - walls)];
+  if (o.shape == Obstacle::Shape::kCircle) return unit(c.x - o.centre.x, c.y - o.centre.y);
+  // a box: the face the centre lies beyond the most, relative to the box's half sizes
+  const double co = std::cos(o.yaw), so = std::sin(o.yaw);
+  const double lx = co * (c.x - o.centre.x) + so * (c.y - o.centre.y);
+  const double ly = -so * (c.x - o.centre.x) + co * (c.y - o.centre.y);
+  if (std::abs(lx) / o.half_length >= std::abs(ly) / o.half_width) {
+    const double s = lx >= 0.0 ? 1.0 : -1.0;
+    return {s * co, s * so};
+  }
+  const double s = ly >= 0.0 ? 1.0 : -1.0;
+  return {-s * so, s * co};
+}
+
 CircuitSpec ParseCircuit(YamlMap& map, const Chair& chair, double load_kg) {
   CircuitSpec circuit;
   (void)load_kg;
   const std::string file = map.file().string();
   circuit.duration = map.Number("duration_s", Range::Positive(3600.0, "s"));
+  circuit.wall_friction = map.NumberOr("wall_friction", circuit.wall_friction, Range::Closed(0.0, 2.0));
   if (map.Has("start")) {
     YamlMap start = map.Map("start");
     const Point2 p = ReadPoint(start, "position_m");
@@ -720,14 +753,31 @@ const FullChairSample& CircuitRunner::AdvanceWith(const JoystickInput& joystick)
   const PlanarState before = simulator_.sample().planar;
   const FullChairSample& next = simulator_.Advance(joystick);
   const PlanarState after = next.planar;
-  if (FootprintHit(circuit_, after) >= 0) {
-    // The chair stops at the wall: the step is not taken; a contact is counted when it begins.
+  const int hit = FootprintHit(circuit_, after);
+  if (hit >= 0) {
+    // The step is not taken as it was: the wall takes O_V's speed toward it (an inelastic
+    // impact) and, by Coulomb friction, μ_w times that from its speed along it (header).
+    const double dt = simulator_.dt();
+    const Point2 n = ContactNormal(circuit_, hit, before);
+    const double ux = (after.x - before.x) / dt, uy = (after.y - before.y) / dt;
+    const double normal = ux * n.x + uy * n.y;  // < 0: toward the wall
+    const double along = -ux * n.y + uy * n.x;  // along t = (-n_y, n_x)
+    const double lost = normal < 0.0 ? -normal : 0.0;
+    const double slide = std::copysign(std::max(0.0, std::abs(along) - circuit_.wall_friction * lost), along);
     if (!in_contact_) {
       ++contact_events_;
-      last_contact_speed_ = std::hypot(after.x - before.x, after.y - before.y) / simulator_.dt();
+      last_contact_speed_ = lost;
     }
     in_contact_ = true;
-    simulator_.OverridePlanar({before.x, before.y, before.yaw, 0.0, 0.0});
+    const PlanarState slid{before.x - slide * n.y * dt, before.y + slide * n.x * dt, before.yaw, 0.0, 0.0};
+    if (slide != 0.0 && FootprintHit(circuit_, slid) < 0) {
+      // it slides along: O_V moved along t; the drive wheels keep their speed (they slip)
+      PlanarState sliding = slid;
+      sliding.v = after.v;
+      simulator_.OverridePlanar(sliding);
+    } else {
+      simulator_.OverridePlanar({before.x, before.y, before.yaw, 0.0, 0.0});  // it stops at the wall
+    }
   } else {
     if (in_contact_ && FootprintHit(circuit_, after, kContactReleaseGap) < 0) in_contact_ = false;
     if (gates_passed_ < static_cast<int>(circuit_.gates.size())) {

@@ -5,12 +5,22 @@
 // that follows a path at a speed), and the runner that steps the chair tick by tick.
 //
 // Contacts. The chair's footprint is a rectangle in V; a tick whose new pose would overlap a
-// wall (a segment with thickness) or an obstacle (circle or oriented box) is not taken: the pose
-// stays, v and ω become 0 (the chair stops at the wall), and a contact is counted once when it
-// begins, with its approach speed (the speed of O_V toward the wall), and lasts until the chair
-// is kContactReleaseGap clear again (pushing on at the wall is one contact). The chair never passes
-// through: a tick moves it by at most v_max dt (2.4 mm at 2.4 m/s, 1 kHz), far less than any
-// wall's thickness (>= 0.02 m, validated).
+// wall (a segment with thickness) or an obstacle (circle or oriented box) is not taken as it
+// was. With n the contact's normal (out of the wall, toward the footprint's centre; round a
+// wall's end or a circle from the nearest point; a box's face) and u O_V's velocity over the
+// tick, u_n = u·n < 0 toward the wall and u_t = u·t along it, the wall takes u_n (an inelastic
+// impact) and, by Coulomb friction μ_w (wall_friction), μ_w |u_n| from |u_t|:
+//   u_t' = sgn(u_t) max(0, |u_t| − μ_w |u_n|),
+// so a chair driven into a wall at an angle of incidence α (from the normal) slides along it
+// when tan α > μ_w and stops otherwise. Sliding, O_V moves by u_t' dt along the wall at the
+// heading it had (its tyres scrubbing sideways: the wall's push beats their grip; ω = 0) while
+// its drive wheels keep their speed v (they slip): pushed on at v it slides at
+// v (sin α − μ_w cos α); stopped (or when the slid pose would overlap something), the pose
+// stays and v, ω become 0. A contact is
+// counted once when it begins, with its approach speed |u_n|, and lasts until the chair is
+// kContactReleaseGap clear again (pushing on at the wall is one contact). The chair never
+// passes through: a tick moves it by at most v_max dt (2.4 mm at 2.4 m/s, 1 kHz), far less than
+// any wall's thickness (>= 0.02 m, validated).
 //
 // Gates. A gate is a segment from its left post to its right post; it is passed when O_V's
 // path over one tick crosses it. Gates count in order: `gates_passed` is the number passed.
@@ -103,6 +113,7 @@ struct CircuitSpec {
   std::vector<Obstacle> obstacles;
   std::vector<Gate> gates;
   JoystickSource joystick;
+  double wall_friction{0.4};          ///< μ_w [-] between the chair's footprint and walls, obstacles
 };
 
 /// Reads the `circuit:` section of a scene for `chair` carrying `load_kg`. Overlapping walls,
@@ -119,6 +130,10 @@ JoystickSource ReadRecordedJoystick(const std::filesystem::path& file);
 /// side) overlap a wall or obstacle? Returns the index of the first one hit (walls first, then
 /// obstacles offset by walls.size()), or -1.
 int FootprintHit(const CircuitSpec& circuit, const PlanarState& pose, double margin = 0.0);
+
+/// The unit normal of the contact with wall or obstacle `hit` (FootprintHit's index) of a chair
+/// at `pose`: out of the thing hit, toward the footprint's centre (header, Contacts).
+Point2 ContactNormal(const CircuitSpec& circuit, int hit, const PlanarState& pose);
 
 /// Distance from p to the segment a-b [m] (to a when a = b).
 double PointSegmentDistance(Point2 p, Point2 a, Point2 b);

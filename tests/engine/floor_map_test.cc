@@ -121,5 +121,21 @@ TEST(FloorMapTest, HolesAndNanAreErrorsNamingTheCell) {
   ExpectError("features:\n  - {bump: {x_m: [2, 1], y_m: [0, 1], height_m: 0.1}}\n", "floor.features[0].bump.x_m", 2);
 }
 
+// Tests friction patches: read with their rectangle and μ, the lowest μ where they overlap and
+// the wheel's own outside them; μ <= 0 and a reversed interval are errors naming the field.
+TEST(FloorMapTest, FrictionPatchesLowerTheGrip) {
+  const FloorMap floor = Parse(
+      "patches:\n  - {name: wet, x_m: [1, 3], y_m: [-1, 1], friction: 0.3}\n"
+      "  - {name: ice, x_m: [2, 4], y_m: [0, 2], friction: 0.05}\n");
+  ASSERT_EQ(floor.patches.size(), 2u);
+  EXPECT_EQ(floor.patches[0].name, "wet");
+  EXPECT_EQ(floor.FrictionAt(0.5, 0.0, 0.8), 0.8);
+  EXPECT_EQ(floor.FrictionAt(1.5, 0.0, 0.8), 0.3);
+  EXPECT_EQ(floor.FrictionAt(2.5, 0.5, 0.8), 0.05);
+  EXPECT_EQ(floor.FrictionAt(1.5, 0.0, 0.2), 0.2);
+  ExpectError("patches:\n  - {x_m: [1, 3], y_m: [-1, 1], friction: 0}\n", "floor.patches[0].friction", 2);
+  ExpectError("patches:\n  - {x_m: [3, 1], y_m: [-1, 1], friction: 0.3}\n", "floor.patches[0].x_m", 2);
+}
+
 }  // namespace
 }  // namespace pwsim

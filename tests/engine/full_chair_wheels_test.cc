@@ -190,6 +190,136 @@ TEST(WheelEnvelopeTest, LevelRestIsExactAndPointContactsFallIn) {
   EXPECT_NEAR(deepest(true), -(0.1 - std::sqrt(0.1 * 0.1 - 0.05 * 0.05)), 0.6 * 0.5e-3);
 }
 
+/// A straight wall along y at x = 3 m, the chair driven at `heading` [rad] from the origin at a
+/// constant deflection forward; returns its samples.
+std::vector<FullChairSample> IntoAWall(double heading, double wall_friction, CircuitSpec& circuit) {
+  const Chair chair = MakeTableOneChair();
+  circuit.layout = DefaultPlanarLayout(chair);
+  circuit.walls = {Wall{{3.0, -20.0}, {3.0, 20.0}, 0.1, "wall"}};
+  circuit.start = {0.0, 0.0, heading, 0.0, 0.0};
+  circuit.wall_friction = wall_friction;
+  circuit.joystick.kind = JoystickSource::Kind::kTable;
+  circuit.joystick.t = {0.0};
+  circuit.joystick.forward = {0.6};
+  circuit.joystick.turn = {0.0};
+  CircuitRunner runner(chair, circuit, 100.0, 1e-3);
+  std::vector<FullChairSample> run{runner.Start()};
+  for (int k = 1; k <= 8000; ++k) run.push_back(runner.Advance(k * 1e-3));
+  return run;
+}
+
+// Tests the wall's Coulomb friction (engine/circuit.h, Contacts) against its closed form: a
+// chair driven into a wall at incidence α (from the wall's normal) keeps, on the tick it meets
+// the wall, the speed along it |u_t| − μ_w |u_n| = v (sin α − μ_w cos α) (to 0.2 % of v dt); it
+// slides on along the wall when tan α > μ_w (α with tan α = 1.5 and 3 μ_w), pushed on at its
+// speed v at v (sin α − μ_w cos α) (to 0.1 %), and stops when tan α < μ_w (tan α = 0.6 μ_w: v = 0
+// and it moves along the wall no more than the free ticks that close the last gap, v dt).
+TEST(WallFrictionTest, SlidesWhenTanIncidenceExceedsFriction) {
+  const double mu = 0.4, dt = 1e-3;
+  for (const double ratio : {1.5, 0.6, 3.0}) {
+    const double alpha = std::atan(ratio * mu);
+    CircuitSpec circuit;
+    const std::vector<FullChairSample> run = IntoAWall(alpha, mu, circuit);
+    std::size_t first = 0;
+    for (std::size_t k = 1; k < run.size() && first == 0; ++k) {
+      if (run[k].contact_events > 0) first = k;
+    }
+    ASSERT_GT(first, 1u) << ratio;
+    // the velocity it came with: its last free tick's
+    const double ux = (run[first - 1].planar.x - run[first - 2].planar.x) / dt;
+    const double uy = (run[first - 1].planar.y - run[first - 2].planar.y) / dt;
+    const double v = std::hypot(ux, uy);
+    const double expected = std::max(0.0, v * (std::sin(alpha) - mu * std::cos(alpha)));
+    EXPECT_NEAR((run[first].planar.y - run[first - 1].planar.y) / dt, expected, 2e-3 * v) << ratio;
+    EXPECT_NEAR(run[first].last_contact_speed, v * std::cos(alpha), 2e-3 * v) << ratio;
+    const double along = run.back().planar.y - run[first].planar.y;
+    if (ratio > 1.0) {
+      // pushed on at v, it slides at v (sin α − μ_w cos α) (over the last second)
+      const FullChairSample& end = run.back();
+      const FullChairSample& second_before = run[run.size() - 1001];
+      ASSERT_TRUE(second_before.in_contact) << ratio;
+      const double slide = (end.planar.y - second_before.planar.y) / 1.0;
+      EXPECT_NEAR(slide, end.planar.v * (std::sin(alpha) - mu * std::cos(alpha)), 1e-3 * end.planar.v) << ratio;
+      EXPECT_GT(along, 0.05) << ratio;
+    } else {
+      EXPECT_LT(along, v * dt) << ratio;  // at most the last gap's closing, free ticks at the heading
+      EXPECT_EQ(run.back().planar.v, 0.0) << ratio;
+    }
+    EXPECT_EQ(run.back().contact_events, 1) << ratio;  // one contact, however long
+    for (const FullChairSample& s : run) ASSERT_LT(s.planar.x, 3.0) << ratio;
+  }
+}
+
+/// Sum of the loads of the drive wheels and of the others [N].
+void DriveAndOtherLoads(const FullChairSimulator& sim, double& drive, double& others) {
+  drive = others = 0.0;
+  for (int c = 0; c < 2 * sim.wheel_count(); ++c) {
+    const bool driven = sim.layout().rows[static_cast<std::size_t>(c / 2)].role == WheelRole::kDrive;
+    (driven ? drive : others) += sim.sample().contacts[c].load;
+  }
+}
+
+// Tests the drive wheels' grip on a slope with the brakes on (a slippery patch, μ = 0.2): the
+// chair holds while the slope asks less than μ N_drive, M g sin θ <= μ N_drive (slip onset at
+// tan θ* = μ κ, κ the drive wheels' share of the weight), and slides otherwise with
+// a = (M g sin θ − μ N_drive − f_c N_others) / M (to 1 % of g sin θ; f_c the casters' rolling
+// resistance).
+TEST(SlipTest, ParkedChairSlipsWhenTheSlopeAsksMoreThanItsGrip) {
+  const Chair chair = MakeTableOneChair();
+  const PlanarLayout layout = DefaultPlanarLayout(chair);
+  const double mu = 0.2;
+  int held = 0, slid = 0;
+  for (const double grade : {0.06, 0.1, 0.12, 0.14, 0.16, 0.2}) {
+    FloorMap floor;
+    floor.features = {PlaneFeature(-20.0, 20.0, -20.0, 20.0, grade, 0.0, 0.0)};
+    floor.patches = {FrictionPatch{"wet", -20.0, 20.0, -20.0, 20.0, mu}};
+    FullChairSimulator sim(chair, layout, floor, 100.0, 1e-3);
+    sim.Start({});
+    const double sine = grade / std::sqrt(1.0 + grade * grade);
+    const double demand = sim.mass() * kG * sine;
+    double drive = 0.0, others = 0.0;
+    DriveAndOtherLoads(sim, drive, others);
+    for (int k = 0; k < 1000; ++k) sim.AdvanceSetpoints({});
+    const double moved = std::hypot(sim.sample().planar.x, sim.sample().planar.y);
+    if (demand <= mu * drive) {
+      ++held;
+      EXPECT_LT(moved, 1e-9) << grade;
+      EXPECT_FALSE(sim.sample().torque_limited) << grade;
+    } else {
+      ++slid;
+      DriveAndOtherLoads(sim, drive, others);
+      const double expected = (demand - mu * drive - layout.caster.rolling_resistance * others) / sim.mass();
+      // from rest over 1 s; to 1 % of the slope's pull (the casters' rolling resistance is
+      // regularised below 1 cm/s)
+      EXPECT_NEAR(-sim.sample().planar.v / 1.0, expected, 0.01 * kG * sine) << grade;
+      EXPECT_TRUE(sim.sample().torque_limited) << grade;
+    }
+  }
+  EXPECT_GT(held, 0);
+  EXPECT_GT(slid, 0);
+}
+
+// Tests a skid: the chair at 1.2 m/s on a slippery floor (μ = 0.15) braked at once (the
+// set-points at rest) stops after v² / (2 a), a = (μ N_drive + f_c N_others) / M (v² / (2 μ g)
+// when the drive wheels carry the whole weight), to 2 %.
+TEST(SlipTest, SkidDistanceIsVSquaredOverTwiceTheGripDeceleration) {
+  StraightRig rig;
+  const double mu = 0.15;
+  rig.floor.patches = {FrictionPatch{"wet", -50.0, 50.0, -50.0, 50.0, mu}};
+  FullChairSimulator sim(rig.chair, rig.layout, rig.floor, 100.0, 1e-3);
+  sim.Start({});
+  for (int k = 0; k < 4000; ++k) sim.AdvanceSetpoints(Cruise(1.2));
+  const double v0 = sim.sample().planar.v, x0 = sim.sample().planar.x;
+  sim.AdvanceSetpoints({});
+  double drive = 0.0, others = 0.0;
+  DriveAndOtherLoads(sim, drive, others);  // under the skid's deceleration
+  const double a = (mu * drive + rig.layout.caster.rolling_resistance * others) / sim.mass();
+  for (int k = 0; k < 5000 && sim.sample().planar.v > 0.0; ++k) sim.AdvanceSetpoints({});
+  EXPECT_EQ(sim.sample().planar.v, 0.0);
+  EXPECT_NEAR(sim.sample().planar.x - x0, v0 * v0 / (2.0 * a), 0.02 * v0 * v0 / (2.0 * a));
+  EXPECT_LT(a, mu * kG);  // the casters carry part of the weight: longer than v² / (2 μ g)
+}
+
 using Vec3 = std::array<double, 3>;
 
 /// The head's position in W of a sample: p = (x, y, Z_M) + Rz(ψ) Ry(−θ_M) Rx(φ_M) p_VH.
