@@ -129,14 +129,20 @@ std::string StyleText(const Series& series, std::size_t index) {
   return text;
 }
 
-// " (y axis magnified: ...)" for a linear, autoscaled panel whose values all share one sign and
-// span less than 5 % of their size, where the axis would make a small change fill the panel.
-std::string MagnifiedNote(const Panel& panel) {
-  if (panel.log_y || panel.y_min < panel.y_max || panel.equal_axes || !panel.boxes.empty()) return "";
+// The finite y values' range of a panel's series; lo > hi when there is none.
+std::pair<double, double> YRange(const Panel& panel) {
   double lo = INFINITY, hi = -INFINITY;
   for (const Series& s : panel.series)
     for (double y : s.y)
       if (std::isfinite(y)) lo = std::min(lo, y), hi = std::max(hi, y);
+  return {lo, hi};
+}
+
+// " (y axis magnified: ...)" for a linear, autoscaled panel whose values all share one sign and
+// span less than 5 % of their size, where the axis would make a small change fill the panel.
+std::string MagnifiedNote(const Panel& panel) {
+  if (panel.log_y || panel.y_min < panel.y_max || panel.equal_axes || !panel.boxes.empty()) return "";
+  const auto [lo, hi] = YRange(panel);
   if (!(lo <= hi) || !(lo > 0.0 || hi < 0.0)) return "";
   const double size = std::max(std::abs(lo), std::abs(hi));
   const double share = (hi - lo) / size;
@@ -146,9 +152,23 @@ std::string MagnifiedNote(const Panel& panel) {
   return std::string(" (y axis magnified: the values vary by only ") + pct + " %)";
 }
 
+// The y range of an autoscaled linear panel: 5 % of the height free above and below the data
+// before gnuplot extends the range to the next tic, so that a peak never lies on the frame;
+// except that values that start from zero on one side (a speed, a load, a count) keep zero as
+// the axis' end there, rather than a negative tic no value reaches.
+std::string AutoscaledYRange(const Panel& panel) {
+  const auto [lo, hi] = YRange(panel);
+  if (!panel.log_y && lo <= hi && hi > lo) {
+    const double near = 0.05 * (hi - lo);
+    if (lo >= 0.0 && lo <= near) return "set yrange [0:*]\nset offsets 0, 0, graph 0.05, 0\n";
+    if (hi <= 0.0 && hi >= -near) return "set yrange [*:0]\nset offsets 0, 0, 0, graph 0.05\n";
+  }
+  return "set yrange [*:*]\nset offsets 0, 0, graph 0.05, graph 0.05\n";
+}
+
 // Where the key goes so that it never covers a curve nor leaves the image: outside, right of
-// the plots when the longest label leaves the plots at least 60 % of the width (gnuplot sizes
-// the key at about 8 px per character of the 10 pt font, plus the sample line), else below them.
+// the plots when the longest label leaves the plots at least 60 % of the width (about 7 px per
+// character of the 10 pt font, plus the sample line), else below them.
 std::string KeyPlacement(const Figure& figure) {
   std::size_t longest = 0;
   for (const Panel& panel : figure.panels)
@@ -157,7 +177,7 @@ std::string KeyPlacement(const Figure& figure) {
       for (char c : s.label) chars += (static_cast<unsigned char>(c) & 0xC0u) != 0x80u ? 1 : 0;
       longest = std::max(longest, chars);
     }
-  const double key_px = 8.0 * static_cast<double>(longest) + 60.0;
+  const double key_px = 7.0 * static_cast<double>(longest) + 60.0;
   const double key_share = key_px / static_cast<double>(std::max(figure.width_px, 200));
   std::ostringstream gp;
   if (key_share <= 0.4) {
@@ -195,13 +215,13 @@ std::string PlotBody(const Figure& figure, const std::string& data_file) {
     // A logarithmic axis labels its decades as numbers (0.001, 10), not in gnuplot's "% h".
     gp << (panel.log_y ? "set logscale y\nset format y '%g'\n" : "set format y '% h'\n");
     if (panel.y_min < panel.y_max)
-      gp << "set yrange [" << FormatDouble(panel.y_min) << ":" << FormatDouble(panel.y_max) << "]\n";
+      gp << "set yrange [" << FormatDouble(panel.y_min) << ":" << FormatDouble(panel.y_max) << "]\n"
+         << "set offsets 0, 0, 0, 0\n";
+    else if (!panel.boxes.empty() || panel.equal_axes)
+      gp << "set yrange [*:*]\nset offsets 0, 0, 0, 0\n";
     else
-      gp << "set yrange [*:*]\n";
-    // Autoscaled: 5 % of the height free above and below the data before gnuplot extends the
-    // range to the next tic, so that a peak never lies on the frame.
-    const bool autoscaled = !(panel.y_min < panel.y_max) && panel.boxes.empty() && !panel.equal_axes;
-    gp << (autoscaled ? "set offsets 0, 0, graph 0.05, graph 0.05\n" : "set offsets 0, 0, 0, 0\n");
+      gp << AutoscaledYRange(panel);
+    if (panel.y_tic_step > 0.0) gp << "set ytics " << FormatDouble(panel.y_tic_step) << "\n";
     if (!panel.boxes.empty()) {
       gp << (panel.box_show_points ? "set jitter overlap 0.5 spread 2.5 wrap 10\n" : "unset jitter\n");
       gp << "set xlabel ''\nset style data boxplot\n"

@@ -67,10 +67,13 @@ struct Panel {
   std::vector<BoxGroup> boxes;  ///< if non-empty, the panel is a box plot (series ignored)
   bool log_y{false};
   /// Fixed y range when y_min < y_max. Otherwise autoscaled with 5 % of the height free above
-  /// and below the data, so that no peak touches the frame; a linear axis whose values all share
+  /// and below the data, so that no peak touches the frame (values starting from zero keep zero
+  /// as the axis' end on that side); a linear axis whose values all share
   /// one sign and span less than 5 % of their size says so in the panel title (the axis magnifies
   /// a small change).
   double y_min{0.0}, y_max{0.0};
+  /// Spacing of the y tics, e.g. 1 for a gear or a count; 0: gnuplot's choice.
+  double y_tic_step{0.0};
   /// Box plots: whiskers reach the smallest and largest values (no outliers drawn), as a
   /// "median, quartiles and extremes" figure, instead of Tukey's 1.5 IQR.
   bool box_whiskers_to_extremes{false};

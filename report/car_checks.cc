@@ -62,12 +62,12 @@ nlohmann::ordered_json Understeer(const Vehicle& car, const std::filesystem::pat
   for (std::size_t i = 0; i < ay.size(); ++i) line[i] = k_closed * ay[i] * 180.0 / kPi;
   plot::Figure fig;
   fig.title = "steady-state cornering at 20 m/s: the model against the linear single-track model";
-  fig.x_label = "lateral acceleration a_y [m/s^2]";
+  fig.x_label = "lateral acceleration a_y [m/s²]";
   plot::Panel p;
   p.title = "road-wheel angle beyond the Ackermann angle, delta - L/R";
-  p.y_label = "delta - L/R [deg]";
-  p.series.push_back({"pwsim car model (steady state after 12 s)", ay, excess_deg, plot::Style::kLinesPoints, 0x1f77b4});
-  p.series.push_back({"single-track model K a_y (closed form)", ay, line, plot::Style::kLines, 0xd62728});
+  p.y_label = "steer angle beyond Ackermann [deg]";
+  p.series.push_back({"pwsim car model (steady state after 12 s)", ay, excess_deg, plot::Style::kLinesPoints, plot::color::kSimulated});
+  p.series.push_back({"single-track model K a_y (closed form)", ay, line, plot::Style::kLines, plot::color::kReference});
   fig.panels.push_back(p);
   plot::WriteFigure(out / "car_understeer", fig);
   return {{"speed_mps", speed},
@@ -112,10 +112,10 @@ nlohmann::ordered_json Launch(const Vehicle& car, const std::filesystem::path& o
   const double v = 100.0 / 3.6;
   plot::Figure fig;
   fig.title = "0-100 km/h, closed-loop driver shifting at 6000 rpm";
-  fig.x_label = "t [s]";
-  fig.panels.push_back({"vehicle speed", "v [km/h]", {{"speed", t, kmh, plot::Style::kLines, 0x1f77b4}}, {}, false, 0.0, 0.0});
-  fig.panels.push_back({"engine speed", "n [rpm]", {{"engine", t, rpm, plot::Style::kLines, 0xd62728}}, {}, false, 0.0, 0.0});
-  fig.panels.push_back({"gear", "gear [-]", {{"gear", t, gear, plot::Style::kSteps, 0x2ca02c}}, {}, false, 0.0, 0.0});
+  fig.x_label = "time [s]";
+  fig.panels.push_back({"vehicle speed", "speed [km/h]", {{"speed", t, kmh, plot::Style::kLines, plot::color::kSimulated}}, {}, false, 0.0, 0.0});
+  fig.panels.push_back({"engine speed", "engine speed [rpm]", {{"engine", t, rpm, plot::Style::kLines, plot::color::kReference}}, {}, false, 0.0, 0.0});
+  fig.panels.push_back({"gear engaged", "gear", {{"gear", t, gear, plot::Style::kSteps, plot::color::kGreen}}, {}, false, 0.0, 0.0, 1.0});
   plot::WriteFigure(out / "car_launch", fig);
   return {{"zero_to_100_kmh_s", t100},
           {"max_power_kw", p_max / 1000.0},
@@ -161,10 +161,10 @@ nlohmann::ordered_json Energy(const Vehicle& car, const std::filesystem::path& o
   const double dke = KineticEnergy(car, s) - ke0;
   plot::Figure fig;
   fig.title = "work-energy balance over a launch in 1st and 2nd gear";
-  fig.x_label = "t [s]";
-  fig.panels.push_back({"engine work against kinetic energy + losses", "[kJ]",
-                        {{"engine work (integral of T_e w_e)", t, work, plot::Style::kLines, 0x1f77b4},
-                         {"dKE + clutch + driveline + tyre + drag + rolling losses", t, balance, plot::Style::kLines, 0xd62728}},
+  fig.x_label = "time [s]";
+  fig.panels.push_back({"engine work against kinetic energy + losses", "energy [kJ]",
+                        {{"engine work (integral of T_e w_e)", t, work, plot::Style::kLines, plot::color::kSimulated},
+                         {"dKE + clutch + driveline + tyre + drag + rolling losses", t, balance, plot::Style::kLines, plot::color::kReference}},
                         {}, false, 0.0, 0.0});
   plot::WriteFigure(out / "car_energy", fig);
   const double losses = clutch + driveline + tyre + drag + resist;
@@ -199,10 +199,10 @@ nlohmann::ordered_json Stall(const Vehicle& car, const std::filesystem::path& ou
   }
   plot::Figure fig;
   fig.title = "stall: clutch dropped in 5th at idle, against a slow release in 1st holding 1800 rpm";
-  fig.x_label = "t [s]";
-  fig.panels.push_back({"engine speed", "n [rpm]",
-                        {{"5th, clutch dropped in 0.1 s, no throttle", t, dropped, plot::Style::kLines, 0xd62728},
-                         {"1st, clutch released over 1.5 s with throttle", t, slow, plot::Style::kLines, 0x1f77b4}},
+  fig.x_label = "time [s]";
+  fig.panels.push_back({"engine speed", "engine speed [rpm]",
+                        {{"5th, clutch dropped in 0.1 s, no throttle", t, dropped, plot::Style::kLines, plot::color::kReference},
+                         {"1st, clutch released over 1.5 s with throttle", t, slow, plot::Style::kLines, plot::color::kSimulated}},
                         {}, false, 0.0, 0.0});
   plot::WriteFigure(out / "car_stall", fig);
   return {{"dropped_in_fifth_stalls", a_stalled}, {"slow_release_in_first_stalls", b_stalled},

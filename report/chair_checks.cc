@@ -73,12 +73,12 @@ nlohmann::ordered_json Turn(const Chair& chair, double load, const std::filesyst
       worst_setpoint = std::max(worst_setpoint, std::abs(r - setpoint_radius.back()) / r);
     }
   }
-  plot::Panel panel = MakePanel("radius of the path (arc length / heading change over 4 s)", "R [m]");
-  panel.series.push_back({"pwsim full-DoF chair", v_over_w, radius, plot::Style::kPoints, 0x1f77b4});
-  panel.series.push_back({"closed form R = v/omega", v_over_w, v_over_w, plot::Style::kLines, 0xd62728});
-  panel.series.push_back({"profile set-points v*/omega*", v_over_w, setpoint_radius, plot::Style::kPoints, 0x2ca02c});
+  plot::Panel panel = MakePanel("radius of the path (arc length / heading change over 4 s)", "path radius [m]");
+  panel.series.push_back({"pwsim full-DoF chair", v_over_w, radius, plot::Style::kPoints, plot::color::kSimulated});
+  panel.series.push_back({"closed form R = v/omega", v_over_w, v_over_w, plot::Style::kLines, plot::color::kReference});
+  panel.series.push_back({"profile set-points v*/omega*", v_over_w, setpoint_radius, plot::Style::kPoints, plot::color::kGreen});
   WritePanelFigure(out / "chair_turn", "steady turns: the path's radius against v/omega (12 deflection pairs)",
-                   "v/omega of the chair [m]", panel);
+                   "speed over turn rate of the chair, v/omega [m]", panel);
   return {{"turns", radius.size()},
           {"worst_relative_difference_radius_vs_v_over_omega", worst_kinematic},
           {"worst_relative_difference_radius_vs_setpoints", worst_setpoint}};
@@ -129,9 +129,9 @@ nlohmann::ordered_json Caster(const Chair& chair, double load, const std::filesy
                            : std::abs(KinematicCasterAngle(2.0 * std::atan(10.0), layout.caster.trail, s + s0 - s_at_10));
     law_deg.push_back(law * 180.0 / kPi);
   }
-  plot::Panel panel = MakePanel("swivel angle |delta| (180 deg: trailing backwards, 0: trailing forwards)", "|delta| [deg]");
-  panel.series.push_back({"pwsim caster (swivel inertia, friction, scrub)", travel, angle_deg, plot::Style::kLines, 0x1f77b4});
-  panel.series.push_back({"kinematic law tan(d/2) = tan(d0/2) exp(-s/t)", travel, law_deg, plot::Style::kLines, 0xd62728});
+  plot::Panel panel = MakePanel("swivel angle |delta| (180 deg: trailing backwards, 0: trailing forwards)", "caster swivel angle [deg]");
+  panel.series.push_back({"pwsim caster (swivel inertia, friction, scrub)", travel, angle_deg, plot::Style::kLines, plot::color::kSimulated});
+  panel.series.push_back({"kinematic law tan(d/2) = tan(d0/2) exp(-s/t)", travel, law_deg, plot::Style::kLines, plot::color::kReference});
   WritePanelFigure(out / "chair_caster", "caster realignment after reversing (front-left caster, 0.6 deflection forward)",
                    "travel forward [m]", panel);
   const double e_travel = s_at_10_over_e - s_at_10;
@@ -146,7 +146,7 @@ nlohmann::ordered_json Pull(const Chair& chair, double load, const std::filesyst
   const Chair variant = RearDriveVariant(chair);
   const PlanarLayout layout = DefaultPlanarLayout(variant);
   const FloorMap floor;
-  plot::Panel panel = MakePanel("heading (left positive)", "yaw [deg]");
+  plot::Panel panel = MakePanel("heading (left positive)", "heading [deg]");
   nlohmann::ordered_json result;
   double left = 0.0, right = 0.0;
   for (double start_deg : {90.0, 0.0, -90.0}) {
@@ -169,7 +169,7 @@ nlohmann::ordered_json Pull(const Chair& chair, double load, const std::filesyst
         sim.sample().planar.yaw * 180.0 / kPi;
   }
   WritePanelFigure(out / "chair_pull", "rear-drive 4-wheel variant started with its casters across (0.8 deflection forward)",
-                   "t [s]", panel);
+                   "time [s]", panel);
   result["pulls_toward_the_casters"] = left > 0.0 && right < 0.0;
   result["mirror_asymmetry_deg"] = (left + right) * 180.0 / kPi;
   return result;
@@ -202,9 +202,9 @@ nlohmann::ordered_json Roll(const Chair& chair, double load, const std::filesyst
     closed_deg.push_back(phi * 180.0 / kPi);
     worst = std::max(worst, std::abs(sim.sample().roll - phi));
   }
-  plot::Panel panel = MakePanel("roll of the lumped model, left side up", "phi [deg]");
-  panel.series.push_back({"pwsim full-DoF chair", grade_pct, simulated_deg, plot::Style::kPoints, 0x1f77b4});
-  panel.series.push_back({"closed form K_phi (phi - phi_GM) = M g d sin phi", grade_pct, closed_deg, plot::Style::kLines, 0xd62728});
+  plot::Panel panel = MakePanel("roll of the lumped model, left side up", "roll angle [deg]");
+  panel.series.push_back({"pwsim full-DoF chair", grade_pct, simulated_deg, plot::Style::kPoints, plot::color::kSimulated});
+  panel.series.push_back({"closed form K_phi (phi - phi_GM) = M g d sin phi", grade_pct, closed_deg, plot::Style::kLines, plot::color::kReference});
   WritePanelFigure(out / "chair_roll", "static roll on a cross-slope (chair stopped on it)",
                    "cross-slope grade [%]", panel);
   return {{"k_roll_nmprad", layout.k_roll}, {"gravity_lever_kgm", torque.gravity_lever}, {"worst_abs_difference_rad", worst},
@@ -234,11 +234,11 @@ nlohmann::ordered_json Braking(const Chair& chair, double load, const std::files
       closed.push_back(expected);
     }
   }
-  plot::Panel panel = MakePanel("load on the front (caster) row", "N_front [N]");
-  panel.series.push_back({"pwsim full-DoF chair", t, front, plot::Style::kLines, 0x1f77b4});
-  panel.series.push_back({"closed form M (g (x_c - x_r) - a_x h) / L", t, closed, plot::Style::kLines, 0xd62728});
+  plot::Panel panel = MakePanel("load on the front (caster) row", "front-row load [N]");
+  panel.series.push_back({"pwsim full-DoF chair", t, front, plot::Style::kLines, plot::color::kSimulated});
+  panel.series.push_back({"closed form M (g (x_c - x_r) - a_x h) / L", t, closed, plot::Style::kLines, plot::color::kReference});
   WritePanelFigure(out / "chair_braking", "load transfer while braking from 1.6 m/s (rear-drive 4-wheel variant)",
-                   "t after releasing the joystick [s]", panel);
+                   "time after releasing the joystick [s]", panel);
   return {{"worst_relative_difference", worst}, {"static_front_load_n", mass * kG * (layout.cm_x - variant.wheels[1].x) / length}};
 }
 
@@ -274,11 +274,11 @@ nlohmann::ordered_json Tip(const Chair& chair, double load, const std::filesyste
   layout.anti_tip = {true, -0.45, 0.2, 0.05};
   const double closed_anti_tip = (layout.cm_x - layout.anti_tip.x) / h;
   const double found_anti_tip = critical_grade(layout);
-  plot::Panel panel = MakePanel("front-row load (negative: lifted, reported, not clipped)", "N_front [N]");
-  panel.series.push_back({"pwsim full-DoF chair (at rest)", grade_pct, front, plot::Style::kLinesPoints, 0x1f77b4});
+  plot::Panel panel = MakePanel("front-row load (negative: lifted, reported, not clipped)", "front-row load [N]");
+  panel.series.push_back({"pwsim full-DoF chair (at rest)", grade_pct, front, plot::Style::kLinesPoints, plot::color::kSimulated});
   panel.series.push_back({"tip-over grade (x_c - x_r)/h", {100.0 * closed, 100.0 * closed},
                           {*std::min_element(front.begin(), front.end()), *std::max_element(front.begin(), front.end())},
-                          plot::Style::kLines, 0xd62728});
+                          plot::Style::kLines, plot::color::kReference});
   WritePanelFigure(out / "chair_tip", "facing up a slope: load on the front row until the chair tips back",
                    "grade [%]", panel);
   return {{"tip_grade_closed_form", closed},

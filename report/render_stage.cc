@@ -9,6 +9,7 @@
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <numbers>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -112,7 +113,8 @@ struct VestibularCue {
   std::string key;     ///< summary key suffix
   std::string column;  ///< trial.csv column
   double sign{1.0};
-  std::string label;
+  std::string label;   ///< summary.json's "reference": the column it came from
+  std::string legend;  ///< the figure's, in words
 };
 
 /// An axis of the pixel check (visual_check.csv columns est_<name>_rate_<unit>,
@@ -138,10 +140,13 @@ std::vector<VestibularCue> VestibularCues(const TrialTable& table, const std::st
   for (const auto& [key, who, what] : {std::array<std::string, 3>{"vestibular_platform", "plat", "felt on the platform"},
                                        std::array<std::string, 3>{"vestibular_true", "true", "felt in the real chair"}}) {
     const std::string column = "vest_" + who + "_scc_" + scc + "_radps";
-    if (table.Has(column)) cues.push_back({key, column, sign, prefix + column + " (" + what + ")"});
+    if (table.Has(column))
+      cues.push_back({key, column, sign, prefix + column + " (" + what + ")",
+                      what + " (canal model)"});
   }
   if (cues.empty() && table.Has(axis + "_rate_radps")) {
-    cues.push_back({"chair", axis + "_rate_radps", 1.0, axis + "_rate_radps (chair; no vest_ columns)"});
+    cues.push_back({"chair", axis + "_rate_radps", 1.0, axis + "_rate_radps (chair; no vest_ columns)",
+                    "the chair's own rotation"});
   }
   return cues;
 }
@@ -183,13 +188,19 @@ void WriteVisualCheck(const TrialTable& table, const std::vector<double>& time,
   int estimated = 0;
   for (double v : axes.front().est) estimated += std::isfinite(v) ? 1 : 0;
   check_json["frames_estimated"] = estimated;
-  const unsigned cue_colors[] = {0x009E73, 0xCC79A7, 0xE69F00};
+  const unsigned cue_colors[] = {plot::color::kGreen, plot::color::kPurple, plot::color::kOrange};
   for (const CheckAxis& axis : axes) {
     const std::string suffix = axis.name + "_rate_" + axis.unit;
     check.Add("est_" + suffix, axis.est);
     check.Add("pose_" + suffix, axis.pose);
-    std::vector<plot::SharedXSeries> series{{axis.pixels_label, axis.est, 0xD55E00},
-                                            {"camera pose log", axis.pose, 0x0072B2}};
+    // Rotation rates drawn in deg/s, as in mca.png (visual_check.csv keeps rad/s).
+    const double shown = axis.unit == "mps" ? 1.0 : 180.0 / std::numbers::pi;
+    const auto scaled = [shown](std::vector<double> v) {
+      for (double& x : v) x *= shown;
+      return v;
+    };
+    std::vector<plot::SharedXSeries> series{{"video " + axis.pixels_label, scaled(axis.est), plot::color::kVermillion},
+                                            {"camera pose (what the video should show)", scaled(axis.pose), plot::color::kBlue}};
     check_json[axis.name + "_rate_vs_pose"] =
         ComparisonJson(render::CompareSeries(axis.est, axis.pose, frame_dt, max_lag), axis.reference);
     for (std::size_t c = 0; c < axis.cues.size(); ++c) {
@@ -199,14 +210,16 @@ void WriteVisualCheck(const TrialTable& table, const std::vector<double>& time,
           ComparisonJson(render::CompareSeries(axis.est, rate, frame_dt, max_lag), cue.label);
       check_json["pose_" + axis.name + "_rate_vs_" + cue.key] =
           ComparisonJson(render::CompareSeries(axis.pose, rate, frame_dt, max_lag), cue.label);
-      series.push_back({cue.label, rate, cue_colors[c % 3]});
+      series.push_back({cue.legend, scaled(rate), cue_colors[c % 3]});
       check.Add(cue.key + "_" + suffix, std::move(rate));
     }
-    panels.push_back({axis.title, axis.name + (axis.unit == "mps" ? " velocity [m/s]" : " rate [rad/s]"),
+    panels.push_back({axis.title, axis.name + (axis.unit == "mps" ? " velocity [m/s]" : " rate [deg/s]"),
                       std::move(series)});
   }
   check.WriteCsv(out_dir / "visual_check.csv");
-  plot::WriteSharedXFigure(out_dir / "visual_check.png", t_mid, panels);
+  plot::WriteSharedXFigure(out_dir / "visual_check.png", t_mid, panels, "time [s]", 1100, 300,
+                           "Does the video move as it should? Motion measured from its pixels against the "
+                           "camera's pose and the rotation felt (vestibular canal model)");
   summary["visual_check"] = check_json;
 }
 
@@ -376,19 +389,19 @@ void RenderTrial(const Scene& scene, const TrialTable& table, const RenderStageO
                     std::move(est), std::move(pose), VestibularCues(table, name)});
   };
   if (channel.planar()) {
-    add_rotation("yaw", "Yaw rate (to the left): pixels vs camera pose log vs vestibular cues",
+    add_rotation("yaw", "yaw rate (turning left +): seen in the video, in the camera pose, and felt",
                  [&](std::size_t k) { return std::pair{pose_step[k].z(), pixel_step[k].yaw_delta}; });
   }
-  add_rotation("pitch", "Pitch rate (nose-up): pixels vs camera pose log vs vestibular cues",
+  add_rotation("pitch", "pitch rate (nose-up +): seen in the video, in the camera pose, and felt",
                [&](std::size_t k) { return std::pair{-pose_step[k].y(), pixel_step[k].pitch_delta}; });
   if (channel.planar()) {
-    add_rotation("roll", "Roll rate (right side down): pixels vs camera pose log vs vestibular cues",
+    add_rotation("roll", "roll rate (right side down +): seen in the video, in the camera pose, and felt",
                  [&](std::size_t k) { return std::pair{pose_step[k].x(), pixel_step[k].roll_delta}; });
   } else {
     auto [pose, est] = rate([&](std::size_t k) {
       return std::pair{cam_z[k] - cam_z[k - 1], pixel_step[k].vertical_delta};
     });
-    axes.push_back({"vertical", "mps", "Vertical velocity of the eye: pixels vs pose log",
+    axes.push_back({"vertical", "mps", "vertical velocity of the eye (up +): seen in the video and in the camera pose",
                     "pixels (floor and ceiling plane fit)", "cam_z_m (frames.csv), differenced", std::move(est),
                     std::move(pose), {}});
   }
