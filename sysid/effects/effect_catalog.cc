@@ -73,40 +73,48 @@ std::string EffectNameList() {
 
 namespace {
 
+// Each effect's parameters: name, scale, bounds, starts, the EffectParams field, unit.
 std::vector<ParamSpec> Parameters(EffectId id) {
+  using F = EffectParams;
   switch (id) {
     case EffectId::kWheelRadius:
-      return {{"caster_radius_m", 0.1, 0.0, 0.35, {0.04, 0.12}},
-              {"drive_radius_m", 0.1, 0.0, 0.40, {0.04, 0.18}}};
+      return {{"caster_radius_m", 0.1, 0.0, 0.35, {0.04, 0.12}, &F::caster_radius, "m"},
+              {"drive_radius_m", 0.1, 0.0, 0.40, {0.04, 0.18}, &F::drive_radius, "m"}};
     case EffectId::kTyreCompliance:
-      return {{"caster_tyre_period_s", 0.1, 0.02, 1.0, {0.06, 0.15, 0.4}},
-              {"drive_tyre_period_s", 0.1, 0.02, 1.0, {0.05, 0.15}},
-              {"tyre_damping_ratio", 0.3, 0.05, 1.0, {0.3}},
-              {"caster_tyre_compliance_m_per_n", 5e-5, 0.0, 5e-4, {0.0, 5e-5, 2.5e-4}},
-              {"drive_tyre_compliance_m_per_n", 1e-5, 0.0, 2e-4, {0.0, 1e-5, 6e-5}},
-              {"tyre_time_constant_s", 0.005, 1e-4, 0.05, {0.005}},
-              {"rear_caster_compliance_ratio", 0.5, 0.2, 5.0, {1.0}}};
+      return {{"caster_tyre_period_s", 0.1, 0.02, 1.0, {0.06, 0.15, 0.4}, &F::caster_tyre_period, "s"},
+              {"drive_tyre_period_s", 0.1, 0.02, 1.0, {0.05, 0.15}, &F::drive_tyre_period, "s"},
+              {"tyre_damping_ratio", 0.3, 0.05, 1.0, {0.3}, &F::tyre_damping, "-"},
+              {"caster_tyre_compliance_m_per_n", 5e-5, 0.0, 5e-4, {0.0, 5e-5, 2.5e-4},
+               &F::caster_tyre_compliance, "m/N"},
+              {"drive_tyre_compliance_m_per_n", 1e-5, 0.0, 2e-4, {0.0, 1e-5, 6e-5},
+               &F::drive_tyre_compliance, "m/N"},
+              {"tyre_time_constant_s", 0.005, 1e-4, 0.05, {0.005}, &F::tyre_time_constant, "s"},
+              {"rear_caster_compliance_ratio", 0.5, 0.2, 5.0, {1.0}, &F::rear_caster_compliance_ratio,
+               "-"}};
     case EffectId::kCushionCompliance:
-      return {{"cushion_loss_per_kn", 0.2, 0.0, 1.2, {0.1, 0.4}},
-              {"cushion_height_gain", 0.2, 0.5, 1.5, {1.0}},
-              {"cushion_exponent", 0.5, 0.3, 2.5, {1.0}},
-              {"cushion_pitch_gain", 0.2, 0.5, 2.0, {1.0}}};
+      return {{"cushion_loss_per_kn", 0.2, 0.0, 1.2, {0.1, 0.4}, &F::cushion_loss_per_kn, "-"},
+              {"cushion_height_gain", 0.2, 0.5, 1.5, {1.0}, &F::cushion_height_gain, "-"},
+              {"cushion_exponent", 0.5, 0.3, 2.5, {1.0}, &F::cushion_exponent, "-"},
+              {"cushion_pitch_gain", 0.2, 0.5, 2.0, {1.0}, &F::cushion_pitch_gain, "-"}};
     case EffectId::kHeavePitchCoupling:
-      return {{"stiffness_coupling", 0.2, -0.8, 0.8, {-0.2, 0.2}},
-              {"damping_coupling", 0.2, -0.8, 0.8, {0.0}}};
+      return {{"stiffness_coupling", 0.2, -0.8, 0.8, {-0.2, 0.2}, &F::stiffness_coupling, "-"},
+              {"damping_coupling", 0.2, -0.8, 0.8, {0.0}, &F::damping_coupling, "-"}};
     case EffectId::kNonlinearStiffness:
-      return {{"heave_hardening", 0.5, 0.0, 10.0, {0.3}}, {"pitch_hardening", 0.5, 0.0, 10.0, {0.3}},
-              {"bump_gain", 0.5, 0.0, 20.0, {0.0, 1.0}}, {"bump_gap_m", 0.005, 0.0, 0.03, {0.004}}};
+      return {{"heave_hardening", 0.5, 0.0, 10.0, {0.3}, &F::heave_hardening, "-"},
+              {"pitch_hardening", 0.5, 0.0, 10.0, {0.3}, &F::pitch_hardening, "-"},
+              {"bump_gain", 0.5, 0.0, 20.0, {0.0, 1.0}, &F::bump_gain, "-"},
+              {"bump_gap_m", 0.005, 0.0, 0.03, {0.004}, &F::bump_gap, "m"}};
     case EffectId::kSuspensionFriction:
-      return {{"caster_friction_n", 20.0, 0.0, 250.0, {10.0, 40.0}},
-              {"drive_friction_n", 20.0, 0.0, 250.0, {10.0, 40.0}},
-              {"friction_presliding_m", 5e-4, 5e-5, 5e-3, {2e-4, 1e-3}},
-              {"friction_smooth_rate_mps", 5e-3, 5e-4, 5e-2, {5e-3}}};
+      return {{"caster_friction_n", 20.0, 0.0, 250.0, {10.0, 40.0}, &F::caster_friction, "N"},
+              {"drive_friction_n", 20.0, 0.0, 250.0, {10.0, 40.0}, &F::drive_friction, "N"},
+              {"friction_presliding_m", 5e-4, 5e-5, 5e-3, {2e-4, 1e-3}, &F::friction_presliding, "m"},
+              {"friction_smooth_rate_mps", 5e-3, 5e-4, 5e-2, {5e-3}, &F::friction_smooth_rate, "m/s"}};
     case EffectId::kInertialPitch:
-      return {{"cm_lever_m", 0.2, -1.5, 1.5, {0.0}}, {"load_cm_lever_m", 0.2, -1.5, 1.5, {0.0}}};
+      return {{"cm_lever_m", 0.2, -1.5, 1.5, {0.0}, &F::cm_lever, "m"},
+              {"load_cm_lever_m", 0.2, -1.5, 1.5, {0.0}, &F::load_cm_lever, "m"}};
     case EffectId::kMarkerOffset:
-      return {{"marker_lever_x_m", 0.1, -1.0, 1.0, {0.0, 0.15}},
-              {"marker_lever_z_m", 0.2, -1.5, 1.5, {0.0, 0.5}}};
+      return {{"marker_lever_x_m", 0.1, -1.0, 1.0, {0.0, 0.15}, &F::marker_lever_x, "m"},
+              {"marker_lever_z_m", 0.2, -1.5, 1.5, {0.0, 0.5}, &F::marker_lever_z, "m"}};
   }
   return {};
 }
@@ -242,75 +250,15 @@ void CopyEffect(EffectId id, const EffectParams& from, EffectParams& to) {
 }
 
 void SetEffectValues(EffectId id, std::span<const double> v, EffectParams& fx) {
-  PWSIM_DEMAND(v.size() == EffectParameters(id).size());
-  switch (id) {
-    case EffectId::kWheelRadius:
-      fx.caster_radius = v[0];
-      fx.drive_radius = v[1];
-      break;
-    case EffectId::kTyreCompliance:
-      fx.caster_tyre_period = v[0];
-      fx.drive_tyre_period = v[1];
-      fx.tyre_damping = v[2];
-      fx.caster_tyre_compliance = v[3];
-      fx.drive_tyre_compliance = v[4];
-      fx.tyre_time_constant = v[5];
-      fx.rear_caster_compliance_ratio = v[6];
-      break;
-    case EffectId::kCushionCompliance:
-      fx.cushion_loss_per_kn = v[0];
-      fx.cushion_height_gain = v[1];
-      fx.cushion_exponent = v[2];
-      fx.cushion_pitch_gain = v[3];
-      break;
-    case EffectId::kHeavePitchCoupling:
-      fx.stiffness_coupling = v[0];
-      fx.damping_coupling = v[1];
-      break;
-    case EffectId::kNonlinearStiffness:
-      fx.heave_hardening = v[0];
-      fx.pitch_hardening = v[1];
-      fx.bump_gain = v[2];
-      fx.bump_gap = v[3];
-      break;
-    case EffectId::kSuspensionFriction:
-      fx.caster_friction = v[0];
-      fx.drive_friction = v[1];
-      fx.friction_presliding = v[2];
-      fx.friction_smooth_rate = v[3];
-      break;
-    case EffectId::kInertialPitch:
-      fx.cm_lever = v[0];
-      fx.load_cm_lever = v[1];
-      break;
-    case EffectId::kMarkerOffset:
-      fx.marker_lever_x = v[0];
-      fx.marker_lever_z = v[1];
-      break;
-  }
+  const std::vector<ParamSpec>& params = EffectParameters(id);
+  PWSIM_DEMAND(v.size() == params.size());
+  for (std::size_t j = 0; j < params.size(); ++j) fx.*params[j].field = v[j];
 }
 
 std::vector<double> GetEffectValues(EffectId id, const EffectParams& fx) {
-  switch (id) {
-    case EffectId::kWheelRadius:
-      return {fx.caster_radius, fx.drive_radius};
-    case EffectId::kTyreCompliance:
-      return {fx.caster_tyre_period, fx.drive_tyre_period, fx.tyre_damping, fx.caster_tyre_compliance,
-              fx.drive_tyre_compliance, fx.tyre_time_constant, fx.rear_caster_compliance_ratio};
-    case EffectId::kCushionCompliance:
-      return {fx.cushion_loss_per_kn, fx.cushion_height_gain, fx.cushion_exponent, fx.cushion_pitch_gain};
-    case EffectId::kHeavePitchCoupling:
-      return {fx.stiffness_coupling, fx.damping_coupling};
-    case EffectId::kNonlinearStiffness:
-      return {fx.heave_hardening, fx.pitch_hardening, fx.bump_gain, fx.bump_gap};
-    case EffectId::kSuspensionFriction:
-      return {fx.caster_friction, fx.drive_friction, fx.friction_presliding, fx.friction_smooth_rate};
-    case EffectId::kInertialPitch:
-      return {fx.cm_lever, fx.load_cm_lever};
-    case EffectId::kMarkerOffset:
-      return {fx.marker_lever_x, fx.marker_lever_z};
-  }
-  return {};
+  std::vector<double> v;
+  for (const ParamSpec& spec : EffectParameters(id)) v.push_back(fx.*spec.field);
+  return v;
 }
 
 EffectParams TruthEffect(EffectId id, double strength, const Chair& chair) {

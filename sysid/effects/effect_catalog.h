@@ -40,12 +40,17 @@ std::optional<EffectId> ParseEffect(const std::string& name);
 /// "wheel_radius, tyre_compliance, ..." for error messages.
 std::string EffectNameList();
 
+/// One fitted parameter of an effect: its name, unit, bounds, starts and the field of
+/// EffectParams it is (Set/GetEffectValues read and write through `field`, so an effect's
+/// table is the one place its parameters are listed).
 struct ParamSpec {
   std::string name;  ///< e.g. "caster_tyre_period_s" (unit suffix)
   double scale{1.0};  ///< typical magnitude (the optimiser works on value/scale)
   double lower{0.0};
   double upper{1.0};
   std::vector<double> starts;  ///< starting values; the members start at their combinations
+  double EffectParams::*field{nullptr};  ///< where the value lives (null: not bound)
+  const char* unit{"-"};                ///< SI unit, "-" for a ratio
 };
 
 /// One discrete law of a family: its setting of the family's EffectMembers field, the

@@ -524,6 +524,30 @@ TEST(EffectCatalogTest, IdsParseAndParametersRoundTrip) {
   EXPECT_FALSE(ParseEffect("caster_shimmy").has_value());
 }
 
+// Each parameter of the catalogue is bound to its own field of EffectParams, so writing one
+// effect's values changes that effect's fields and no other effect's.
+TEST(EffectCatalogTest, EachParameterOwnsOneFieldAndAUnit) {
+  std::vector<double EffectParams::*> seen;
+  for (EffectId id : AllEffects())
+    for (const ParamSpec& s : EffectParameters(id)) {
+      ASSERT_NE(s.field, nullptr) << s.name;
+      EXPECT_EQ(std::count(seen.begin(), seen.end(), s.field), 0) << s.name << " shares a field";
+      seen.push_back(s.field);
+      EXPECT_GT(std::string(s.unit).size(), 0u) << s.name;
+    }
+  for (EffectId id : AllEffects()) {
+    EffectParams fx;
+    std::vector<double> values;
+    for (const ParamSpec& s : EffectParameters(id)) values.push_back(s.upper);
+    SetEffectValues(id, values, fx);
+    for (EffectId other : AllEffects()) {
+      if (other == id) continue;
+      EXPECT_EQ(GetEffectValues(other, fx), GetEffectValues(other, EffectParams{}))
+          << EffectName(id) << " wrote into " << EffectName(other);
+    }
+  }
+}
+
 TEST(EffectTruthModelTest, GeneratesTheHiddenEffectAndRejectsBadOverrides) {
   GenerateConfig config;
   config.speeds = {1.2};
