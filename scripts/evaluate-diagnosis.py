@@ -278,11 +278,11 @@ def reliability_figure(sets, png):
                      f"title '{title} (Brier {brier(pairs):.3f}, {len(pairs)} effect-sets)'")
         plots.append(f"'{data}' index {i} using 1:2:5 with labels offset 1.6,0.6 font ',9' "
                      f"tc rgb '{colours[i % 3]}' notitle")
-    script = ("set terminal pngcairo size 760,640 font 'Sans,11'\n"
+    script = ("set terminal pngcairo noenhanced size 760,640 font 'Sans,11'\n"
               f"set output '{tmp}'\nset xrange [0:1]\nset yrange [-0.02:1.02]\n"
               "set xlabel 'predicted probability that the effect is present (bin mean)'\n"
               "set ylabel 'observed frequency (90 % Wilson interval)'\n"
-              "set key top left\nset grid\nset title 'pwsim diagnose: calibration of effect_probability'\n"
+              "set key bottom right\nset grid\nset title 'pwsim diagnose: calibration of effect_probability'\n"
               "plot " + ", ".join(plots) + "\n")
     subprocess.run(["gnuplot"], input=script, text=True, check=True)
     os.replace(tmp, png)
