@@ -223,7 +223,10 @@ std::vector<std::string> SubmitArrays(const Manifest& manifest, const EngineOpti
 }
 
 /// Polls squeue until none of `ids` is pending or running.
-void WaitForArrays(const EngineOptions& options, const std::vector<std::string>& ids) {
+/// Polls until the arrays `ids` have left the queue; `each_poll` (when given) runs after every
+/// query of the queue.
+void WaitForArrays(const EngineOptions& options, const std::vector<std::string>& ids,
+                   const std::function<void()>& each_poll = {}) {
   std::string list;
   for (const auto& id : ids) list += (list.empty() ? "" : ",") + id;
   const auto interval = std::chrono::duration<double>(std::max(0.01, options.poll_s));
@@ -231,6 +234,7 @@ void WaitForArrays(const EngineOptions& options, const std::vector<std::string>&
   for (;;) {
     const Captured squeue = RunCapture({"squeue", "--noheader", "--jobs=" + list, "--format=%i %T"});
     if (!squeue.exit.started) throw std::runtime_error("slurm: squeue: " + squeue.exit.error);
+    if (each_poll) each_poll();
     if (squeue.exit.exited && squeue.exit.code == 0) {
       failures = 0;
       if (Trim(squeue.out).empty()) return;
@@ -274,11 +278,21 @@ SubmitReport SubmitSlurm(const Manifest& manifest, const EngineOptions& options)
   }
   if (pending.empty()) return report;
   const std::size_t max_array = MaxArraySize(options);
+  // progress: the tasks to run that ended for good (a result ok or bad input; failed after the
+  // retries once the last round is read)
+  const std::vector<std::size_t> to_run = pending;
+  const auto told = [&] {
+    if (!options.progress) return;
+    int ended = static_cast<int>(report.failed.size());
+    for (std::size_t index : to_run) ended += ResultStatus(manifest.dir, index) != "retryable" ? 1 : 0;
+    options.progress("run the tasks", ended, static_cast<int>(to_run.size()));
+  };
+  told();
   for (int round = 0; !pending.empty(); ++round) {
     const std::vector<std::string> ids = SubmitArrays(manifest, options, script, pending, max_array);
     report.job_ids.insert(report.job_ids.end(), ids.begin(), ids.end());
     ++report.rounds;
-    WaitForArrays(options, ids);
+    WaitForArrays(options, ids, told);
     const std::string states = FinalStates(ids);
     if (!states.empty()) {
       std::ofstream(slurm_dir / "states.txt", std::ios::app) << states;
@@ -302,6 +316,7 @@ SubmitReport SubmitSlurm(const Manifest& manifest, const EngineOptions& options)
                        std::to_string(round + 1) + " of " + std::to_string(retries) + ")");
     }
     pending = again;
+    told();
   }
   std::sort(report.ok.begin(), report.ok.end());
   return report;

@@ -27,8 +27,9 @@ struct EngineOptions {
   std::size_t max_array_size{0};    ///< slurm: 0 = read MaxArraySize from `scontrol show config`
   std::vector<std::string> sbatch_options;  ///< slurm: more sbatch words for this submission
   std::ostream* log{nullptr};       ///< progress lines (may be null)
-  /// local: told ("run the tasks", tasks finished, tasks to run) at the start and as each task
-  /// ends for good (ok, bad input, or failed after its retries); none: not told.
+  /// Told ("run the tasks", tasks finished, tasks to run) at the start and as tasks end for good
+  /// (ok, bad input, or failed after their retries): local as each ends, slurm at each poll of
+  /// the queue; none: not told.
   std::function<void(std::string_view stage, int done, int total)> progress;
 };
 
