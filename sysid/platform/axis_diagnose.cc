@@ -7,6 +7,7 @@
 #include <functional>
 #include <numbers>
 #include <optional>
+#include <ostream>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -99,163 +100,404 @@ std::vector<std::vector<double>> BaseColumns(const JointStates& s, bool asymmetr
 double Legendre2(double x) { return 1.5 * x * x - 0.5; }
 
 
-struct Chosen {
-  AxisEffect effect{};
-  double h{0.0};   // Stribeck speed, cogging period, backlash gap, load natural frequency
-  double h2{0.0};  // load damping ratio (compliance)
+// ---- The effects: each one behind AxisEffectModel, in one place ----
+//
+// An effect of the axis diagnosis says what it adds to the inverse model and how its
+// parameters are found, and nothing else of the diagnosis knows about it:
+//   - the base columns it changes (SplitsBaseByDirection, ShiftBase) and the columns it adds
+//     (Columns), linear in the coefficients named by CoefficientNames;
+//   - its grid parameters (GridParameters: names, units), their starting grid (Grid, Screen)
+//     and their refinement by Brent's method around the grid's best point (Refine);
+//   - the values it reports (Reported), its force in the forward model (AddForce; a timing or
+//     a load-side effect is not a force of (q, q̇): ForceOfMotion false), and its evidence.
+// Adding an effect: an AxisEffect id, a class below and its entry in Model().
+
+// What the base model's training residual shows, for the evidence lines.
+struct ResidualStats {
+  double pos_slope{0.0}, neg_slope{0.0};  // residual against speed, moving + and -
+  double slow_rms{0.0}, fast_rms{0.0};    // below and above 10 % of the peak speed
 };
 
-// The load side's position seen through the transmission from the (measured) motor side:
-// compliance: q_l = H(s) q_m, H = (2ζω s + ω²)/(s² + 2ζω s + ω²) (load J_l on a spring-damper,
-// k/J_l = ω², c/J_l = 2ζω), Tustin at the sampling rate;
-// backlash: the play operator q_l = clamp(q_l, q_m − b/2, q_m + b/2) (rigid contact).
-// A block starts in motion, so both start where the motion has brought them: the filter on its
-// forced response to the quadratic through the first samples (PolynomialSteadyState), the load
-// of the play operator trailing the motor by half the gap.
-std::vector<double> LoadPosition(const Chosen& c, const std::vector<double>& qm,
-                                 const std::vector<double>& qdm, double dt) {
-  std::vector<double> ql(qm.size());
-  if (qm.empty()) return ql;
-  if (c.effect == AxisEffect::kBacklash) {
-    double l = qm[0] - 0.5 * c.h * Sign(qdm.empty() ? 0.0 : qdm[0]);
+struct GridParameter {
+  const char* name;  // as reported, e.g. "stribeck_speed"
+  const char* unit;  // of the value, e.g. "rad/s" for a load frequency
+};
+
+// The grid search of one effect's parameters, as Refine sees it.
+struct GridSearch {
+  const std::vector<std::vector<double>>& full;  // the whole grid (before screening)
+  const Stroke& st;
+  // The training SSE at these values of the grid parameters.
+  std::function<double(const std::vector<double>&)> sse;
+  // The minimum of sse_at(x) for x in [lo, hi], the parameter being value(x); a value only
+  // when it beats the best so far (which it then becomes).
+  std::function<std::optional<double>(double lo, double hi,
+                                      const std::function<double(double)>& value,
+                                      const std::function<double(double)>& sse_at)>
+      refine;
+};
+
+using ColumnSet = std::vector<std::vector<double>>;
+
+class AxisEffectModel {
+ public:
+  virtual ~AxisEffectModel() = default;
+  virtual AxisEffect Id() const = 0;
+  virtual const char* Name() const = 0;  // the spec's id
+  // The coefficients of the columns it adds, in Columns' order.
+  virtual std::vector<std::string> CoefficientNames() const { return {}; }
+  virtual std::vector<GridParameter> GridParameters() const { return {}; }
+  // The base model with Fv, Fc split by direction (the asymmetric base columns).
+  virtual bool SplitsBaseByDirection() const { return false; }
+  // Changes the base columns in place (a delay takes them later).
+  virtual void ShiftBase(const std::vector<double>& /*values*/, ColumnSet& /*base*/) const {}
+  // Full-rate columns added to the model at these grid values.
+  virtual ColumnSet Columns(const std::vector<double>& /*values*/, const Part& /*p*/,
+                            const Stroke& /*st*/) const {
+    return {};
+  }
+  // The grid of its parameters (empty: none), from the stroke and the training parts.
+  virtual std::vector<std::vector<double>> Grid(const Stroke& /*st*/,
+                                                const std::vector<Part>& /*train*/,
+                                                int /*decimation*/) const {
+    return {};
+  }
+  // The grid points worth a full fit (the base residual may rule most of them out).
+  virtual std::vector<std::vector<double>> Screen(std::vector<std::vector<double>> grid,
+                                                  const std::vector<Part>& /*train*/,
+                                                  const std::vector<Eigen::VectorXd>& /*residual*/) const {
+    return grid;
+  }
+  // Refines the grid's best point `values` between its neighbours.
+  virtual void Refine(const GridSearch& /*search*/, std::vector<double>& /*values*/) const {}
+  // Its grid parameters as reported (by default each under its name).
+  virtual std::vector<NamedValue> Reported(const std::vector<double>& values) const {
+    std::vector<NamedValue> out;
+    const std::vector<GridParameter> g = GridParameters();
+    for (std::size_t i = 0; i < g.size() && i < values.size(); ++i) out.push_back({g[i].name, values[i]});
+    return out;
+  }
+  // False when the effect is not a force of (q, q̇) (the forward model cannot carry it).
+  virtual bool ForceOfMotion() const { return true; }
+  // Adds its force at (q, q̇ = v) to f, its coefficients starting at th[k].
+  virtual void AddForce(const std::vector<double>& /*values*/, const Eigen::VectorXd& /*th*/,
+                        Eigen::Index /*k*/, double /*q*/, double /*v*/, const Stroke& /*st*/,
+                        double& /*f*/) const {}
+  // One line: what in the base residual points at it, at its fitted grid values.
+  virtual void Evidence(const std::vector<double>& values, const ResidualStats& s,
+                        std::ostream& o) const = 0;
+};
+
+// The first grid value, 0 where the effect has none (the evidence lines print it).
+double First(const std::vector<double>& values) { return values.empty() ? 0.0 : values[0]; }
+
+class AsymmetricFriction final : public AxisEffectModel {
+ public:
+  AxisEffect Id() const override { return AxisEffect::kAsymmetricFriction; }
+  const char* Name() const override { return "asymmetric_friction"; }
+  bool SplitsBaseByDirection() const override { return true; }
+  void Evidence(const std::vector<double>&, const ResidualStats& s, std::ostream& o) const override {
+    o << "base residual vs speed: slope " << s.pos_slope << " when moving +, " << s.neg_slope
+      << " when moving -";
+  }
+};
+
+// + sign(q̇)·exp(−(q̇/v_s)²), v_s on a geometric grid from 0.2 % to 20 % of the peak speed.
+class StribeckFriction final : public AxisEffectModel {
+ public:
+  AxisEffect Id() const override { return AxisEffect::kStribeckFriction; }
+  const char* Name() const override { return "stribeck_friction"; }
+  std::vector<std::string> CoefficientNames() const override { return {"stribeck_amplitude"}; }
+  std::vector<GridParameter> GridParameters() const override { return {{"stribeck_speed", "rad/s or m/s"}}; }
+  ColumnSet Columns(const std::vector<double>& v, const Part& p, const Stroke&) const override {
+    const JointStates& s = p.s;
+    const double h = v[0];
+    ColumnSet c(1, std::vector<double>(s.q.size()));
+    for (std::size_t i = 0; i < s.q.size(); ++i) {
+      const double r = s.qd[i] / h;
+      c[0][i] = Sign(s.qd[i]) * std::exp(-r * r);
+    }
+    return c;
+  }
+  std::vector<std::vector<double>> Grid(const Stroke& st, const std::vector<Part>&, int) const override {
+    std::vector<std::vector<double>> grid;
+    for (int i = 0; i < 16; ++i) grid.push_back({st.v_peak * 0.002 * std::pow(10.0, i * 2.0 / 15.0)});
+    return grid;
+  }
+  void Refine(const GridSearch& g, std::vector<double>& v) const override { RefineGeometric(g, v); }
+  void AddForce(const std::vector<double>& v, const Eigen::VectorXd& th, Eigen::Index k, double,
+                double q_dot, const Stroke&, double& f) const override {
+    const double r = q_dot / v[0];
+    f += th(k) * Sign(q_dot) * std::exp(-r * r);
+  }
+  void Evidence(const std::vector<double>& v, const ResidualStats& s, std::ostream& o) const override {
+    o << "base residual RMS " << s.slow_rms << " below 10 % of peak speed vs " << s.fast_rms
+      << " above; v_s " << First(v);
+  }
+  // Geometric grids: the neighbours are a factor r away; refined on a log scale.
+  static void RefineGeometric(const GridSearch& g, std::vector<double>& v) {
+    const double r = g.full.size() > 1 ? g.full[1][0] / g.full[0][0] : 2.0;
+    if (auto h = g.refine(std::log(v[0] / r), std::log(v[0] * r), [](double x) { return std::exp(x); },
+                          [&](double x) { return g.sse({std::exp(x)}); }))
+      v[0] = *h;
+  }
+};
+
+// + sign(q̇)·P1(x), sign(q̇)·P2(x), x the stroke mapped to [−1, 1].
+class PositionDependentFriction final : public AxisEffectModel {
+ public:
+  AxisEffect Id() const override { return AxisEffect::kPositionDependentFriction; }
+  const char* Name() const override { return "position_dependent_friction"; }
+  std::vector<std::string> CoefficientNames() const override { return {"coulomb_p1", "coulomb_p2"}; }
+  ColumnSet Columns(const std::vector<double>&, const Part& p, const Stroke& st) const override {
+    const JointStates& s = p.s;
+    ColumnSet c(2, std::vector<double>(s.q.size()));
+    for (std::size_t i = 0; i < s.q.size(); ++i) {
+      const double x = 2.0 * (s.q[i] - st.q_min) / (st.q_max - st.q_min) - 1.0;
+      c[0][i] = Sign(s.qd[i]) * x;
+      c[1][i] = Sign(s.qd[i]) * Legendre2(x);
+    }
+    return c;
+  }
+  void AddForce(const std::vector<double>&, const Eigen::VectorXd& th, Eigen::Index k, double q,
+                double q_dot, const Stroke& st, double& f) const override {
+    const double sg = Sign(q_dot);
+    const double x = 2.0 * (q - st.q_min) / (st.q_max - st.q_min) - 1.0;
+    f += th(k) * sg * x + th(k + 1) * sg * Legendre2(x);
+  }
+  void Evidence(const std::vector<double>&, const ResidualStats&, std::ostream& o) const override {
+    o << "dry friction as a quadratic along the stroke";
+  }
+};
+
+// + sin(2πq/p), cos(2πq/p); the period p from 2 cycles over the stroke to what the decimated
+// rows carry at the median moving speed, screened on the base residual.
+class Cogging final : public AxisEffectModel {
+ public:
+  AxisEffect Id() const override { return AxisEffect::kCogging; }
+  const char* Name() const override { return "cogging"; }
+  std::vector<std::string> CoefficientNames() const override { return {"cogging_sin", "cogging_cos"}; }
+  std::vector<GridParameter> GridParameters() const override { return {{"cogging_period", "rad or m"}}; }
+  ColumnSet Columns(const std::vector<double>& v, const Part& p, const Stroke&) const override {
+    const JointStates& s = p.s;
+    const double h = v[0];
+    ColumnSet c(2, std::vector<double>(s.q.size()));
+    for (std::size_t i = 0; i < s.q.size(); ++i) {
+      const double a = 2.0 * std::numbers::pi * s.q[i] / h;
+      c[0][i] = std::sin(a);
+      c[1][i] = std::cos(a);
+    }
+    return c;
+  }
+  std::vector<std::vector<double>> Grid(const Stroke& st, const std::vector<Part>& train,
+                                        int r) const override {
+    // Spatial frequencies from 2 cycles over the stroke to what the decimated rows can carry
+    // at the median moving speed, spaced 1/(4·stroke).
+    const double span = st.q_max - st.q_min;
+    std::vector<double> speeds;
+    for (const Part& p : train)
+      for (Eigen::Index i = 0; i < p.qddec.size(); ++i)
+        if (std::abs(p.qddec(i)) > 0.05 * st.v_peak) speeds.push_back(std::abs(p.qddec(i)));
+    double v_med = st.v_peak / 2.0;
+    if (!speeds.empty()) {
+      std::nth_element(speeds.begin(), speeds.begin() + static_cast<std::ptrdiff_t>(speeds.size() / 2),
+                       speeds.end());
+      v_med = speeds[speeds.size() / 2];
+    }
+    const double dt_dec = (train.front().tdec.size() > 1)
+                              ? train.front().tdec[1] - train.front().tdec[0]
+                              : 0.01 * r;
+    const double f_max = std::min(0.8 * 0.5 / dt_dec / v_med, 4000.0 / span);
+    std::vector<std::vector<double>> grid;
+    for (double f = 2.0 / span; f <= f_max; f += 0.25 / span) grid.push_back({1.0 / f});
+    return grid;
+  }
+  // The three periods with the strongest projection of the base residual on sin/cos.
+  std::vector<std::vector<double>> Screen(std::vector<std::vector<double>> grid,
+                                          const std::vector<Part>& train,
+                                          const std::vector<Eigen::VectorXd>& residual) const override {
+    std::vector<std::pair<double, double>> scored;
+    for (const std::vector<double>& g : grid) {
+      const double p = g[0];
+      double s = 0.0, c = 0.0, ss = 0.0, cc = 0.0;
+      for (std::size_t k = 0; k < train.size(); ++k)
+        for (Eigen::Index i = 0; i < train[k].Rows(); ++i) {
+          const double a =
+              2.0 * std::numbers::pi * train[k].qdec(train[k].keep[static_cast<std::size_t>(i)]) / p;
+          const double si = std::sin(a), ci = std::cos(a);
+          s += residual[k](i) * si;
+          c += residual[k](i) * ci;
+          ss += si * si;
+          cc += ci * ci;
+        }
+      scored.push_back({s * s / std::max(ss, 1e-300) + c * c / std::max(cc, 1e-300), p});
+    }
+    std::sort(scored.begin(), scored.end(), [](auto& a, auto& b) { return a.first > b.first; });
+    std::vector<std::vector<double>> best;
+    for (std::size_t i = 0; i < scored.size() && i < 3; ++i) best.push_back({scored[i].second});
+    return best;
+  }
+  void Refine(const GridSearch& g, std::vector<double>& v) const override {
+    // Spatial frequency within half the screening grid's spacing, 0.25/stroke.
+    const double f = 1.0 / v[0], df = 0.125 / (g.st.q_max - g.st.q_min);
+    if (auto p = g.refine(f - df, f + df, [](double x) { return 1.0 / x; },
+                          [&](double x) { return g.sse({1.0 / x}); }))
+      v[0] = *p;
+  }
+  void AddForce(const std::vector<double>& v, const Eigen::VectorXd& th, Eigen::Index k, double q,
+                double, const Stroke&, double& f) const override {
+    const double a = 2.0 * std::numbers::pi * q / v[0];
+    f += th(k) * std::sin(a) + th(k + 1) * std::cos(a);
+  }
+  void Evidence(const std::vector<double>& v, const ResidualStats&, std::ostream& o) const override {
+    o << "strongest position-periodic residual at period " << First(v);
+  }
+};
+
+// τ = J_m q̈_m + J_l q̈_l + f(q̇_l) = (J_m + J_l) q̈_m + J_l (q̈_l − q̈_m) + f(q̇_m)
+//     + [f(q̇_l) − f(q̇_m)]: the base columns plus the load's lag behind the motor, the load
+// position q_l from the motor's (LoadPosition of the derived class).
+class LoadBehindMotor : public AxisEffectModel {
+ public:
+  std::vector<std::string> CoefficientNames() const override {
+    return {"load_inertia", "load_viscous", "load_coulomb"};
+  }
+  bool ForceOfMotion() const override { return false; }
+  ColumnSet Columns(const std::vector<double>& v, const Part& p, const Stroke&) const override {
+    const JointStates& s = p.s;
+    const std::vector<double> ql = LoadPosition(v, s.q, s.qd, p.dt);
+    const std::vector<double> vl = DiffCentral(ql, p.dt);
+    const std::vector<double> al = DiffCentral(vl, p.dt);
+    ColumnSet c(3, std::vector<double>(s.q.size()));
+    for (std::size_t i = 0; i < s.q.size(); ++i) {
+      c[0][i] = al[i] - s.qdd[i];
+      c[1][i] = vl[i] - s.qd[i];
+      c[2][i] = Sign(vl[i]) - Sign(s.qd[i]);
+    }
+    return c;
+  }
+
+ protected:
+  // The load side's position seen through the transmission from the (measured) motor side.
+  // A block starts in motion, so the load starts where the motion has brought it.
+  virtual std::vector<double> LoadPosition(const std::vector<double>& values,
+                                           const std::vector<double>& qm,
+                                           const std::vector<double>& qdm, double dt) const = 0;
+};
+
+// q_l = H(s) q_m, H = (2ζω s + ω²)/(s² + 2ζω s + ω²) (load J_l on a spring-damper, k/J_l = ω²,
+// c/J_l = 2ζω), Tustin at the sampling rate, started on its forced response to the quadratic
+// through the first samples (PolynomialSteadyState). ω on a log grid 3 .. 150 Hz, ζ 0.05, 0.15,
+// 0.4.
+class TransmissionCompliance final : public LoadBehindMotor {
+ public:
+  AxisEffect Id() const override { return AxisEffect::kTransmissionCompliance; }
+  const char* Name() const override { return "transmission_compliance"; }
+  std::vector<GridParameter> GridParameters() const override {
+    return {{"load_angular_frequency", "rad/s"}, {"load_damping_ratio", "-"}};
+  }
+  std::vector<std::vector<double>> Grid(const Stroke&, const std::vector<Part>&, int) const override {
+    std::vector<std::vector<double>> grid;
+    for (int i = 0; i < 14; ++i)
+      for (double z : {0.05, 0.15, 0.4})
+        grid.push_back({2.0 * std::numbers::pi * 3.0 * std::pow(50.0, i / 13.0), z});
+    return grid;
+  }
+  void Refine(const GridSearch& g, std::vector<double>& v) const override {
+    auto exp_of = [](double x) { return std::exp(x); };
+    const double r = std::pow(50.0, 1.0 / 13.0);  // the grid's frequency ratio
+    if (auto w = g.refine(std::log(v[0] / r), std::log(v[0] * r), exp_of,
+                          [&](double x) { return g.sse({std::exp(x), v[1]}); }))
+      v[0] = *w;
+    if (auto z = g.refine(std::log(v[1] / 3.0), std::log(std::min(1.0, v[1] * 3.0)), exp_of,
+                          [&](double x) { return g.sse({v[0], std::exp(x)}); }))
+      v[1] = *z;
+  }
+  std::vector<NamedValue> Reported(const std::vector<double>& v) const override {
+    return {{"load_frequency_hz", v[0] / (2.0 * std::numbers::pi)}, {"load_damping_ratio", v[1]}};
+  }
+  void Evidence(const std::vector<double>& v, const ResidualStats&, std::ostream& o) const override {
+    o << "load on a spring-damper at " << First(v) / (2.0 * std::numbers::pi) << " Hz";
+  }
+
+ protected:
+  std::vector<double> LoadPosition(const std::vector<double>& v, const std::vector<double>& qm,
+                                   const std::vector<double>&, double dt) const override {
+    std::vector<double> ql(qm.size());
+    if (qm.empty()) return ql;
+    const double k = 2.0 / dt, w = v[0], z = v[1];
+    TransferFunction tf;
+    tf.b = {2.0 * z * w * k + w * w, 2.0 * w * w, -2.0 * z * w * k + w * w};
+    tf.a = {k * k + 2.0 * z * w * k + w * w, -2.0 * k * k + 2.0 * w * w, k * k - 2.0 * z * w * k + w * w};
+    std::vector<double> state = PolynomialSteadyState(tf, qm[0], 0.0, 0.0);
+    const std::size_t m = std::min<std::size_t>(qm.size(), 21);
+    if (m >= 3) {
+      // q_m ≈ c0 + c1·k + c2·k² over the first m samples (least squares).
+      Eigen::MatrixXd a(static_cast<Eigen::Index>(m), 3);
+      Eigen::VectorXd y(static_cast<Eigen::Index>(m));
+      for (std::size_t i = 0; i < m; ++i) {
+        const auto r = static_cast<Eigen::Index>(i);
+        const double t = static_cast<double>(i);
+        a(r, 0) = 1.0;
+        a(r, 1) = t;
+        a(r, 2) = t * t;
+        y(r) = qm[i];
+      }
+      const Eigen::Vector3d cq = a.colPivHouseholderQr().solve(y);
+      state = PolynomialSteadyState(tf, cq(0), cq(1), cq(2));
+    }
+    Filter(tf, qm, ql, state);
+    return ql;
+  }
+};
+
+// q_l the play operator of q_m, clamp(q_l, q_m − b/2, q_m + b/2) (rigid contact), the load
+// trailing the motor by half the gap at the start; b on a geometric grid from 1e-4 to 1e-2 of
+// the stroke.
+class Backlash final : public LoadBehindMotor {
+ public:
+  AxisEffect Id() const override { return AxisEffect::kBacklash; }
+  const char* Name() const override { return "backlash"; }
+  std::vector<GridParameter> GridParameters() const override { return {{"backlash_gap", "rad or m"}}; }
+  std::vector<std::vector<double>> Grid(const Stroke& st, const std::vector<Part>&, int) const override {
+    const double span = st.q_max - st.q_min;
+    std::vector<std::vector<double>> grid;
+    for (int i = 0; i < 12; ++i) grid.push_back({span * 1e-4 * std::pow(10.0, i * 2.0 / 11.0)});
+    return grid;
+  }
+  void Refine(const GridSearch& g, std::vector<double>& v) const override {
+    StribeckFriction::RefineGeometric(g, v);
+  }
+  void Evidence(const std::vector<double>& v, const ResidualStats&, std::ostream& o) const override {
+    o << "load behind a play of " << First(v) << " (rigid contact)";
+  }
+
+ protected:
+  std::vector<double> LoadPosition(const std::vector<double>& v, const std::vector<double>& qm,
+                                   const std::vector<double>& qdm, double) const override {
+    std::vector<double> ql(qm.size());
+    if (qm.empty()) return ql;
+    const double gap = v[0];
+    double l = qm[0] - 0.5 * gap * Sign(qdm.empty() ? 0.0 : qdm[0]);
     for (std::size_t i = 0; i < qm.size(); ++i) {
-      l = std::clamp(l, qm[i] - 0.5 * c.h, qm[i] + 0.5 * c.h);
+      l = std::clamp(l, qm[i] - 0.5 * gap, qm[i] + 0.5 * gap);
       ql[i] = l;
     }
     return ql;
   }
-  const double k = 2.0 / dt, w = c.h, z = c.h2;
-  TransferFunction tf;
-  tf.b = {2.0 * z * w * k + w * w, 2.0 * w * w, -2.0 * z * w * k + w * w};
-  tf.a = {k * k + 2.0 * z * w * k + w * w, -2.0 * k * k + 2.0 * w * w, k * k - 2.0 * z * w * k + w * w};
-  std::vector<double> state = PolynomialSteadyState(tf, qm[0], 0.0, 0.0);
-  const std::size_t m = std::min<std::size_t>(qm.size(), 21);
-  if (m >= 3) {
-    // q_m ≈ c0 + c1·k + c2·k² over the first m samples (least squares).
-    Eigen::MatrixXd a(static_cast<Eigen::Index>(m), 3);
-    Eigen::VectorXd y(static_cast<Eigen::Index>(m));
-    for (std::size_t i = 0; i < m; ++i) {
-      const auto r = static_cast<Eigen::Index>(i);
-      const double t = static_cast<double>(i);
-      a(r, 0) = 1.0;
-      a(r, 1) = t;
-      a(r, 2) = t * t;
-      y(r) = qm[i];
-    }
-    const Eigen::Vector3d cq = a.colPivHouseholderQr().solve(y);
-    state = PolynomialSteadyState(tf, cq(0), cq(1), cq(2));
-  }
-  Filter(tf, qm, ql, state);
-  return ql;
-}
+};
 
-// Full-rate extra columns of `effect` with its nonlinear parameter(s).
-std::vector<std::vector<double>> EffectColumns(const Chosen& chosen, const Part& p,
-                                               const Stroke& st) {
-  const AxisEffect effect = chosen.effect;
-  const double h = chosen.h;
-  const JointStates& s = p.s;
-  const std::size_t n = s.q.size();
-  std::vector<std::vector<double>> c;
-  switch (effect) {
-    case AxisEffect::kAsymmetricFriction:
-      break;  // handled by the base columns
-    case AxisEffect::kStribeckFriction: {
-      c.assign(1, std::vector<double>(n));
-      for (std::size_t i = 0; i < n; ++i) {
-        const double r = s.qd[i] / h;
-        c[0][i] = Sign(s.qd[i]) * std::exp(-r * r);
-      }
-      break;
-    }
-    case AxisEffect::kPositionDependentFriction: {
-      c.assign(2, std::vector<double>(n));
-      for (std::size_t i = 0; i < n; ++i) {
-        const double x = 2.0 * (s.q[i] - st.q_min) / (st.q_max - st.q_min) - 1.0;
-        c[0][i] = Sign(s.qd[i]) * x;
-        c[1][i] = Sign(s.qd[i]) * Legendre2(x);
-      }
-      break;
-    }
-    case AxisEffect::kCogging: {
-      c.assign(2, std::vector<double>(n));
-      for (std::size_t i = 0; i < n; ++i) {
-        const double a = 2.0 * std::numbers::pi * s.q[i] / h;
-        c[0][i] = std::sin(a);
-        c[1][i] = std::cos(a);
-      }
-      break;
-    }
-    case AxisEffect::kCommandDelay:
-      break;  // handled by shifting the base columns (Columns)
-    case AxisEffect::kTransmissionCompliance:
-    case AxisEffect::kBacklash: {
-      // τ = J_m q̈_m + J_l q̈_l + f(q̇_l) = (J_m + J_l) q̈_m + J_l (q̈_l − q̈_m) + f(q̇_m)
-      //     + [f(q̇_l) − f(q̇_m)]: the base columns plus the load's lag behind the motor.
-      const std::vector<double> ql = LoadPosition(chosen, s.q, s.qd, p.dt);
-      const std::vector<double> vl = DiffCentral(ql, p.dt);
-      const std::vector<double> al = DiffCentral(vl, p.dt);
-      c.assign(3, std::vector<double>(n));
-      for (std::size_t i = 0; i < n; ++i) {
-        c[0][i] = al[i] - s.qdd[i];
-        c[1][i] = vl[i] - s.qd[i];
-        c[2][i] = Sign(vl[i]) - Sign(s.qd[i]);
-      }
-      break;
-    }
-  }
-  return c;
-}
-
-std::vector<std::string> EffectParameterNames(AxisEffect effect) {
-  switch (effect) {
-    case AxisEffect::kAsymmetricFriction: return {};
-    case AxisEffect::kStribeckFriction: return {"stribeck_amplitude"};
-    case AxisEffect::kPositionDependentFriction: return {"coulomb_p1", "coulomb_p2"};
-    case AxisEffect::kCogging: return {"cogging_sin", "cogging_cos"};
-    case AxisEffect::kTransmissionCompliance: return {"load_inertia", "load_viscous", "load_coulomb"};
-    case AxisEffect::kCommandDelay: return {};
-    case AxisEffect::kBacklash: return {"load_inertia", "load_viscous", "load_coulomb"};
-  }
-  return {};
-}
-
-const char* HyperName(AxisEffect effect) {
-  switch (effect) {
-    case AxisEffect::kStribeckFriction: return "stribeck_speed";
-    case AxisEffect::kCogging: return "cogging_period";
-    case AxisEffect::kBacklash: return "backlash_gap";
-    case AxisEffect::kCommandDelay: return "delay_samples";
-    default: return "";
-  }
-}
-
-
-int HyperCount(const std::vector<Chosen>& effects) {
-  int k = 0;
-  for (const Chosen& c : effects)
-    k += c.effect == AxisEffect::kTransmissionCompliance
-             ? 2
-             : (c.effect == AxisEffect::kStribeckFriction || c.effect == AxisEffect::kCogging ||
-                        c.effect == AxisEffect::kBacklash || c.effect == AxisEffect::kCommandDelay
-                    ? 1
-                    : 0);
-  return k;
-}
-
-// Decimated regression of `part` for base (+asymmetric) and the chosen effects.
-Eigen::MatrixXd Columns(const Part& p, const std::vector<Chosen>& effects, const Stroke& st,
-                        int r) {
-  bool asym = false;
-  for (const Chosen& c : effects) asym = asym || c.effect == AxisEffect::kAsymmetricFriction;
-  std::vector<std::vector<double>> cols = BaseColumns(p.s, asym);
-  // Command delay d: τ_rec(t) = τ(t + d), so the base columns are taken d later (linear
-  // interpolation between samples; the last sample is held at the end).
-  for (const Chosen& c : effects) {
-    if (c.effect != AxisEffect::kCommandDelay) continue;
-    const auto whole = static_cast<std::size_t>(std::floor(c.h));
-    const double frac = c.h - static_cast<double>(whole);
-    for (auto& col : cols) {
+// The base columns taken d later: τ_rec(t) = τ(t + d) (linear interpolation between samples,
+// the last sample held at the end); d on a grid of 0.25 .. 3 samples, no extra coefficient.
+class CommandDelay final : public AxisEffectModel {
+ public:
+  AxisEffect Id() const override { return AxisEffect::kCommandDelay; }
+  const char* Name() const override { return "command_delay"; }
+  std::vector<GridParameter> GridParameters() const override { return {{"delay_samples", "samples"}}; }
+  void ShiftBase(const std::vector<double>& v, ColumnSet& base) const override {
+    const auto whole = static_cast<std::size_t>(std::floor(v[0]));
+    const double frac = v[0] - static_cast<double>(whole);
+    for (auto& col : base) {
       const std::size_t n = col.size();
       std::vector<double> shifted(n);
       for (std::size_t i = 0; i < n; ++i) {
@@ -265,8 +507,57 @@ Eigen::MatrixXd Columns(const Part& p, const std::vector<Chosen>& effects, const
       col = std::move(shifted);
     }
   }
+  std::vector<std::vector<double>> Grid(const Stroke&, const std::vector<Part>&, int) const override {
+    std::vector<std::vector<double>> grid;
+    for (int i = 1; i <= 12; ++i) grid.push_back({0.25 * i});  // 0.25 .. 3 samples
+    return grid;
+  }
+  void Refine(const GridSearch& g, std::vector<double>& v) const override {
+    if (auto d = g.refine(std::max(0.0, v[0] - 0.25), v[0] + 0.25, [](double x) { return x; },
+                          [&](double x) { return g.sse({x}); }))
+      v[0] = *d;
+  }
+  void Evidence(const std::vector<double>& v, const ResidualStats&, std::ostream& o) const override {
+    o << "effort recorded " << First(v) << " samples ahead of the force it makes";
+  }
+};
+
+// Every effect's model, by id.
+const AxisEffectModel& Model(AxisEffect effect) {
+  static const AsymmetricFriction asymmetric;
+  static const StribeckFriction stribeck;
+  static const PositionDependentFriction position;
+  static const Cogging cogging;
+  static const TransmissionCompliance compliance;
+  static const Backlash backlash;
+  static const CommandDelay delay;
+  static const std::array<const AxisEffectModel*, 7> all{&asymmetric, &stribeck, &position, &cogging,
+                                                         &compliance, &backlash, &delay};
+  return *all.at(static_cast<std::size_t>(effect));
+}
+
+// An effect with its grid parameters chosen.
+struct Chosen {
+  const AxisEffectModel* model{nullptr};
+  std::vector<double> values;  // in model->GridParameters() order
+  AxisEffect Effect() const { return model->Id(); }
+};
+
+int HyperCount(const std::vector<Chosen>& effects) {
+  int k = 0;
+  for (const Chosen& c : effects) k += static_cast<int>(c.model->GridParameters().size());
+  return k;
+}
+
+// Decimated regression of `part` for base (+asymmetric) and the chosen effects.
+Eigen::MatrixXd Columns(const Part& p, const std::vector<Chosen>& effects, const Stroke& st,
+                        int r) {
+  bool asym = false;
+  for (const Chosen& c : effects) asym = asym || c.model->SplitsBaseByDirection();
+  ColumnSet cols = BaseColumns(p.s, asym);
+  for (const Chosen& c : effects) c.model->ShiftBase(c.values, cols);
   for (const Chosen& c : effects) {
-    auto extra = EffectColumns(c, p, st);
+    ColumnSet extra = c.model->Columns(c.values, p, st);
     for (auto& col : extra) cols.push_back(std::move(col));
   }
   Eigen::MatrixXd x(p.y.size(), static_cast<Eigen::Index>(cols.size()));
@@ -322,100 +613,21 @@ double RelPct(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Eigen::V
 
 double Excess(double e, double floor) { return std::sqrt(std::max(e * e - floor * floor, 0.0)); }
 
-std::vector<double> HyperGrid1(AxisEffect effect, const Stroke& st, const std::vector<Part>& train,
-                               int r);
-
-// Candidate values of the nonlinear parameter(s); empty = none.
-std::vector<std::pair<double, double>> HyperGrid(AxisEffect effect, const Stroke& st,
-                                                 const std::vector<Part>& train, int r) {
-  std::vector<std::pair<double, double>> grid;
-  if (effect == AxisEffect::kTransmissionCompliance) {
-    // Load natural frequency 3 .. 150 Hz (log), damping ratio 0.05, 0.15, 0.4.
-    for (int i = 0; i < 14; ++i)
-      for (double z : {0.05, 0.15, 0.4})
-        grid.push_back({2.0 * std::numbers::pi * 3.0 * std::pow(50.0, i / 13.0), z});
-    return grid;
-  }
-  for (double h : HyperGrid1(effect, st, train, r)) grid.push_back({h, 0.0});
-  return grid;
-}
-
-std::vector<double> HyperGrid1(AxisEffect effect, const Stroke& st, const std::vector<Part>& train,
-                               int r) {
-  std::vector<double> grid;
-  if (effect == AxisEffect::kCommandDelay)
-    for (int i = 1; i <= 12; ++i) grid.push_back(0.25 * i);  // 0.25 .. 3 samples
-  const double span = st.q_max - st.q_min;
-  if (effect == AxisEffect::kStribeckFriction) {
-    for (int i = 0; i < 16; ++i) grid.push_back(st.v_peak * 0.002 * std::pow(10.0, i * 2.0 / 15.0));
-  } else if (effect == AxisEffect::kBacklash) {
-    for (int i = 0; i < 12; ++i) grid.push_back(span * 1e-4 * std::pow(10.0, i * 2.0 / 11.0));
-  } else if (effect == AxisEffect::kCogging) {
-    // Spatial frequencies from 2 cycles over the stroke to what the decimated rows can carry
-    // at the median moving speed, spaced 1/(4·stroke).
-    std::vector<double> speeds;
-    for (const Part& p : train)
-      for (Eigen::Index i = 0; i < p.qddec.size(); ++i)
-        if (std::abs(p.qddec(i)) > 0.05 * st.v_peak) speeds.push_back(std::abs(p.qddec(i)));
-    double v_med = st.v_peak / 2.0;
-    if (!speeds.empty()) {
-      std::nth_element(speeds.begin(), speeds.begin() + static_cast<std::ptrdiff_t>(speeds.size() / 2),
-                       speeds.end());
-      v_med = speeds[speeds.size() / 2];
-    }
-    const double dt_dec = (train.front().tdec.size() > 1)
-                              ? train.front().tdec[1] - train.front().tdec[0]
-                              : 0.01 * r;
-    const double f_max = std::min(0.8 * 0.5 / dt_dec / v_med, 4000.0 / span);
-    for (double f = 2.0 / span; f <= f_max; f += 0.25 / span) grid.push_back(1.0 / f);
-  }
-  return grid;
-}
-
-// Cogging screening on decimated rows: projection of the current residual on sin/cos.
-std::vector<double> ScreenCogging(const std::vector<double>& periods, const std::vector<Part>& train,
-                                  const std::vector<Eigen::VectorXd>& residual) {
-  std::vector<std::pair<double, double>> scored;
-  for (double p : periods) {
-    double s = 0.0, c = 0.0, ss = 0.0, cc = 0.0;
-    for (std::size_t k = 0; k < train.size(); ++k)
-      for (Eigen::Index i = 0; i < train[k].Rows(); ++i) {
-        const double a =
-            2.0 * std::numbers::pi * train[k].qdec(train[k].keep[static_cast<std::size_t>(i)]) / p;
-        const double si = std::sin(a), ci = std::cos(a);
-        s += residual[k](i) * si;
-        c += residual[k](i) * ci;
-        ss += si * si;
-        cc += ci * ci;
-      }
-    scored.push_back({s * s / std::max(ss, 1e-300) + c * c / std::max(cc, 1e-300), p});
-  }
-  std::sort(scored.begin(), scored.end(), [](auto& a, auto& b) { return a.first > b.first; });
-  std::vector<double> best;
-  for (std::size_t i = 0; i < scored.size() && i < 3; ++i) best.push_back(scored[i].second);
-  return best;
-}
-
 std::vector<NamedValue> NameParameters(const std::vector<Chosen>& effects,
                                        const Eigen::VectorXd& theta) {
   bool asym = false;
-  for (const Chosen& c : effects) asym = asym || c.effect == AxisEffect::kAsymmetricFriction;
+  for (const Chosen& c : effects) asym = asym || c.model->SplitsBaseByDirection();
   std::vector<std::string> names =
       asym ? std::vector<std::string>{"inertia", "viscous_pos", "coulomb_pos", "viscous_neg",
                                       "coulomb_neg"}
            : std::vector<std::string>{"inertia", "viscous", "coulomb", "offset"};
   for (const Chosen& c : effects)
-    for (const std::string& s : EffectParameterNames(c.effect)) names.push_back(s);
+    for (const std::string& n : c.model->CoefficientNames()) names.push_back(n);
   std::vector<NamedValue> out;
   for (std::size_t i = 0; i < names.size() && i < static_cast<std::size_t>(theta.size()); ++i)
     out.push_back({names[i], theta(static_cast<Eigen::Index>(i))});
-  for (const Chosen& c : effects) {
-    if (*HyperName(c.effect)) out.push_back({HyperName(c.effect), c.h});
-    if (c.effect == AxisEffect::kTransmissionCompliance) {
-      out.push_back({"load_frequency_hz", c.h / (2.0 * std::numbers::pi)});
-      out.push_back({"load_damping_ratio", c.h2});
-    }
-  }
+  for (const Chosen& c : effects)
+    for (NamedValue& v : c.model->Reported(c.values)) out.push_back(std::move(v));
   return out;
 }
 
@@ -424,9 +636,8 @@ bool ForwardFriction(const std::vector<Chosen>& effects, const Eigen::VectorXd& 
                      const Stroke& st, AxisForwardModel* model) {
   bool asym = false;
   for (const Chosen& c : effects) {
-    asym = asym || c.effect == AxisEffect::kAsymmetricFriction;
-    if (c.effect == AxisEffect::kTransmissionCompliance || c.effect == AxisEffect::kBacklash)
-      return false;  // not a force of (q, q̇)
+    asym = asym || c.model->SplitsBaseByDirection();
+    if (!c.model->ForceOfMotion()) return false;
   }
   model->inertia = theta(0);
   const Eigen::VectorXd th = theta;
@@ -443,36 +654,17 @@ bool ForwardFriction(const std::vector<Chosen>& effects, const Eigen::VectorXd& 
       k = 5;
     }
     for (const Chosen& c : ef) {
-      switch (c.effect) {
-        case AxisEffect::kStribeckFriction: {
-          const double r = v / c.h;
-          f += th(k++) * sg * std::exp(-r * r);
-          break;
-        }
-        case AxisEffect::kPositionDependentFriction: {
-          const double x = 2.0 * (q - st.q_min) / (st.q_max - st.q_min) - 1.0;
-          f += th(k) * sg * x + th(k + 1) * sg * Legendre2(x);
-          k += 2;
-          break;
-        }
-        case AxisEffect::kCogging: {
-          const double a = 2.0 * std::numbers::pi * q / c.h;
-          f += th(k) * std::sin(a) + th(k + 1) * std::cos(a);
-          k += 2;
-          break;
-        }
-        default:  // command_delay: a timing effect, not a force; its coefficient is skipped
-          k += static_cast<Eigen::Index>(EffectParameterNames(c.effect).size());
-          break;
-      }
+      c.model->AddForce(c.values, th, k, q, v, st, f);
+      k += static_cast<Eigen::Index>(c.model->CoefficientNames().size());
     }
     return f;
   };
   return true;
 }
 
-std::string Evidence(AxisEffect effect, const std::vector<Part>& train,
-                     const std::vector<Eigen::VectorXd>& residual, double h) {
+// The base residual's statistics the evidence lines quote, and the effect's line.
+std::string Evidence(const Chosen& effect, const std::vector<Part>& train,
+                     const std::vector<Eigen::VectorXd>& residual) {
   std::ostringstream o;
   o.precision(3);
   // Residual statistics by speed sign / magnitude, position, reversal windows.
@@ -488,31 +680,12 @@ std::string Evidence(AxisEffect effect, const std::vector<Part>& train,
       if (std::abs(v) < 0.1 * v_peak) { slow_ss += e * e; slow_n += 1; }
       else { fast_ss += e * e; fast_n += 1; }
     }
-  switch (effect) {
-    case AxisEffect::kAsymmetricFriction:
-      o << "base residual vs speed: slope " << pos_sum / std::max(pos_n, 1e-300)
-        << " when moving +, " << neg_sum / std::max(neg_n, 1e-300) << " when moving -";
-      break;
-    case AxisEffect::kStribeckFriction:
-      o << "base residual RMS " << std::sqrt(slow_ss / std::max(slow_n, 1.0)) << " below 10 % of peak speed vs "
-        << std::sqrt(fast_ss / std::max(fast_n, 1.0)) << " above; v_s " << h;
-      break;
-    case AxisEffect::kCogging:
-      o << "strongest position-periodic residual at period " << h;
-      break;
-    case AxisEffect::kBacklash:
-      o << "load behind a play of " << h << " (rigid contact)";
-      break;
-    case AxisEffect::kPositionDependentFriction:
-      o << "dry friction as a quadratic along the stroke";
-      break;
-    case AxisEffect::kTransmissionCompliance:
-      o << "load on a spring-damper at " << h / (2.0 * std::numbers::pi) << " Hz";
-      break;
-    case AxisEffect::kCommandDelay:
-      o << "effort recorded " << h << " samples ahead of the force it makes";
-      break;
-  }
+  ResidualStats stats;
+  stats.pos_slope = pos_sum / std::max(pos_n, 1e-300);
+  stats.neg_slope = neg_sum / std::max(neg_n, 1e-300);
+  stats.slow_rms = std::sqrt(slow_ss / std::max(slow_n, 1.0));
+  stats.fast_rms = std::sqrt(fast_ss / std::max(fast_n, 1.0));
+  effect.model->Evidence(effect.values, stats, o);
   return o.str();
 }
 
@@ -738,27 +911,22 @@ std::vector<Chosen> FitGridParameters(const std::vector<AxisEffect>& candidates,
                                       const Stroke& st, int dec) {
   std::vector<Chosen> out;
   for (AxisEffect e : candidates) {
-    Chosen c{e, 0.0, 0.0};
-    const std::vector<std::pair<double, double>> full = HyperGrid(e, st, train, dec);
-    std::vector<std::pair<double, double>> grid = full;
-    if (e == AxisEffect::kCogging && !grid.empty()) {
-      std::vector<double> periods;
-      for (const auto& g : grid) periods.push_back(g.first);
-      grid.clear();
-      for (double pp : ScreenCogging(periods, train, train_res)) grid.push_back({pp, 0.0});
-    }
-    auto sse = [&](double h, double h2) {
-      const std::vector<Chosen> trial{Chosen{e, h, h2}};
+    const AxisEffectModel& model = Model(e);
+    Chosen c{&model, std::vector<double>(model.GridParameters().size(), 0.0)};
+    const std::vector<std::vector<double>> full = model.Grid(st, train, dec);
+    const std::vector<std::vector<double>> grid =
+        full.empty() ? full : model.Screen(full, train, train_res);
+    auto sse = [&](const std::vector<double>& values) {
+      const std::vector<Chosen> trial{Chosen{&model, values}};
       const Stack s = StackParts(train, trial, st, dec);
       return (s.y - s.x * SolveOls(s.x, s.y)).squaredNorm();
     };
     double best = 1e300;
-    for (const auto& [h, h2] : grid) {
-      const double v = sse(h, h2);
+    for (const std::vector<double>& values : grid) {
+      const double v = sse(values);
       if (v < best) {
         best = v;
-        c.h = h;
-        c.h2 = h2;
+        c.values = values;
       }
     }
     if (grid.empty()) {
@@ -766,53 +934,16 @@ std::vector<Chosen> FitGridParameters(const std::vector<AxisEffect>& candidates,
       continue;
     }
     constexpr int kEvaluations = 16;
-    // The minimum of sse over x in [lo, hi], the parameter being value(x); kept only
-    // when it beats the grid.
-    auto refine = [&](double lo, double hi, const std::function<double(double)>& value,
-                      const std::function<double(double)>& sse_at) {
-      const auto [x, v] = BrentMinimum(sse_at, lo, hi, kEvaluations);
-      if (!(v < best)) return std::optional<double>();
-      best = v;
-      return std::optional<double>(value(x));
-    };
-    auto exp_of = [](double x) { return std::exp(x); };
-    auto same = [](double x) { return x; };
-    switch (e) {
-      case AxisEffect::kStribeckFriction:
-      case AxisEffect::kBacklash: {
-        // Geometric grids: the neighbours are a factor r away.
-        const double r = full.size() > 1 ? full[1].first / full[0].first : 2.0;
-        if (auto h = refine(std::log(c.h / r), std::log(c.h * r), exp_of,
-                            [&](double x) { return sse(std::exp(x), 0.0); }))
-          c.h = *h;
-        break;
-      }
-      case AxisEffect::kTransmissionCompliance: {
-        const double r = std::pow(50.0, 1.0 / 13.0);  // the grid's frequency ratio
-        if (auto w = refine(std::log(c.h / r), std::log(c.h * r), exp_of,
-                            [&](double x) { return sse(std::exp(x), c.h2); }))
-          c.h = *w;
-        if (auto z = refine(std::log(c.h2 / 3.0), std::log(std::min(1.0, c.h2 * 3.0)), exp_of,
-                            [&](double x) { return sse(c.h, std::exp(x)); }))
-          c.h2 = *z;
-        break;
-      }
-      case AxisEffect::kCommandDelay:
-        if (auto d = refine(std::max(0.0, c.h - 0.25), c.h + 0.25, same,
-                            [&](double x) { return sse(x, 0.0); }))
-          c.h = *d;
-        break;
-      case AxisEffect::kCogging: {
-        // Spatial frequency within half the screening grid's spacing, 0.25/stroke.
-        const double f = 1.0 / c.h, df = 0.125 / (st.q_max - st.q_min);
-        if (auto p = refine(f - df, f + df, [](double x) { return 1.0 / x; },
-                            [&](double x) { return sse(1.0 / x, 0.0); }))
-          c.h = *p;
-        break;
-      }
-      default:
-        break;
-    }
+    const GridSearch search{
+        full, st, sse,
+        [&](double lo, double hi, const std::function<double(double)>& value,
+            const std::function<double(double)>& sse_at) {
+          const auto [x, v] = BrentMinimum(sse_at, lo, hi, kEvaluations);
+          if (!(v < best)) return std::optional<double>();
+          best = v;
+          return std::optional<double>(value(x));
+        }};
+    model.Refine(search, c.values);
     out.push_back(c);
   }
   return out;
@@ -861,7 +992,7 @@ Selection ForwardSelect(const std::vector<Part>& train, const std::vector<Part>&
       const Stack t2 = StackParts(train, trial, st, dec);
       const Eigen::VectorXd th = SolveOls(t2.x, t2.y);
       EffectResult r;
-      r.effect = grid_fitted[i].effect;
+      r.effect = grid_fitted[i].Effect();
       r.delta_bic = Bic(t2.x, t2.y, th, HyperCount(trial)) - current_bic;
       r.train_relative_error_pct = RelPct(t2.x, t2.y, th);
       r.selection_relative_error_pct = SumsOn(select, trial, th, st, dec).RelPct();
@@ -874,7 +1005,7 @@ Selection ForwardSelect(const std::vector<Part>& train, const std::vector<Part>&
       r.earns = !out.base_adequate && r.delta_bic < options.bic_threshold &&
                 r.selection_gain_pct >= options.min_gain_pct;
       r.parameters = NameParameters(trial, th);
-      r.evidence = Evidence(grid_fitted[i].effect, train, train_res, grid_fitted[i].h);
+      r.evidence = Evidence(grid_fitted[i], train, train_res);
       // Among the effects that earn, the most probable one (lowest training BIC, parameters
       // and grid parameters counted): a delay and a compliant load both add lag, and the
       // simpler explanation must win when both fit.
@@ -1004,7 +1135,7 @@ void ReportOnReportRows(const std::vector<Part>& report, const Selection& sel, d
         },
         options.confirm_level);
     AxisCause c;
-    c.effect = sel.causes[k].effect;
+    c.effect = sel.causes[k].Effect();
     c.selection_gain_pct = sel.selection_gain_pct[k];
     c.heldout_gain_pct = g.estimate;
     c.heldout_gain_se_pct = g.se;
@@ -1086,18 +1217,7 @@ std::vector<ClosedLoopComparison> CompareInClosedLoop(const std::vector<Part>& r
 
 }  // namespace
 
-const char* AxisEffectId(AxisEffect effect) {
-  switch (effect) {
-    case AxisEffect::kAsymmetricFriction: return "asymmetric_friction";
-    case AxisEffect::kStribeckFriction: return "stribeck_friction";
-    case AxisEffect::kPositionDependentFriction: return "position_dependent_friction";
-    case AxisEffect::kCogging: return "cogging";
-    case AxisEffect::kTransmissionCompliance: return "transmission_compliance";
-    case AxisEffect::kBacklash: return "backlash";
-    case AxisEffect::kCommandDelay: return "command_delay";
-  }
-  return "?";
-}
+const char* AxisEffectId(AxisEffect effect) { return Model(effect).Name(); }
 
 const std::vector<AxisEffect>& AllAxisEffects() {
   static const std::vector<AxisEffect> all{
