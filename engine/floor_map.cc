@@ -207,6 +207,50 @@ double FloorMap::EnvelopeOffLevel(double x_W, double y_W, double dir_x, double d
     // centre at the tangent point s* = R m / √(1 + m²): z_point + R (√(1 + m²) - 1)
     return m == 0.0 ? z_point : z_point + radius * m * m / (1.0 + std::sqrt(1.0 + m * m));
   }
+  // the profile alone under the disc (no layer adds anything there): its knots' heights known
+  const double reach_x = radius * std::abs(dir_x), reach_y = radius * std::abs(dir_y);
+  const double lo = x_W - reach_x, hi = x_W + reach_x;
+  const std::vector<double>& xs = profile.x;
+  bool profile_only = !xs.empty() && std::abs(dir_x) > 1e-6 && lo > xs.front() && hi < xs.back();
+  if (profile_only && (!features.empty() || grid.has_value())) {
+    profile_only = lo > hint.clear_lo && hi < hint.clear_hi;
+    if (profile_only && hint.active >= 0) {
+      const FloorFeature& f = features[static_cast<std::size_t>(hint.active)];
+      profile_only = y_W - reach_y > f.y_max || y_W + reach_y < f.y_min;
+    }
+  }
+  if (profile_only) {
+    // z along the line: the profile's pieces, knots at s_k = (X_k − x) / u_x with heights Z_k
+    const double r2 = radius * radius;
+    const auto candidate = [&](double s, double z) {
+      return (z - z_point) - s * s / (radius + std::sqrt(std::max(0.0, r2 - s * s)));
+    };
+    std::size_t segment = hint.segment;
+    double best = 0.0;
+    const bool forward = dir_x > 0.0;
+    double s_prev = -radius;
+    double z_prev = profile.HeightAtNear(forward ? lo : hi, segment);
+    best = std::max(best, candidate(s_prev, z_prev));
+    auto k = std::upper_bound(xs.begin(), xs.end(), lo) - xs.begin();  // first knot above lo
+    const auto last = std::lower_bound(xs.begin(), xs.end(), hi) - xs.begin();  // first knot at or above hi
+    const auto piece = [&](double s, double z) {
+      best = std::max(best, candidate(s, z));
+      if (s > s_prev) {
+        const double rise = (z - z_prev) / (s - s_prev);
+        const double tangent = radius * rise / std::sqrt(1.0 + rise * rise);
+        if (tangent > s_prev && tangent < s) best = std::max(best, candidate(tangent, z_prev + rise * (tangent - s_prev)));
+      }
+      s_prev = s;
+      z_prev = z;
+    };
+    const long count = static_cast<long>(last - k);
+    for (long j = 0; j < count; ++j) {
+      const std::size_t knot = static_cast<std::size_t>(forward ? k + j : last - 1 - j);
+      piece((xs[knot] - x_W) / dir_x, profile.z[knot]);
+    }
+    piece(radius, profile.HeightAtNear(forward ? hi : lo, segment));
+    return z_point + best;
+  }
   return EnvelopeByBreakpoints(x_W, y_W, dir_x, dir_y, radius, z_point, hint);
 }
 

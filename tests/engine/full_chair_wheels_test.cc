@@ -86,6 +86,34 @@ TEST(WheelEnvelopeTest, GapNarrowerThanTheWheelAndSlope) {
   EXPECT_NEAR(Envelope(slope, 0.3, 0.0, std::numbers::pi / 2, radius), m * 0.3, 1e-12);
 }
 
+// Tests the envelope over a piecewise-linear profile (the speed cushion, alone and beside a
+// bump it does not reach) and over a cross-slope's tapered edge, headed along x, at 40 deg and
+// back, against a brute-force maximum of z(p + s u) + √(R² − s²) over s sampled every 10 µm.
+TEST(WheelEnvelopeTest, ProfileAndTapersAgainstBruteForce) {
+  FloorMap cushion;
+  cushion.profile = MakeSpeedCushion();
+  FloorMap beside = cushion;
+  beside.features = {BumpFeature(1.0, 5.0, 3.0, 4.0, 0.05, 0.0)};
+  FloorMap taper;
+  taper.features = {PlaneFeature(1.0, 4.0, -2.0, 2.0, 0.0, 0.05, 1.0)};
+  for (const FloorMap* floor : {&cushion, &beside, &taper}) {
+    for (const double heading : {0.0, 0.7, std::numbers::pi}) {
+      const double ux = std::cos(heading), uy = std::sin(heading), radius = 0.17;
+      for (double x = 1.5; x < 4.3; x += 0.0371) {
+        const double y = floor == &taper ? 1.6 : 0.0;
+        double truth = -1.0;
+        for (int k = -17000; k <= 17000; ++k) {
+          const double s = 1e-5 * k;
+          truth = std::max(truth, floor->HeightAt(x + s * ux, y + s * uy) + std::sqrt(radius * radius - s * s) - radius);
+        }
+        // the taper's plane is a quadratic along an oblique line, taken by its chord: within
+        // κ (2R)² / 8, κ = 2 |g_y u_x u_y| / ramp (< 1 mm here); the profile is exact
+        ASSERT_NEAR(Envelope(*floor, x, y, heading, radius), truth, floor == &taper ? 1e-3 : 5e-6) << x << " " << heading;
+      }
+    }
+  }
+}
+
 /// The Table I chair driven straight at `speed` by its set-points (no controller ramp).
 struct StraightRig {
   Chair chair = MakeTableOneChair();
