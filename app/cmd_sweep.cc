@@ -77,6 +77,37 @@ void CheckTaskInput(const fs::path& file) {
   }
 }
 
+/// The swept command's options in the sweep file's arguments:, checked at plan time against the
+/// command's own table (app/commands.h): an unknown option (with the suggestion pwsim would give)
+/// or an option without its value is refused at its line and field, arguments[i].
+/// @throws InputError.
+void CheckArguments(const sweep::SweepSpec& spec) {
+  const CommandSpec* command = nullptr;
+  for (const Command& c : AllCommands())
+    if (!spec.command.empty() && c.spec->name == spec.command.front()) command = c.spec;
+  if (command == nullptr) return;  // ReadSweepFile has refused an unknown command already
+  std::vector<std::string> names{"help"};
+  for (const OptionSpec& option : command->options) names.push_back(option.name);
+  const std::string pwsim = "pwsim " + command->name;
+  for (std::size_t i = 0; i < spec.arguments.size(); ++i) {
+    const std::string& word = spec.arguments[i];
+    if (word.rfind("--", 0) != 0 || word == "--" || word.find('{') != std::string::npos) continue;
+    const std::string name = word.substr(2, word.find('=') == std::string::npos ? std::string::npos : word.find('=') - 2);
+    const int line = i < spec.argument_lines.size() ? spec.argument_lines[i] : 0;
+    const std::string field = "arguments[" + std::to_string(i) + "]";
+    const auto option = std::find_if(command->options.begin(), command->options.end(),
+                                     [&](const OptionSpec& o) { return o.name == name; });
+    if (option == command->options.end()) {
+      throw InputError(spec.file.string(), line, field, "an option of " + pwsim + " (see " + pwsim + " --help)",
+                       "\"" + word + "\"" + DidYouMean(name, names, "--"));
+    }
+    if (!option->value_name.empty() && word.find('=') == std::string::npos && i + 1 >= spec.arguments.size()) {
+      throw InputError(spec.file.string(), line, field, "option --" + name + " followed by its value " + option->value_name,
+                       "the end of the arguments");
+    }
+  }
+}
+
 fs::path OneDir(const ParsedArgs& args, const std::string& sub) {
   if (args.positional().size() != 2) throw UsageError("usage: pwsim sweep " + sub + " DIR");
   return args.positional()[1];
@@ -88,6 +119,7 @@ int Plan(const ParsedArgs& args) {
   Progress progress("pwsim sweep plan", args.Flag("quiet"));  // stages on stderr (app/progress.h)
   progress.Stage("read the sweep file");
   const sweep::SweepSpec spec = sweep::ReadSweepFile(args.positional()[1], KnownCommands());
+  CheckArguments(spec);
   progress.Stage("plan and check the tasks' inputs");
   int checked = 0;
   const sweep::Manifest manifest = sweep::Plan(spec, OutDir(args), args.Flag("force"), [&](const fs::path& input) {

@@ -186,6 +186,7 @@ class Reader {
         FailAt(LineOf(node[i]), "arguments[" + std::to_string(i) + "]", "a word", Describe(node[i]));
       }
       spec_.arguments.push_back(AbsolutiseIfPath(node[i].Scalar(), base_));
+      spec_.argument_lines.push_back(LineOf(node[i]));
     }
   }
 

@@ -89,6 +89,7 @@ struct SweepSpec {
   std::map<std::string, std::filesystem::path> inputs;  ///< name -> original file (absolute)
   std::map<std::string, int> input_lines;  ///< name -> its line in the sweep file
   std::vector<std::string> arguments;  ///< after the command words; may hold {placeholders}
+  std::vector<int> argument_lines;     ///< each argument's line in the sweep file
   std::vector<Override> set;
   std::vector<Variable> grid_variables;           ///< in file order
   std::vector<std::vector<Value>> grid_values;    ///< per grid variable

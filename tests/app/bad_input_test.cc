@@ -112,7 +112,8 @@ void WriteSweep(const fs::path& file, const std::string& from, const std::string
 
 // Tests that `sweep plan` reads every task's inputs as the swept command would: a grid value
 // `fast` for a speed, and a misspelt key in set:, are refused at the sweep file's line and field,
-// with the reader's expectation, and no plan is left.
+// with the reader's expectation, and no plan is left; so is a misspelt option of the swept
+// command in arguments:.
 TEST(BadInputEndToEnd, SweepPlanRefusesAGridValueFastAndAMisspeltOverrideKey) {
   const fs::path dir = Scratch("sweep");
   WriteSweep(dir / "fast.yaml", "[0.4, 0.6,", "[0.4, fast,");
@@ -129,6 +130,13 @@ TEST(BadInputEndToEnd, SweepPlanRefusesAGridValueFastAndAMisspeltOverrideKey) {
                 "typo.yaml:" + std::to_string(set_line) + ": field 'set.scene.drive.acel_mps2': expected a known key");
   const Result typo = Pwsim("sweep plan typo.yaml --out o", dir);
   EXPECT_NE(typo.output.find("got unknown key \"acel_mps2\""), std::string::npos) << typo.output;
+
+  // a misspelt option of the swept command in arguments:, with pwsim run's own suggestion
+  WriteSweep(dir / "option.yaml", "--no-video", "--no-vidoe");
+  const int arguments_line = LineOf(ReadText(dir / "option.yaml"), "arguments:");
+  ExpectRefused(dir, "sweep plan option.yaml",
+                "option.yaml:" + std::to_string(arguments_line) + ": field 'arguments[1]': expected an option of pwsim run "
+                "(see pwsim run --help), got \"--no-vidoe\"; did you mean --no-video?");
 }
 
 // Tests .mat recordings that cannot be read: empty, cut short (the shipped EMPS file's first
