@@ -4,6 +4,7 @@
 // with plot/.
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -101,9 +102,26 @@ void CheckArguments(const sweep::SweepSpec& spec) {
       throw InputError(spec.file.string(), line, field, "an option of " + pwsim + " (see " + pwsim + " --help)",
                        "\"" + word + "\"" + DidYouMean(name, names, "--"));
     }
-    if (!option->value_name.empty() && word.find('=') == std::string::npos && i + 1 >= spec.arguments.size()) {
+    if (option->value_name.empty()) continue;
+    const bool inline_value = word.find('=') != std::string::npos;
+    if (!inline_value && i + 1 >= spec.arguments.size()) {
       throw InputError(spec.file.string(), line, field, "option --" + name + " followed by its value " + option->value_name,
                        "the end of the arguments");
+    }
+    // A literal value of a counted or timed option (value names N; S, MS, HZ) must be a number,
+    // as the command will read it; a {placeholder} is the task's (its inputs are checked per task).
+    const std::string value = inline_value ? word.substr(word.find('=') + 1) : spec.arguments[i + 1];
+    const std::string value_field = inline_value ? field : "arguments[" + std::to_string(i + 1) + "]";
+    const int value_line = inline_value || i + 1 >= spec.argument_lines.size() ? line : spec.argument_lines[i + 1];
+    const std::string& kind = option->value_name;
+    if (value.find('{') != std::string::npos || (kind != "N" && kind != "S" && kind != "MS" && kind != "HZ")) continue;
+    double number = 0.0;
+    const char* end = value.data() + value.size();
+    const auto [ptr, ec] = std::from_chars(value.data(), end, number);
+    if (ec != std::errc() || ptr != end || !std::isfinite(number) || (kind == "N" && number != std::floor(number))) {
+      throw InputError(spec.file.string(), value_line, value_field,
+                       std::string(kind == "N" ? "an integer" : "a number") + " for option --" + name + " of " + pwsim,
+                       "\"" + value + "\"");
     }
   }
 }

@@ -137,6 +137,11 @@ TEST(BadInputEndToEnd, SweepPlanRefusesAGridValueFastAndAMisspeltOverrideKey) {
   ExpectRefused(dir, "sweep plan option.yaml",
                 "option.yaml:" + std::to_string(arguments_line) + ": field 'arguments[1]': expected an option of pwsim run "
                 "(see pwsim run --help), got \"--no-vidoe\"; did you mean --no-video?");
+  // a count given in words
+  WriteSweep(dir / "count.yaml", "--decimate, \"10\"", "--decimate, ten");
+  ExpectRefused(dir, "sweep plan count.yaml",
+                "count.yaml:" + std::to_string(arguments_line) + ": field 'arguments[3]': expected an integer for option "
+                "--decimate of pwsim run, got \"ten\"");
 }
 
 // Tests .mat recordings that cannot be read: empty, cut short (the shipped EMPS file's first
