@@ -86,6 +86,50 @@ void BM_FullChairStep(benchmark::State& state) {
 }
 BENCHMARK(BM_FullChairStep);
 
+// How the tick's cost grows: a gentler weave than BM_FullChairStep's on a level floor with N
+// bumps (3 cm tall, tapered over 1 cm, 0.4 m deep) across the path every 1.5 m from x = 2 m (0:
+// a level floor; 20 s of driving covers about 22 m), with the 6-wheel chair (arg 1 = 6) or a 4-wheel rear-drive chair (arg 1 = 4),
+// and with the rolling envelope and tyres off (arg 2 = 0: point contacts).
+void BM_FullChairStepScaling(benchmark::State& state) {
+  const int bumps = static_cast<int>(state.range(0));
+  const bool six = state.range(1) == 6;
+  Chair chair = MakeTableOneChair();
+  if (!six) {
+    chair.name = "pw4_rear";
+    chair.mass = 60.0;
+    chair.inertia = 8.0;
+    chair.cm_height = 0.5;
+    chair.wheels = {{"front_caster", 0.30, 0.1}, {"drive", -0.15, 0.17}};
+    chair.gm = GeometricParams{{0.3, 0.7}, {{0, 1, 1.0}}};
+    chair.lm = LumpedParams{};
+  }
+  PlanarLayout layout = DefaultPlanarLayout(chair);
+  layout.rolling_envelope = state.range(2) != 0;
+  FloorMap floor;
+  for (int k = 0; k < bumps; ++k) {
+    const double x = 2.0 + 1.5 * k;
+    floor.features.push_back(BumpFeature(x, x + 0.4, -30.0, 30.0, 0.03, 0.01));
+  }
+  RollTorqueParams roll;
+  roll.gravity_lever = MovingMass(chair, 100.0) * chair.cm_height;
+  roll.per_lateral_accel = roll.gravity_lever;
+  FullChairSimulator simulator(chair, layout, floor, 100.0, 1e-3, {}, roll);
+  simulator.Start({});
+  std::int64_t k = 0;
+  for (auto _ : state) {
+    const double turn = (k / 4000) % 2 == 0 ? 0.2 : -0.2;
+    benchmark::DoNotOptimize(simulator.Advance({0.7, turn}));
+    if (++k == 20000) {
+      k = 0;
+      simulator.Start({});
+    }
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_FullChairStepScaling)
+    ->Args({0, 6, 1})->Args({4, 6, 1})->Args({16, 6, 1})->Args({0, 4, 1})->Args({16, 4, 1})
+    ->Args({0, 6, 0})->Args({16, 6, 0});
+
 // The full-DoF chair on the sagittal straight run (AdvanceAlong), for comparison.
 void BM_FullChairAlongStep(benchmark::State& state) {
   const Chair chair = MakeTableOneChair();

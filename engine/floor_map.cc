@@ -207,18 +207,22 @@ double FloorMap::EnvelopeOffLevel(double x_W, double y_W, double dir_x, double d
     // centre at the tangent point s* = R m / √(1 + m²): z_point + R (√(1 + m²) - 1)
     return m == 0.0 ? z_point : z_point + radius * m * m / (1.0 + std::sqrt(1.0 + m * m));
   }
-  // the profile alone under the disc (no layer adds anything there): its knots' heights known
+  // the profile alone under the disc (no feature's rectangle, nor the grid, meets the disc's
+  // box): its knots' heights known
   const double reach_x = radius * std::abs(dir_x), reach_y = radius * std::abs(dir_y);
   const double lo = x_W - reach_x, hi = x_W + reach_x;
-  const std::vector<double>& xs = profile.x;
-  bool profile_only = !xs.empty() && std::abs(dir_x) > 1e-6 && lo > xs.front() && hi < xs.back();
-  if (profile_only && (!features.empty() || grid.has_value())) {
-    profile_only = lo > hint.clear_lo && hi < hint.clear_hi;
-    if (profile_only && hint.active >= 0) {
-      const FloorFeature& f = features[static_cast<std::size_t>(hint.active)];
-      profile_only = y_W - reach_y > f.y_max || y_W + reach_y < f.y_min;
-    }
+  bool layer_under = false;
+  for (const FloorFeature& f : features) {
+    layer_under = layer_under || !(f.x_max < lo || f.x_min > hi || f.y_max < y_W - reach_y || f.y_min > y_W + reach_y);
   }
+  if (grid) {
+    const HeightGrid& g = *grid;
+    layer_under = layer_under || !(g.x0 + g.nx * g.cell < lo || g.x0 - g.cell > hi || g.y0 + g.ny * g.cell < y_W - reach_y ||
+                                   g.y0 - g.cell > y_W + reach_y);
+  }
+  const std::vector<double>& xs = profile.x;
+  if (!layer_under && (xs.empty() || hi < xs.front() || lo > xs.back())) return z_point;  // level: z = 0 under it
+  const bool profile_only = !layer_under && std::abs(dir_x) > 1e-6 && lo > xs.front() && hi < xs.back();
   if (profile_only) {
     // z along the line: the profile's pieces, knots at s_k = (X_k − x) / u_x with heights Z_k
     const double r2 = radius * radius;
