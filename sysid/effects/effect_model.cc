@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <numbers>
 
 #include <Eigen/Dense>
@@ -222,22 +223,31 @@ struct Setup {
   std::array<double, kMaxWheels> k_wheel{}, c_wheel{};  ///< s_i K_Z [N/m], s_i C_Z [N s/m]
   std::array<double, kMaxWheels> plane_z{}, plane_t{};  ///< s-weighted plane: Z = Σ plane_z_i u_i
   std::array<double, kMaxWheels> gm_dz{}, gm_dt{};      ///< GM correction (s-plane - α-plane)
-  bool series{false};  ///< some tyre is compliant (c_t > 0)
   // Massless tyres (header, TyreLaw::kMassless).
-  bool massless{false};
   std::array<double, kMaxWheels> k_tyre{}, c_tyre{};  ///< k_t [N/m], τ_t k_t [N s/m] (0: rigid)
   std::array<double, kMaxWheels * kMaxWheels> hub_step{};  ///< (τ_t K_t + D + Δt S/2)^-1, row-major
   AxisPropagator heave, pitch;
   double mass{1.0}, lever{0.0};
   double k_z{0}, c_z{0}, k_t{0}, c_t{0}, k_zt{0}, c_zt{0};
   double hard_z{0}, hard_t{0}, bump_gain{0}, bump_gap{0}, presliding{5e-4};
-  bool bump_rebound{false}, bump_compression{true};
   double marker_x{0}, marker_z{0};
-  bool any_radius{false}, any_tyre{false}, any_friction{false};
-  bool gm_unscaled{true};  ///< no cushion factor and q = 1: the trial's cached GM output holds
-  bool smooth_coulomb{false};  ///< friction by the rate law (header: FrictionLaw)
-  bool held_forces{false};  ///< coupling, hardening, bump stops, friction or exact kinematics
-  bool exact{false};        ///< exact rigid-body kinematics (header: Kinematics::kExact)
+  /// The families' discrete laws (header: the stops' sides, the friction law, the tyres' law,
+  /// the kinematics), as the catalogue names them.
+  EffectMembers member;
+  /// Which terms the values switch on, derived once from them (MakeSetup).
+  struct On {
+    bool radius{false};    ///< some wheel has a rolling-disc radius
+    bool tyre{false};      ///< some wheel has a tyre (unsprung or massless)
+    bool series{false};    ///< some tyre is compliant (c_t > 0): the GM's series shift
+    bool massless{false};  ///< some massless tyre (TyreLaw::kMassless)
+    bool friction{false};  ///< some wheel has suspension friction
+    bool gm_scaled{false};  ///< a cushion factor or q != 1: the trial's cached GM output does not hold
+    bool held_forces{false};  ///< coupling, hardening, bump stops, friction or exact kinematics
+  } on;
+  bool Exact() const { return member.kinematics == Kinematics::kExact; }
+  bool StopsInCompression() const { return member.stops != StopSides::kRebound; }
+  bool StopsInRebound() const { return member.stops != StopSides::kCompression; }
+  bool SmoothCoulomb() const { return member.friction == FrictionLaw::kSmoothCoulomb; }
 };
 
 /// The massless hubs' step matrix (header, TyreLaw::kMassless). The suspension's reaction on
@@ -288,6 +298,7 @@ Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
   Setup m;
   m.wheels = chair.wheel_count();
   PWSIM_DEMAND(m.wheels <= kMaxWheels);
+  m.member = fx.member;
   const std::vector<double> factors = CushionHeightFactors(chair, trial.load_kg, fx);
   const double dt = trial.step;
   for (int t = 1; t <= 2; ++t) {
@@ -305,14 +316,14 @@ Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
     m.wheel_x[i] = chair.wheels[i].x;
     m.alpha[i] = chair.gm->alpha[i];
     m.radius[i] = caster ? fx.caster_radius : fx.drive_radius;
-    m.any_radius = m.any_radius || m.radius[i] > 0.0;
+    m.on.radius = m.on.radius || m.radius[i] > 0.0;
     const double period = caster ? fx.caster_tyre_period : fx.drive_tyre_period;
     if (fx.member.tyre == TyreLaw::kMassless) {
       compliance[i] = std::max(0.0, tyre_compliance[i]);
       m.tyre[i] = compliance[i] > 0.0 ? (caster ? 1 : 2) : 0;
       m.k_tyre[i] = m.tyre[i] != 0 ? 1.0 / compliance[i] : 0.0;
       m.c_tyre[i] = std::max(0.0, fx.tyre_time_constant) * m.k_tyre[i];
-      m.massless = m.massless || m.tyre[i] != 0;
+      m.on.massless = m.on.massless || m.tyre[i] != 0;
     } else {
       m.tyre[i] = period > 1e-6 ? (caster ? 1 : 2) : 0;
       const double omega = m.tyre[i] != 0 ? 2.0 * std::numbers::pi / period : 0.0;
@@ -320,17 +331,17 @@ Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
         compliance[i] = std::max(0.0, tyre_compliance[i]);
       m.inv_unsprung[i] = omega * omega * compliance[i];
     }
-    m.any_tyre = m.any_tyre || m.tyre[i] != 0;
-    m.series = m.series || m.inv_unsprung[i] > 0.0 || m.k_tyre[i] > 0.0;
+    m.on.tyre = m.on.tyre || m.tyre[i] != 0;
+    m.on.series = m.on.series || m.inv_unsprung[i] > 0.0 || m.k_tyre[i] > 0.0;
     m.friction[i] = caster ? fx.caster_friction : fx.drive_friction;
-    m.any_friction = m.any_friction || m.friction[i] > 0.0;
+    m.on.friction = m.on.friction || m.friction[i] > 0.0;
     m.height_factor[i] = factors[static_cast<std::size_t>(i)];
-    m.gm_unscaled = m.gm_unscaled && m.height_factor[i] == 1.0;
+    m.on.gm_scaled = m.on.gm_scaled || m.height_factor[i] != 1.0;
   }
   m.gm_pitch_gain = fx.cushion_pitch_gain;
-  m.gm_unscaled = m.gm_unscaled && m.gm_pitch_gain == 1.0;
+  m.on.gm_scaled = m.on.gm_scaled || m.gm_pitch_gain != 1.0;
   m.mass = MovingMass(chair, trial.load_kg);
-  if (m.any_tyre) {
+  if (m.on.tyre) {
     m.share = SuspensionShares(m.alpha, compliance, m.wheels, params.lm.k_z);
     const WheelPlane by_share = WeightedPlane(m.share, m.wheel_x, m.wheels);
     const WheelPlane by_alpha = WeightedPlane(m.alpha, m.wheel_x, m.wheels);
@@ -363,11 +374,8 @@ Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
   m.hard_t = fx.pitch_hardening;
   m.bump_gain = fx.bump_gain;
   m.bump_gap = fx.bump_gap;
-  m.bump_rebound = fx.member.stops != StopSides::kCompression;
-  m.bump_compression = fx.member.stops != StopSides::kRebound;
   m.presliding = std::max(1e-6, fx.friction_presliding);
-  m.smooth_coulomb = fx.member.friction == FrictionLaw::kSmoothCoulomb;
-  if (m.smooth_coulomb) {
+  if (m.SmoothCoulomb()) {
     // Held over the step, the law's slope F_c/v_s is a damper on the chassis: kept below one
     // n-th of the explicit limit (c Δt (1/M + x_i²/I_θ) < 1 for each of n wheels).
     const double inv_inertia = 1.0 / PitchInertia(chair, trial.load_kg);
@@ -380,10 +388,9 @@ Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
   m.lever = (chair.mass * fx.cm_lever + trial.load_kg * fx.load_cm_lever) / m.mass;
   m.marker_x = fx.marker_lever_x;
   m.marker_z = fx.marker_lever_z;
-  m.exact = fx.member.kinematics == Kinematics::kExact;
-  m.held_forces = m.k_zt != 0.0 || m.c_zt != 0.0 || m.hard_z != 0.0 || m.hard_t != 0.0 ||
-                  m.bump_gain > 0.0 || m.any_friction || m.exact;
-  if (m.massless) MakeHubStep(chair, dt, m);
+  m.on.held_forces = m.k_zt != 0.0 || m.c_zt != 0.0 || m.hard_z != 0.0 || m.hard_t != 0.0 ||
+                     m.bump_gain > 0.0 || m.on.friction || m.Exact();
+  if (m.on.massless) MakeHubStep(chair, dt, m);
   return m;
 }
 
@@ -395,12 +402,19 @@ struct Body {
 /// sin θ and cos θ of a pitch angle, taken once per angle: a step's terms (the stops, the
 /// exact kinematics, the friction's deflection) share them, and the end of one step is the
 /// start of the next (the same values as each term's own std::sin and std::cos, bit for bit).
-/// The cosine only `with_cos` (else 1, unread): the stops and the friction need the sine alone.
+/// The cosine only `with_cos`: the stops and the friction need the sine alone, and a cosine
+/// not taken is no value (reading it is a contract violation, never a silent 1). An angle
+/// whose sine no term reads is itself std::nullopt (Trig).
 struct PitchTrig {
-  double sin{0.0}, cos{1.0};
+  double sin{0.0};
+  std::optional<double> cos;
 };
 PitchTrig TrigOf(double pitch, bool with_cos) {
-  return with_cos ? PitchTrig{std::sin(pitch), std::cos(pitch)} : PitchTrig{std::sin(pitch), 1.0};
+  return with_cos ? PitchTrig{std::sin(pitch), std::cos(pitch)} : PitchTrig{std::sin(pitch), std::nullopt};
+}
+/// The angle's PitchTrig where `used`, else no value.
+std::optional<PitchTrig> Trig(double pitch, bool used, bool with_cos) {
+  return used ? std::optional<PitchTrig>(TrigOf(pitch, with_cos)) : std::nullopt;
 }
 
 /// Force on the chassis [N] and torque [N m] from the held (non-linear or coupling) effects
@@ -409,8 +423,8 @@ PitchTrig TrigOf(double pitch, bool with_cos) {
 struct Load {
   double heave{0.0}, pitch{0.0};
 };
-Load HeldForces(const Setup& m, const Body& b, const PitchTrig& bt, const GeometricOutput& gm,
-                const PitchTrig& gt, double gm_z_rate, double gm_pitch_rate, const double* zc,
+Load HeldForces(const Setup& m, const Body& b, const std::optional<PitchTrig>& bt,
+                const GeometricOutput& gm, const std::optional<PitchTrig>& gt, double gm_z_rate, double gm_pitch_rate, const double* zc,
                 const double* friction_state) {
   Load f;
   const double dz = b.z - gm.z, dp = b.pitch - gm.pitch;
@@ -422,30 +436,30 @@ Load HeldForces(const Setup& m, const Body& b, const PitchTrig& bt, const Geomet
     // Bump stops: F_i = b K_Z α_i max(0, c_i - g)² / δ_ref on each wheel's compression
     // c_i = Z_Oi - (Z + x_i sin θ), pushing the chassis up at x_i; rebound stops the same on
     // its extension -c_i, pulling it down.
-    const double sin_t = bt.sin;
+    const double sin_t = bt.value().sin;
     for (int i = 0; i < m.wheels; ++i) {
       const double compression = zc[i] - (b.z + m.wheel_x[i] * sin_t);
       const double over = compression - m.bump_gap;
-      const double under = m.bump_rebound ? -compression - m.bump_gap : 0.0;
+      const double under = m.StopsInRebound() ? -compression - m.bump_gap : 0.0;
       double force = 0.0;
-      if (m.bump_compression && over > 0.0) force = m.bump_gain * m.k_z * m.alpha[i] * over * over / kHeaveRef;
+      if (m.StopsInCompression() && over > 0.0) force = m.bump_gain * m.k_z * m.alpha[i] * over * over / kHeaveRef;
       if (under > 0.0) force = -m.bump_gain * m.k_z * m.alpha[i] * under * under / kHeaveRef;
       f.heave += force;
       f.pitch += force * m.wheel_x[i];
     }
   }
-  if (m.any_friction) {
+  if (m.on.friction) {
     for (int i = 0; i < m.wheels; ++i) {
       f.heave -= friction_state[i];
       f.pitch -= friction_state[i] * m.wheel_x[i];
     }
   }
-  if (m.exact) {
+  if (m.Exact()) {
     // Exact kinematics: the pitch torque -cos θ [K_θ (sin θ - sin θ_GM) + C_θ (cos θ θ̇ -
     // cos θ_GM θ̇_GM)] in place of the small-angle one that the propagator applies.
-    const double c = bt.cos, c_gm = gt.cos;
+    const double c = bt.value().cos.value(), c_gm = gt.value().cos.value();
     f.pitch += m.k_t * dp + m.c_t * dp_rate -
-               c * (m.k_t * (bt.sin - gt.sin) + m.c_t * (c * b.pitch_rate - c_gm * gm_pitch_rate));
+               c * (m.k_t * (bt->sin - gt->sin) + m.c_t * (c * b.pitch_rate - c_gm * gm_pitch_rate));
   }
   return f;
 }
@@ -464,13 +478,14 @@ void OffPlane(const Setup& m, const double* u, double* d) {
 /// One step of the massless hubs (header, TyreLaw::kMassless) from heights `u0` to `u1`, the
 /// ground going from h0 to h1, the chassis at `body` over its GM output `gm` (at u0): the
 /// balance's right-hand side b(u0) with every hub at rest, times MakeHubStep's matrix.
-void AdvanceMasslessHubs(const Setup& m, const Body& body, const PitchTrig& bt, const GeometricOutput& gm,
-                         const PitchTrig& gt, const double* h0, const double* h1, const double* u0,
+void AdvanceMasslessHubs(const Setup& m, const Body& body, const std::optional<PitchTrig>& bt,
+                         const GeometricOutput& gm, const std::optional<PitchTrig>& gt, const double* h0, const double* h1, const double* u0,
                          const double* off_static, double dt, double* u1) {
   const int w = m.wheels;
   // The suspension's force and torque on the chassis with the hubs at rest (u̇ = 0).
   const double dz = body.z - gm.z, dp = body.pitch - gm.pitch;
-  const double pitch_spring = m.exact ? m.k_t * (bt.sin - gt.sin) + m.c_t * bt.cos * body.pitch_rate
+  const double pitch_spring = m.Exact() ? m.k_t * (bt.value().sin - gt.value().sin) +
+                                            m.c_t * bt->cos.value() * body.pitch_rate
                                       : m.k_t * dp + m.c_t * body.pitch_rate;
   const double force = m.k_z * dz + m.c_z * body.z_rate + m.k_zt * dp + m.c_zt * body.pitch_rate;
   const double torque = pitch_spring + m.k_zt * dz + m.c_zt * body.z_rate;
@@ -521,6 +536,232 @@ void CacheInputs(PreparedTrial& trial) {
   trial.cache_step = trial.step;
 }
 
+namespace {
+
+/// The terms one simulation takes, fixed for the trial and the parameters: where the inputs
+/// come from (the trial's caches or the terrain) and which pitch angles' sines and cosines
+/// some term reads.
+struct Paths {
+  bool marker{false};          ///< marker_offset is on: x and Z read through the lever
+  bool wheel_cache{false};     ///< the contact heights are the trial's cached ones
+  bool gm_cache{false};        ///< and the GM output as well
+  bool need_contacts{false};   ///< some term reads the contact heights
+  bool body_trig{false};       ///< the body's sin θ is read (stops, friction, exact, marker)
+  bool body_cos{false};        ///< and its cos θ (exact, marker)
+  bool predicted_trig{false};  ///< the Heun predictor's sin θ (stops, exact)
+};
+
+Paths PathsOf(const Setup& m, bool cached) {
+  Paths p;
+  p.marker = m.marker_x != 0.0 || m.marker_z != 0.0;
+  p.wheel_cache = cached && !p.marker && !m.on.radius && !m.Exact();
+  p.gm_cache = p.wheel_cache && !m.on.tyre && !m.on.gm_scaled;
+  p.need_contacts = !p.gm_cache || m.on.held_forces;
+  p.body_trig = m.Exact() || m.bump_gain > 0.0 || m.on.friction || p.marker;
+  p.body_cos = m.Exact() || p.marker;
+  p.predicted_trig = m.on.held_forces && (m.Exact() || m.bump_gain > 0.0);
+  return p;
+}
+
+/// The ground under the wheels and the GM's output on it, at grid point j.
+class Ground {
+ public:
+  Ground(const PreparedTrial& trial, const Setup& m, const Paths& paths, const std::vector<double>& x_grid)
+      : trial_(trial), m_(m), paths_(paths), x_grid_(x_grid), gm_(trial.chair) {}
+
+  /// Contact heights h_i under the wheels, the chair pitched by θ (each wheel's breakpoint
+  /// search starts where its last ended).
+  void Contacts(std::size_t j, double theta, double* h) {
+    const int w = m_.wheels;
+    if (paths_.wheel_cache) {
+      const double* c = trial_.wheel_cache.data() + j * static_cast<std::size_t>(w);
+      for (int i = 0; i < w; ++i) h[i] = c[i] * m_.height_factor[i];
+      return;
+    }
+    double x = x_grid_[j];
+    if (paths_.marker) x -= m_.marker_x * std::cos(theta) - m_.marker_z * std::sin(theta);
+    const double lever = m_.Exact() ? std::cos(theta) : 1.0;  // wheel i at x_i cos θ (exact)
+    for (int i = 0; i < w; ++i) {
+      const double xi = m_.Exact() ? x + m_.wheel_x[i] * lever : x + m_.wheel_x[i];
+      const double height = m_.radius[i] > 0.0 ? RollingDiscEnvelope(trial_.terrain, xi, m_.radius[i]).height
+                                               : trial_.terrain.HeightAtNear(xi, terrain_hint_[i]);
+      h[i] = height * m_.height_factor[i];
+    }
+  }
+
+  /// The GM on the wheels' heights zc (the cushion's q, the tyres' series shift).
+  GeometricOutput Geometric(std::size_t j, const double* zc) const {
+    if (paths_.gm_cache) return GeometricOutput{trial_.gm_cache[2 * j], trial_.gm_cache[2 * j + 1]};
+    const int w = m_.wheels;
+    GeometricOutput out = gm_.Evaluate(std::span<const double>(zc, static_cast<std::size_t>(w)));
+    out.pitch *= m_.gm_pitch_gain;
+    if (m_.on.series) {
+      // The GM saw the ground through tyre and suspension in series; on the unsprung wheels'
+      // heights it is the suspension's: shift it by the difference of the two planes.
+      for (int i = 0; i < w; ++i) {
+        out.z += m_.gm_dz[i] * zc[i];
+        out.pitch += m_.gm_dt[i] * zc[i];
+      }
+    }
+    return out;
+  }
+
+ private:
+  const PreparedTrial& trial_;
+  const Setup& m_;
+  const Paths& paths_;
+  const std::vector<double>& x_grid_;
+  const GeometricModel gm_;
+  std::array<std::size_t, kMaxWheels> terrain_hint_{};
+};
+
+/// What one step starts from and hands to the next.
+struct StepState {
+  Body body;
+  std::optional<PitchTrig> body_trig;  ///< where Paths::body_trig
+  GeometricOutput gm;                  ///< the GM output at the step's start
+  std::optional<PitchTrig> gm_trig;    ///< where exact kinematics
+  double gm_z_rate{0.0}, gm_pitch_rate{0.0};  ///< the previous step's GM rates
+  std::array<double, kMaxWheels> h{};      ///< ground heights under the wheels
+  std::array<double, kMaxWheels> zc{};     ///< the GM's input: the hubs' (or the ground's) heights
+  std::array<double, kMaxWheels> tyre_z{}, tyre_rate{};  ///< unsprung tyres
+  std::array<double, kMaxWheels> friction{};  ///< each wheel's friction force [N]
+  std::array<double, kMaxWheels> off_static{};  ///< each wheel's static height off the plane
+};
+
+/// The start of the run: static equilibrium at the first grid point, tyres undeflected
+/// (deviations from the static state), the body at the GM output shifted by the inertial
+/// torque through K.
+StepState StaticStart(const Setup& m, const Paths& paths, Ground& ground, double accel) {
+  StepState s;
+  if (paths.need_contacts) ground.Contacts(0, 0.0, s.h.data());
+  s.zc = s.h;
+  s.tyre_z = s.h;
+  s.gm = ground.Geometric(0, s.zc.data());
+  const double torque = m.mass * m.lever * accel;
+  const double det = m.k_z * m.k_t - m.k_zt * m.k_zt;
+  s.body.z = s.gm.z + (det > 0 ? -m.k_zt * torque / det : 0.0);
+  s.body.pitch = s.gm.pitch + (det > 0 ? m.k_z * torque / det : 0.0);
+  s.body_trig = Trig(s.body.pitch, paths.body_trig, paths.body_cos);
+  s.gm_trig = Trig(s.gm.pitch, m.Exact(), true);
+  if (m.on.series) OffPlane(m, s.zc.data(), s.off_static.data());
+  return s;
+}
+
+/// One step of the unsprung tyres (header, tyre_compliance) to the ground h1: each takes its
+/// share of the suspension's force and torque at the step's start in reaction; zc1 the hubs'
+/// heights at its end.
+void AdvanceUnsprungTyres(const Setup& m, StepState& s, const double* h1, double dt, double* zc1) {
+  const int w = m.wheels;
+  const double inv_dt = 1.0 / dt;
+  const Body& body = s.body;
+  // The suspension's force and torque on the chassis (spring, damper and coupling, deviations
+  // from equilibrium).
+  const double dz = body.z - s.gm.z, dp = body.pitch - s.gm.pitch;
+  const double dz_rate = body.z_rate - s.gm_z_rate, dp_rate = body.pitch_rate - s.gm_pitch_rate;
+  // The pitch spring and damper (exact kinematics: on sin θ - sin θ_GM and its rate).
+  const double pitch_spring =
+      m.Exact() ? m.k_t * (s.body_trig.value().sin - s.gm_trig.value().sin) +
+                    m.c_t * (s.body_trig->cos.value() * body.pitch_rate -
+                             s.gm_trig->cos.value() * s.gm_pitch_rate)
+              : m.k_t * dp + m.c_t * dp_rate;
+  const double force = m.k_z * dz + m.c_z * dz_rate + m.k_zt * dp + m.c_zt * dp_rate;
+  const double torque = pitch_spring + m.k_zt * dz + m.c_zt * dz_rate;
+  std::array<double, kMaxWheels> off{}, off_rate{}, zc_rate{};
+  if (m.on.series) {
+    for (int i = 0; i < w; ++i) zc_rate[i] = m.tyre[i] != 0 ? s.tyre_rate[i] : (h1[i] - s.h[i]) * inv_dt;
+    OffPlane(m, s.zc.data(), off.data());
+    OffPlane(m, zc_rate.data(), off_rate.data());
+  }
+  for (int i = 0; i < w; ++i) {
+    if (m.tyre[i] == 0) {
+      zc1[i] = h1[i];
+      continue;
+    }
+    // The chassis' force and torque split over the wheels by the suspension plane, plus the
+    // wheel's own spring and damper on its height off that plane.
+    const double reaction = m.plane_z[i] * force + m.plane_t[i] * torque -
+                            m.k_wheel[i] * (off[i] - s.off_static[i]) - m.c_wheel[i] * off_rate[i];
+    const int c = m.tyre[i];
+    const double ground_rate = (h1[i] - s.h[i]) * inv_dt;
+    const double tyre_accel =
+        m.tyre_omega2[c] * (s.h[i] - s.tyre_z[i]) + m.tyre_2zw[c] * (ground_rate - s.tyre_rate[i]);
+    if (tyre_accel < m.lift_off[i]) {
+      // The wheel is off the ground over this step: only gravity, the static suspension load
+      // and the reaction act on it.
+      const double accel = m.lift_off[i] + reaction * m.inv_unsprung[i];
+      s.tyre_z[i] += s.tyre_rate[i] * dt + 0.5 * accel * dt * dt;
+      s.tyre_rate[i] += accel * dt;
+    } else {
+      AdvanceAxis(m.tyre_propagator[c], s.tyre_z[i], s.tyre_rate[i], s.h[i], ground_rate,
+                  reaction * m.inv_unsprung[i]);
+    }
+    zc1[i] = s.tyre_z[i];
+  }
+}
+
+/// The body over one step to the GM output g1 (rates gm_z_rate, gm_pitch_rate) with the
+/// inertial torque; the held forces (coupling, hardening, stops, friction, exact kinematics)
+/// by Heun: predicted with the start's, corrected with the mean of both ends.
+Body AdvanceBody(const Setup& m, const Paths& paths, const StepState& s, const GeometricOutput& g1,
+                 const std::optional<PitchTrig>& g1_trig, double gm_z_rate, double gm_pitch_rate,
+                 double torque, const double* zc1) {
+  Body next = s.body;
+  if (!m.on.held_forces) {
+    AdvanceAxis(m.heave, next.z, next.z_rate, s.gm.z, gm_z_rate, 0.0);
+    AdvanceAxis(m.pitch, next.pitch, next.pitch_rate, s.gm.pitch, gm_pitch_rate, torque);
+    return next;
+  }
+  const Load f0 = HeldForces(m, s.body, s.body_trig, s.gm, s.gm_trig, gm_z_rate, gm_pitch_rate, s.zc.data(),
+                             s.friction.data());
+  AdvanceAxis(m.heave, next.z, next.z_rate, s.gm.z, gm_z_rate, f0.heave);
+  AdvanceAxis(m.pitch, next.pitch, next.pitch_rate, s.gm.pitch, gm_pitch_rate, torque + f0.pitch);
+  const std::optional<PitchTrig> predicted = Trig(next.pitch, paths.predicted_trig, m.Exact());
+  const Load f1 = HeldForces(m, next, predicted, g1, g1_trig, gm_z_rate, gm_pitch_rate, zc1, s.friction.data());
+  next = s.body;
+  AdvanceAxis(m.heave, next.z, next.z_rate, s.gm.z, gm_z_rate, 0.5 * (f0.heave + f1.heave));
+  AdvanceAxis(m.pitch, next.pitch, next.pitch_rate, s.gm.pitch, gm_pitch_rate, torque + 0.5 * (f0.pitch + f1.pitch));
+  return next;
+}
+
+/// Each wheel's friction over the step from `s` to the body `next` (sine s1) and the hubs zc1:
+/// Dahl's F relaxes exactly towards F_c sgn ṙ_i with rate |ṙ_i| / δ_p for the step's deflection
+/// rate ṙ_i held; smooth Coulomb F_c tanh(ṙ_i / v_s).
+void UpdateFriction(const Setup& m, StepState& s, const Body& next, double s1, const double* zc1, double dt) {
+  const double inv_dt = 1.0 / dt;
+  const double s0 = s.body_trig.value().sin;
+  for (int i = 0; i < m.wheels; ++i) {
+    if (m.friction[i] <= 0.0) continue;
+    const double r_rate =
+        ((next.z + m.wheel_x[i] * s1) - (s.body.z + m.wheel_x[i] * s0) - (zc1[i] - s.zc[i])) * inv_dt;
+    double& f = s.friction[i];
+    if (m.SmoothCoulomb()) {
+      f = m.friction[i] * std::tanh(r_rate / m.smooth_rate[i]);
+      continue;
+    }
+    const double target = r_rate > 0.0 ? m.friction[i] : (r_rate < 0.0 ? -m.friction[i] : f);
+    f = target + (f - target) * std::exp(-std::abs(r_rate) * dt / m.presliding);
+  }
+}
+
+/// The run's outputs on the grid.
+struct GridRecord {
+  std::vector<double> z, pitch, z_gm, pitch_gm;
+  explicit GridRecord(std::size_t n) : z(n), pitch(n), z_gm(n), pitch_gm(n) {}
+  /// The measured altitude (through the marker's lever where it is on) and pitch, and the GM's.
+  void Record(std::size_t j, const Setup& m, const Paths& paths, const StepState& s) {
+    const Body& b = s.body;
+    z[j] = paths.marker ? b.z + m.marker_x * s.body_trig.value().sin +
+                              m.marker_z * (s.body_trig->cos.value() - 1.0)
+                        : b.z;
+    pitch[j] = b.pitch;
+    z_gm[j] = s.gm.z;
+    pitch_gm[j] = s.gm.pitch;
+  }
+};
+
+}  // namespace
+
 ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& params) {
   const Setup m = MakeSetup(trial, params);
   const double dt = trial.step;
@@ -534,189 +775,47 @@ ModelOutput SimulateExtended(const PreparedTrial& trial, const ExtendedParams& p
   const std::vector<double>& x_grid = cached ? trial.x_grid : x_local;
   const std::vector<double>& a_grid = cached ? trial.accel_grid : a_local;
   const std::size_t grid = x_grid.size();
-  const GeometricModel gm(trial.chair);
-  const int w = m.wheels;
-  const bool marker = m.marker_x != 0.0 || m.marker_z != 0.0;
-  const bool wheel_cache = cached && !marker && !m.any_radius && !m.exact;
-  const bool gm_cache = wheel_cache && !m.any_tyre && m.gm_unscaled;
-  const bool need_contacts = !gm_cache || m.held_forces;
+  const Paths paths = PathsOf(m, cached);
+  Ground ground(trial, m, paths, x_grid);
+  GridRecord record(grid);
+  StepState s = StaticStart(m, paths, ground, a_grid[0]);
+  record.Record(0, m, paths, s);
 
-  // Ground contact heights h_i under the wheels at grid point j, the chair pitched by θ (each
-  // wheel's breakpoint search starts where its last ended).
-  std::array<std::size_t, kMaxWheels> terrain_hint{};
-  auto contacts = [&](std::size_t j, double theta, double* h) {
-    if (wheel_cache) {
-      const double* c = trial.wheel_cache.data() + j * static_cast<std::size_t>(w);
-      for (int i = 0; i < w; ++i) h[i] = c[i] * m.height_factor[i];
-      return;
-    }
-    double x = x_grid[j];
-    if (marker) x -= m.marker_x * std::cos(theta) - m.marker_z * std::sin(theta);
-    const double lever = m.exact ? std::cos(theta) : 1.0;  // wheel i at x_i cos θ (exact)
-    for (int i = 0; i < w; ++i) {
-      const double xi = m.exact ? x + m.wheel_x[i] * lever : x + m.wheel_x[i];
-      const double height = m.radius[i] > 0.0 ? RollingDiscEnvelope(trial.terrain, xi, m.radius[i]).height
-                                              : trial.terrain.HeightAtNear(xi, terrain_hint[i]);
-      h[i] = height * m.height_factor[i];
-    }
-  };
-  auto geometric = [&](std::size_t j, const double* zc) {
-    if (gm_cache) return GeometricOutput{trial.gm_cache[2 * j], trial.gm_cache[2 * j + 1]};
-    GeometricOutput out = gm.Evaluate(std::span<const double>(zc, static_cast<std::size_t>(w)));
-    out.pitch *= m.gm_pitch_gain;
-    if (m.series) {
-      // The GM saw the ground through tyre and suspension in series; on the unsprung wheels'
-      // heights it is the suspension's: shift it by the difference of the two planes.
-      for (int i = 0; i < w; ++i) {
-        out.z += m.gm_dz[i] * zc[i];
-        out.pitch += m.gm_dt[i] * zc[i];
-      }
-    }
-    return out;
-  };
-
-  std::vector<double> z_grid(grid), pitch_grid(grid), z_gm_grid(grid), pitch_gm_grid(grid);
-  auto record = [&](std::size_t j, const Body& b, const PitchTrig& bt, const GeometricOutput& g) {
-    z_grid[j] = marker ? b.z + m.marker_x * bt.sin + m.marker_z * (bt.cos - 1.0) : b.z;
-    pitch_grid[j] = b.pitch;
-    z_gm_grid[j] = g.z;
-    pitch_gm_grid[j] = g.pitch;
-  };
-
-  // Static equilibrium at the first grid point: tyres undeflected (deviations from the static
-  // state), the body at the GM output shifted by the inertial torque through K.
-  std::array<double, kMaxWheels> h0{}, h1{}, zc0{}, zc1{}, tyre_z{}, tyre_rate{}, friction{};
-  if (need_contacts) contacts(0, 0.0, h0.data());
-  zc0 = h0;
-  tyre_z = h0;
-  GeometricOutput g0 = geometric(0, zc0.data());
-  Body body;
-  {
-    const double torque = m.mass * m.lever * a_grid[0];
-    const double det = m.k_z * m.k_t - m.k_zt * m.k_zt;
-    body.z = g0.z + (det > 0 ? -m.k_zt * torque / det : 0.0);
-    body.pitch = g0.pitch + (det > 0 ? m.k_z * torque / det : 0.0);
-  }
-  // sin θ and cos θ of the body (where a term uses them: the stops, the friction, the exact
-  // kinematics, the marker) and of the GM (exact kinematics), carried from step to step.
-  const bool body_trig_used = m.exact || m.bump_gain > 0.0 || m.any_friction || marker;
-  const bool body_cos_used = m.exact || marker;
-  const bool predicted_trig_used = m.held_forces && (m.exact || m.bump_gain > 0.0);
-  PitchTrig body_trig = body_trig_used ? TrigOf(body.pitch, body_cos_used) : PitchTrig{};
-  PitchTrig g0_trig = m.exact ? TrigOf(g0.pitch, true) : PitchTrig{};
-  record(0, body, body_trig, g0);
-  double gm_z_rate_prev = 0.0, gm_pitch_rate_prev = 0.0;
-  // Each wheel's height off the suspension plane through the wheels, from its static value.
-  std::array<double, kMaxWheels> off0{}, off{}, off_rate{}, zc_rate{};
-  if (m.series) OffPlane(m, zc0.data(), off0.data());
-
+  std::array<double, kMaxWheels> h1{}, zc1{};
   for (std::size_t j = 0; j + 1 < grid; ++j) {
-    if (need_contacts) contacts(j + 1, body.pitch + dt * body.pitch_rate, h1.data());
-    if (m.massless) {
-      AdvanceMasslessHubs(m, body, body_trig, g0, g0_trig, h0.data(), h1.data(), zc0.data(), off0.data(), dt,
-                          zc1.data());
-    } else if (m.any_tyre) {
-      // The suspension's force and torque on the chassis at j (spring, damper and coupling,
-      // deviations from equilibrium); each unsprung wheel takes its share in reaction.
-      const double dz = body.z - g0.z, dp = body.pitch - g0.pitch;
-      const double dz_rate = body.z_rate - gm_z_rate_prev, dp_rate = body.pitch_rate - gm_pitch_rate_prev;
-      // The pitch spring and damper (exact kinematics: on sin θ - sin θ_GM and its rate).
-      const double pitch_spring =
-          m.exact ? m.k_t * (body_trig.sin - g0_trig.sin) +
-                        m.c_t * (body_trig.cos * body.pitch_rate - g0_trig.cos * gm_pitch_rate_prev)
-                  : m.k_t * dp + m.c_t * dp_rate;
-      const double force = m.k_z * dz + m.c_z * dz_rate + m.k_zt * dp + m.c_zt * dp_rate;
-      const double torque = pitch_spring + m.k_zt * dz + m.c_zt * dz_rate;
-      if (m.series) {
-        for (int i = 0; i < w; ++i) zc_rate[i] = m.tyre[i] != 0 ? tyre_rate[i] : (h1[i] - h0[i]) * inv_dt;
-        OffPlane(m, zc0.data(), off.data());
-        OffPlane(m, zc_rate.data(), off_rate.data());
-      }
-      for (int i = 0; i < w; ++i) {
-        if (m.tyre[i] == 0) {
-          zc1[i] = h1[i];
-          continue;
-        }
-        // The chassis' force and torque split over the wheels by the suspension plane, plus
-        // the wheel's own spring and damper on its height off that plane.
-        const double reaction = m.plane_z[i] * force + m.plane_t[i] * torque -
-                                m.k_wheel[i] * (off[i] - off0[i]) - m.c_wheel[i] * off_rate[i];
-        const int c = m.tyre[i];
-        const double ground_rate = (h1[i] - h0[i]) * inv_dt;
-        const double tyre_accel =
-            m.tyre_omega2[c] * (h0[i] - tyre_z[i]) + m.tyre_2zw[c] * (ground_rate - tyre_rate[i]);
-        if (tyre_accel < m.lift_off[i]) {
-          // The wheel is off the ground over this step: only gravity, the static suspension
-          // load and the reaction act on it.
-          const double accel = m.lift_off[i] + reaction * m.inv_unsprung[i];
-          tyre_z[i] += tyre_rate[i] * dt + 0.5 * accel * dt * dt;
-          tyre_rate[i] += accel * dt;
-        } else {
-          AdvanceAxis(m.tyre_propagator[c], tyre_z[i], tyre_rate[i], h0[i], ground_rate,
-                      reaction * m.inv_unsprung[i]);
-        }
-        zc1[i] = tyre_z[i];
-      }
-    } else {
+    if (paths.need_contacts) ground.Contacts(j + 1, s.body.pitch + dt * s.body.pitch_rate, h1.data());
+    if (m.on.massless)
+      AdvanceMasslessHubs(m, s.body, s.body_trig, s.gm, s.gm_trig, s.h.data(), h1.data(), s.zc.data(),
+                          s.off_static.data(), dt, zc1.data());
+    else if (m.on.tyre)
+      AdvanceUnsprungTyres(m, s, h1.data(), dt, zc1.data());
+    else
       zc1 = h1;
-    }
-    const GeometricOutput g1 = geometric(j + 1, zc1.data());
-    const PitchTrig g1_trig = m.exact ? TrigOf(g1.pitch, true) : PitchTrig{};
-    const double gm_z_rate = (g1.z - g0.z) * inv_dt;
-    const double gm_pitch_rate = (g1.pitch - g0.pitch) * inv_dt;
+    const GeometricOutput g1 = ground.Geometric(j + 1, zc1.data());
+    const std::optional<PitchTrig> g1_trig = Trig(g1.pitch, m.Exact(), true);
+    const double gm_z_rate = (g1.z - s.gm.z) * inv_dt;
+    const double gm_pitch_rate = (g1.pitch - s.gm.pitch) * inv_dt;
     const double torque = m.mass * m.lever * a_grid[j];
-    Body next = body;
-    if (!m.held_forces) {
-      AdvanceAxis(m.heave, next.z, next.z_rate, g0.z, gm_z_rate, 0.0);
-      AdvanceAxis(m.pitch, next.pitch, next.pitch_rate, g0.pitch, gm_pitch_rate, torque);
-    } else {
-      // Heun on the held forces: predict with the start's, correct with the mean of both ends.
-      const Load f0 =
-          HeldForces(m, body, body_trig, g0, g0_trig, gm_z_rate, gm_pitch_rate, zc0.data(), friction.data());
-      AdvanceAxis(m.heave, next.z, next.z_rate, g0.z, gm_z_rate, f0.heave);
-      AdvanceAxis(m.pitch, next.pitch, next.pitch_rate, g0.pitch, gm_pitch_rate, torque + f0.pitch);
-      const PitchTrig predicted = predicted_trig_used ? TrigOf(next.pitch, m.exact) : PitchTrig{};
-      const Load f1 =
-          HeldForces(m, next, predicted, g1, g1_trig, gm_z_rate, gm_pitch_rate, zc1.data(), friction.data());
-      next = body;
-      AdvanceAxis(m.heave, next.z, next.z_rate, g0.z, gm_z_rate, 0.5 * (f0.heave + f1.heave));
-      AdvanceAxis(m.pitch, next.pitch, next.pitch_rate, g0.pitch, gm_pitch_rate,
-                  torque + 0.5 * (f0.pitch + f1.pitch));
-    }
-    const PitchTrig next_trig = body_trig_used ? TrigOf(next.pitch, body_cos_used) : PitchTrig{};
-    if (m.any_friction) {
-      // Dahl: for the step's deflection rate ṙ_i held, F relaxes exactly towards F_c sgn ṙ_i
-      // with rate |ṙ_i| / δ_p.
-      const double s0 = body_trig.sin, s1 = next_trig.sin;
-      for (int i = 0; i < w; ++i) {
-        if (m.friction[i] <= 0.0) continue;
-        const double r_rate = ((next.z + m.wheel_x[i] * s1) - (body.z + m.wheel_x[i] * s0) -
-                               (zc1[i] - zc0[i])) * inv_dt;
-        if (m.smooth_coulomb) {
-          friction[i] = m.friction[i] * std::tanh(r_rate / m.smooth_rate[i]);
-          continue;
-        }
-        const double target = r_rate > 0.0 ? m.friction[i] : (r_rate < 0.0 ? -m.friction[i] : friction[i]);
-        friction[i] = target + (friction[i] - target) * std::exp(-std::abs(r_rate) * dt / m.presliding);
-      }
-    }
-    body = next;
-    body_trig = next_trig;
-    g0 = g1;
-    g0_trig = g1_trig;
-    h0 = h1;
-    zc0 = zc1;
-    gm_z_rate_prev = gm_z_rate;
-    gm_pitch_rate_prev = gm_pitch_rate;
-    record(j + 1, body, body_trig, g0);
+    const Body next = AdvanceBody(m, paths, s, g1, g1_trig, gm_z_rate, gm_pitch_rate, torque, zc1.data());
+    std::optional<PitchTrig> next_trig = Trig(next.pitch, paths.body_trig, paths.body_cos);
+    if (m.on.friction) UpdateFriction(m, s, next, next_trig.value().sin, zc1.data(), dt);
+    s.body = next;
+    s.body_trig = std::move(next_trig);
+    s.gm = g1;
+    s.gm_trig = g1_trig;
+    s.h = h1;
+    s.zc = zc1;
+    s.gm_z_rate = gm_z_rate;
+    s.gm_pitch_rate = gm_pitch_rate;
+    record.Record(j + 1, m, paths, s);
   }
 
   const double t0 = trial.t.front();
   ModelOutput out;
-  out.z = SampleGrid(z_grid, t0, dt, trial.t);
-  out.pitch = SampleGrid(pitch_grid, t0, dt, trial.t);
-  out.z_gm = SampleGrid(z_gm_grid, t0, dt, trial.t);
-  out.pitch_gm = SampleGrid(pitch_gm_grid, t0, dt, trial.t);
+  out.z = SampleGrid(record.z, t0, dt, trial.t);
+  out.pitch = SampleGrid(record.pitch, t0, dt, trial.t);
+  out.z_gm = SampleGrid(record.z_gm, t0, dt, trial.t);
+  out.pitch_gm = SampleGrid(record.pitch_gm, t0, dt, trial.t);
   return out;
 }
 
