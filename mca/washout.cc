@@ -118,6 +118,7 @@ std::string WashoutParams::Validate() const {
     }
   }
   if (!(bank.max_angle > 0.0 && bank.max_angle <= 60.0 * kDegToRad)) return "bank: max_angle in (0, 60] deg required";
+  if (!(shape.accel_scale > 0.0) || !std::isfinite(shape.accel_scale)) return "shape: accel_scale > 0 required";
   if (!(tilt_rate_threshold > 0.0) || !std::isfinite(tilt_rate_threshold)) return "tilt_rate_threshold must be > 0";
   if (!(fault.hold_time >= 0.0) || !(fault.return_speed_fraction > 0.0) ||
       !(fault.return_speed_fraction <= 1.0)) {
@@ -174,6 +175,12 @@ WashoutParams ParseWashoutParams(YamlMap& map, const WashoutParams& base) {
                                                  Range::Positive(60.0, "deg"));
     bank.Finish();
   }
+  if (map.Has("shape")) {
+    YamlMap shape = map.Map("shape");
+    p.shape.enabled = shape.BoolOr("enabled", p.shape.enabled);
+    p.shape.accel_scale = shape.NumberOr("accel_scale", p.shape.accel_scale, Range::Positive(100.0));
+    shape.Finish();
+  }
   if (map.Has("fault")) {
     YamlMap fault = map.Map("fault");
     p.fault.hold_time = fault.NumberOr("hold_s", p.fault.hold_time, Range::Closed(0.0, 60.0, "s"));
@@ -224,6 +231,12 @@ ClassicalWashout::ClassicalWashout(const WashoutParams& params, const PlatformSp
   bank_[1] = Discretize(Complement(RotationHighPass(params.rotation(Dof::kRoll))), dt);
   band_accel_ = {platform.Has(Dof::kRoll) ? platform.limits(Dof::kRoll).brake_accel() : 0.0,
                  platform.Has(Dof::kPitch) ? platform.limits(Dof::kPitch).brake_accel() : 0.0};
+  for (auto [i, dof] : {std::pair{0, Dof::kRoll}, std::pair{1, Dof::kPitch}}) {
+    if (!platform.Has(dof)) continue;
+    const DofLimits& box = platform.limits(dof);
+    shape_limits_[static_cast<std::size_t>(i)] = {.present = true, .travel = kUnlimited, .speed = box.speed,
+                                                  .accel = params.shape.accel_scale * box.accel};
+  }
   hold_ticks_ = static_cast<std::int64_t>(std::llround(params.fault.hold_time / dt));
   Reset();
 }
@@ -299,6 +312,7 @@ void ClassicalWashout::StepHealthy(const HeadMotion& input) {
     TiltStep(1, TiltTarget(tilt_sin_max_[1], f));
     desired[At(Dof::kRoll)] += state_.tilt[1].pose;
   }
+  Shape(&desired, true);
   Limit(desired, state_.recovering ? params_.fault.return_speed_fraction : 1.0);
   if (state_.recovering) {
     bool joined = true;
@@ -340,6 +354,7 @@ void ClassicalWashout::StepFaulted() {
     desired[At(Dof::kRoll)] = platform_.Has(Dof::kRoll) ? state_.tilt[1].pose : 0.0;
   }
   state_.desired_prev = desired;  // targets are piecewise constant: no feed-forward
+  Shape(&desired, false);
   Limit(desired, holding ? 1.0 : params_.fault.return_speed_fraction);
   command_.fault = true;
 }
@@ -350,6 +365,23 @@ void ClassicalWashout::TiltStep(int axis, double target) {
   const double target_rate = (target - state_.tilt_target[i]) * inv_dt_;
   state_.tilt[i] = StepLimiter(tilt_limits_[i], state_.tilt[i], target, target_rate, p.max_rate, dt_);
   state_.tilt_target[i] = target;
+}
+
+void ClassicalWashout::Shape(DofArray* desired, bool feed_forward) {
+  if (!params_.shape.enabled) return;
+  for (auto [i, dof] : {std::pair{std::size_t{0}, Dof::kRoll}, std::pair{std::size_t{1}, Dof::kPitch}}) {
+    if (!platform_.Has(dof)) continue;
+    const std::size_t d = At(dof);
+    const double target = (*desired)[d];
+    const double target_rate = feed_forward ? (target - state_.shape_target[i]) * inv_dt_ : 0.0;
+    // from where the platform is: a gap the limiter left is closed at the box's pace
+    const LimiterState now{.pose = limiter_.pose()[d], .rate = limiter_.rate()[d], .accel = limiter_.accel()[d]};
+    state_.shape[i] = StepLimiter(shape_limits_[i], now, target, target_rate,
+                                  TiltBand(state_.follow_rate[i], params_.tilt_rate_threshold), dt_);
+    state_.shape_target[i] = target;
+    (*desired)[d] = state_.shape[i].pose;
+    state_.desired_prev[d] = now.pose;  // the limiter's target rate: this shaped step
+  }
 }
 
 void ClassicalWashout::Limit(const DofArray& desired, double speed_fraction) {

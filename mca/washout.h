@@ -17,6 +17,22 @@
 //                      the part of the specific force that the bank does not already present
 //                      (with the bank off, f_kin = fs: a slope is rendered by tilt, as before)
 //
+//   shape (roll, pitch):  the sum of the rotation channel, the bank and the tilt → a rate- and
+//                      acceleration-limited follower (StepLimiter, mca/platform.h) with the
+//                      platform file's axis box speed and acceleration (× shape.accel_scale) and
+//                      the tilt band below as its rate window, stepped each tick from where the
+//                      limiter left the platform (pose, rate) → the pose sent to the limiter, with
+//                      its rate as the target's rate. A gap the limiter leaves (the tilt band's
+//                      guard holds the rate at τ while the legs move heave) is then closed at the
+//                      box's acceleration, not at the legs' (the limiter's own catch-up, Â_a).
+//                      The head sits h = |head_from_pivot| from the pivot, so an angular
+//                      acceleration θ̈ is felt as a tangential specific force h·θ̈: following a
+//                      chair's pitch ringing (a few hundred deg/s²) up to what the legs can do
+//                      (~1900 deg/s² on pw4dof) would push the head far harder than the chair did
+//                      (a 300 deg/s² box keeps h·θ̈ ≤ 5 m/s² at h = 0.95 m). A target inside the
+//                      box and the band (every slow motion) passes unchanged. Opt-in
+//                      (shape.enabled, see ShapeParams).
+//
 // Then the pose goes through the platform limiter in actuator space (mca/actuator_limiter.h):
 // every actuator inside its stroke, speed and acceleration, and the pitch and roll rates inside
 // the tilt band B = [min(0, ω_f) − τ, max(0, ω_f) + τ] (ω_f the vehicle's own rate as the axis
@@ -91,6 +107,18 @@ struct BankParams {
   bool operator==(const BankParams&) const = default;
 };
 
+/// The roll and pitch shaping before the actuator limiter (see the header). Off by default: on
+/// pw4dof it removes the limiter's catch-up spikes in surge at the head (speed cushion: 31.8 →
+/// 7.0 m/s², the chair's own 10.2) but the pitch then waits at τ while the tilt band's guard
+/// holds it (the legs moving heave), and the perceived-motion error rises (0.181 → 0.287);
+/// docs/mca.md, "Pitch shaping".
+struct ShapeParams {
+  bool enabled{false};
+  /// [-] on the platform file's box acceleration of roll and pitch (its speed is used as is)
+  double accel_scale{1.0};
+  bool operator==(const ShapeParams&) const = default;
+};
+
 struct FaultParams {
   double hold_time{0.5};               ///< [s] the last safe pose is held
   double return_speed_fraction{0.1};   ///< [-] of each axis's speed limit, while returning
@@ -103,6 +131,7 @@ struct WashoutParams {
   TiltParams tilt_pitch{};                             ///< pitch from surge specific force
   TiltParams tilt_roll{};                              ///< roll from sway specific force
   BankParams bank{};
+  ShapeParams shape{};
   /// τ of the tilt band [rad/s]: not a scene key of its own, LoadMcaConfig sets it from
   /// mca.vestibular's tilt_rate_degps (one threshold for both algorithms)
   double tilt_rate_threshold{3.0 * kDegToRad};
@@ -130,7 +159,7 @@ struct McaCommand {
   DofArray pose{};     ///< setpoint per axis [m | rad]; 0 for axes the platform lacks
   DofArray rate{};     ///< its rate over the last tick [m/s | rad/s]
   DofArray accel{};    ///< its acceleration [m/s^2 | rad/s^2]
-  DofArray desired{};  ///< washout + tilt before the limiter
+  DofArray desired{};  ///< washout + bank + tilt, roll and pitch shaped, before the limiter
   double tilt_pitch{0.0};  ///< [rad] tilt-coordination part of the pitch (not to be seen)
   double tilt_roll{0.0};   ///< [rad] tilt-coordination part of the roll (not to be seen)
   /// [rad] the sustained attitude of the vehicle presented (a slope, a ramp, a banked road: a
@@ -155,6 +184,8 @@ struct WashoutState {
   std::array<double, 2> tilt_target{};    ///< asin(low-passed force / g) of the last tick
   std::array<FilterState, 2> bank{};      ///< bank filters (pitch, roll)
   std::array<double, 2> follow_rate{};    ///< ω_f of the tilt band (roll, pitch) [rad/s]
+  std::array<LimiterState, 2> shape{};    ///< the shaped roll and pitch of the last tick (roll, pitch)
+  std::array<double, 2> shape_target{};   ///< their targets of the last tick (roll, pitch)
   HeadMotion held{};                      ///< the last finite input (ω_f during a fault)
   DofArray desired_prev{};
   DofArray hold_pose{};
@@ -188,6 +219,8 @@ class ClassicalWashout {
   void StepFaulted();
   void TiltStep(int axis, double target);
   void Follow(const HeadMotion& vehicle);
+  /// Roll and pitch of `desired` through the shaping (feed_forward false: a held target).
+  void Shape(DofArray* desired, bool feed_forward);
   void Limit(const DofArray& desired, double speed_fraction);
 
   WashoutParams params_;
@@ -200,6 +233,7 @@ class ClassicalWashout {
   std::array<DofLimits, 2> tilt_limits_{};
   std::array<DiscreteSystem, 2> bank_{};   ///< 1 − H_hp of pitch, roll
   std::array<double, 2> band_accel_{};     ///< A of roll, pitch: ω_f's rate of change [rad/s²]
+  std::array<DofLimits, 2> shape_limits_{};  ///< roll, pitch: box speed and accel, no travel
   std::int64_t hold_ticks_{0};
   ActuatorLimiter limiter_;
   WashoutState state_;

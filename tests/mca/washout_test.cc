@@ -258,6 +258,88 @@ TEST(WashoutTest, NeverLeavesLimitsForAnyInput) {
   }
 }
 
+/// A speed cushion's pitch ringing under a heave bump, as the chair's head feels it: the chair
+/// pitches nose-up by θ(t) (a 2 Hz ringing wavelet, ~500 deg/s² and ~40 deg/s at its peaks, the
+/// speed cushion's order) about a point that heaves by z(t), the head `kChairHead` above it.
+/// Specific force in head axes from the head's world path, differenced (the truth model: the
+/// closed-form path, not the washout): f_W = p̈ + (0, 0, g), f_H = Ry(−θ)ᵀ f_W.
+struct CushionRinging {
+  static constexpr double kChairHead = 1.0;  ///< [m] head above the chair's rotation point
+  static double Pitch(double t) {
+    const double u = (t - 3.0) / 0.3;
+    return 0.06 * std::exp(-u * u) * std::sin(12.0 * (t - 3.0));
+  }
+  static double Heave(double t) {
+    const double u = (t - 3.1) / 0.15;
+    return 0.05 * std::exp(-u * u);
+  }
+  static std::array<double, 2> HeadPosition(double t) {  // (x, z) in W, nose-up pitch tips it back
+    return {-kChairHead * std::sin(Pitch(t)), Heave(t) + kChairHead * std::cos(Pitch(t))};
+  }
+  static HeadMotion At(double t) {
+    constexpr double h = 1e-4;
+    const std::array<double, 2> p0 = HeadPosition(t - h), p1 = HeadPosition(t), p2 = HeadPosition(t + h);
+    const double ax = (p2[0] - 2.0 * p1[0] + p0[0]) / (h * h);
+    const double az = (p2[1] - 2.0 * p1[1] + p0[1]) / (h * h) + kGravity;
+    const double th = Pitch(t), c = std::cos(th), s = std::sin(th);
+    HeadMotion m;
+    m.fs = {c * ax + s * az, 0.0, -s * ax + c * az};
+    m.w[1] = -(Pitch(t + h) - Pitch(t - h)) / (2.0 * h);  // y points left: nose-up is −w_y
+    m.attitude = {0.0, th};
+    return m;
+  }
+};
+
+/// Peak |f_x| and |f_z − g| at the head over a trial.
+std::array<double, 2> PeakHeadForce(const std::vector<HeadMotion>& motion) {
+  std::array<double, 2> peak{};
+  for (const HeadMotion& m : motion) {
+    peak[0] = std::max(peak[0], std::abs(m.fs[0]));
+    peak[1] = std::max(peak[1], std::abs(m.fs[2] - kGravity));
+  }
+  return peak;
+}
+
+// Tests that the washout does not turn a chair's fast pitch ringing into a larger push at the
+// head than the chair gave: the platform's head specific force (the pose stream through
+// DeliveredHeadMotion) stays within the vehicle's peak plus h·A per axis — h = |head_from_pivot|
+// (0.951 m on pw4dof), A = the pitch box's 300 deg/s² that the shaping allows, so h·A = 4.98
+// m/s², what the rotation's tangential term may add beyond the chair's own. Without the shaping
+// (the default) the limiter catches up at the legs' acceleration (~1900 deg/s²) and the bound
+// fails: the check can fail. Not checked: heave at the head, which the limiter's brake steps
+// still push to the legs' ~10 m/s² when the tilt band's guard stops the pitch (docs/mca.md).
+TEST(WashoutTest, PitchRingingGivesNoLargerSurgeAtTheHeadThanTheChair) {
+  const double dt = 1e-3;
+  const PlatformSpec platform = MakePw4DofPlatform();
+  std::vector<HeadMotion> vehicle;
+  for (int k = 0; k < 6000; ++k) vehicle.push_back(CushionRinging::At(k * dt));
+  const std::array<double, 2> chair = PeakHeadForce(vehicle);
+  ASSERT_GT(chair[0], 5.0);  // the input is the hard case: several m/s² at the chair's head
+  const std::array<double, 3>& p = platform.head_from_pivot;
+  const double h = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+  const double margin = h * platform.limits(Dof::kPitch).accel;
+  EXPECT_NEAR(margin, 0.951 * 300.0 * kDegToRad, 0.01);
+  for (bool shaped : {true, false}) {
+    WashoutParams params = DefaultWashoutParams();
+    params.shape.enabled = shaped;
+    ClassicalWashout dut(params, platform, dt);
+    std::vector<DofArray> poses;
+    std::vector<McaCommand> commands;
+    for (const HeadMotion& m : vehicle) {
+      commands.push_back(dut.Step(m));
+      poses.push_back(commands.back().pose);
+    }
+    const std::array<double, 2> delivered = PeakHeadForce(DeliveredHeadMotion(platform, poses, dt));
+    if (shaped) {
+      EXPECT_LE(delivered[0], chair[0] + margin) << "surge at the head";
+      test::ExpectActuatorsWithinLimits(platform, commands, dt, "shaped");
+    } else {
+      EXPECT_GT(delivered[0] - chair[0], margin)
+          << "unshaped: the limiter's catch-up was expected to exceed the bound";
+    }
+  }
+}
+
 // Tests the fault path: a non-finite input holds the last pose, then washes out to neutral;
 // finite input afterwards rejoins the washout.
 TEST(WashoutTest, NonFiniteInputHoldsThenWashesOut) {
@@ -330,7 +412,8 @@ TEST(WashoutTest, ChannelSystemClosedForm) {
 TEST(WashoutTest, ParsesPerAxisParameters) {
   const YamlDocument doc = LoadYamlString(
       "heave: {scale: 0.5, hp_omega_radps: 4}\npitch: {limit_degps: 30, hp_order: 1}\n"
-      "tilt_pitch: {max_rate_degps: 2, max_angle_deg: 6}\nfault: {hold_s: 1}\n",
+      "tilt_pitch: {max_rate_degps: 2, max_angle_deg: 6}\nfault: {hold_s: 1}\n"
+      "shape: {enabled: true, accel_scale: 2}\n",
       "mca.yaml");
   YamlMap map(doc.root, doc.file, "mca");
   const WashoutParams p = ParseWashoutParams(map, DefaultWashoutParams());
@@ -341,11 +424,16 @@ TEST(WashoutTest, ParsesPerAxisParameters) {
   EXPECT_EQ(p.rotation(Dof::kPitch).hp_order, 1);
   EXPECT_NEAR(p.tilt_pitch.max_rate, 2.0 * kDegToRad, 1e-15);
   EXPECT_DOUBLE_EQ(p.fault.hold_time, 1.0);
+  EXPECT_TRUE(p.shape.enabled);
+  EXPECT_DOUBLE_EQ(p.shape.accel_scale, 2.0);
   EXPECT_EQ(p.translation(Dof::kSurge), DefaultWashoutParams().translation(Dof::kSurge));
 
   const YamlDocument bad = LoadYamlString("heave: {hp_omega: 4}\n", "mca.yaml");
   YamlMap bad_map(bad.root, bad.file, "mca");
   EXPECT_THROW(ParseWashoutParams(bad_map, DefaultWashoutParams()), InputError);
+  const YamlDocument bad_shape = LoadYamlString("shape: {accel_scale: 0}\n", "mca.yaml");
+  YamlMap bad_shape_map(bad_shape.root, bad_shape.file, "mca");
+  EXPECT_THROW(ParseWashoutParams(bad_shape_map, DefaultWashoutParams()), InputError);
 }
 
 }  // namespace
