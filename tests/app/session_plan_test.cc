@@ -139,7 +139,7 @@ int RunSession(const fs::path& dir, const std::string& out_name, const std::vect
   if (::pipe(fds) != 0) return -11;
   // the scene's platform: pw4dof, five drives
   const pid_t platform = Spawn({kPwsim, "platform-sim", "--platform", std::string(PWSIM_SOURCE_DIR) + "/scenes/platforms/pw4dof.yaml",
-                                "--listen", "127.0.0.1:" + port, "--idle-exit", "1", "--adopt-first-peer"},
+                                "--listen", "127.0.0.1:" + port, "--idle-exit", "60", "--adopt-first-peer"},
                                dir / "platform.err", fds[1]);
   ::close(fds[1]);
   // event: platform-sim's first line says it is listening
@@ -151,8 +151,10 @@ int RunSession(const fs::path& dir, const std::string& out_name, const std::vect
   args.insert(args.end(), session_args.begin(), session_args.end());
   const pid_t session = Spawn(args, dir / "session.out");
   const int session_status = WaitExit(session);
-  if (session_status != 0) ::kill(platform, SIGTERM);  // it would wait for a master forever
-  // drain platform-sim's output so it never blocks on a full pipe, until it exits (idle-exit)
+  // The session has ended (parked or not): platform-sim is told to stop (an event, not its idle
+  // timer: a 1 s idle exit used to end it mid-session when a loaded machine stalled the master).
+  ::kill(platform, SIGTERM);
+  // drain platform-sim's output so it never blocks on a full pipe, until it exits
   std::string rest;
   while (::read(fds[0], &c, 1) == 1) rest += c;
   ::close(fds[0]);
