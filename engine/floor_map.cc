@@ -207,52 +207,96 @@ double FloorMap::EnvelopeOffLevel(double x_W, double y_W, double dir_x, double d
     // centre at the tangent point s* = R m / √(1 + m²): z_point + R (√(1 + m²) - 1)
     return m == 0.0 ? z_point : z_point + radius * m * m / (1.0 + std::sqrt(1.0 + m * m));
   }
-  // the profile alone under the disc (no feature's rectangle, nor the grid, meets the disc's
-  // box): its knots' heights known
+  // The profile, and at most one bump whose y taper is 1 across the disc (a kerb, threshold or
+  // gap crossed along x), under the disc: piecewise linear along x with knots whose heights are
+  // known (a sharp edge's two sides both), no other layer meeting the disc's box.
   const double reach_x = radius * std::abs(dir_x), reach_y = radius * std::abs(dir_y);
   const double lo = x_W - reach_x, hi = x_W + reach_x;
-  bool layer_under = false;
+  int under = 0;
+  const FloorFeature* bump = nullptr;
   for (const FloorFeature& f : features) {
-    layer_under = layer_under || !(f.x_max < lo || f.x_min > hi || f.y_max < y_W - reach_y || f.y_min > y_W + reach_y);
+    if (f.x_max < lo || f.x_min > hi || f.y_max < y_W - reach_y || f.y_min > y_W + reach_y) continue;
+    ++under;
+    bump = &f;
   }
   if (grid) {
     const HeightGrid& g = *grid;
-    layer_under = layer_under || !(g.x0 + g.nx * g.cell < lo || g.x0 - g.cell > hi || g.y0 + g.ny * g.cell < y_W - reach_y ||
-                                   g.y0 - g.cell > y_W + reach_y);
+    under += !(g.x0 + g.nx * g.cell < lo || g.x0 - g.cell > hi || g.y0 + g.ny * g.cell < y_W - reach_y ||
+               g.y0 - g.cell > y_W + reach_y) ? 2 : 0;
   }
   const std::vector<double>& xs = profile.x;
-  if (!layer_under && (xs.empty() || hi < xs.front() || lo > xs.back())) return z_point;  // level: z = 0 under it
-  const bool profile_only = !layer_under && std::abs(dir_x) > 1e-6 && lo > xs.front() && hi < xs.back();
-  if (profile_only) {
-    // z along the line: the profile's pieces, knots at s_k = (X_k − x) / u_x with heights Z_k
+  const bool beyond_profile = xs.empty() || hi < xs.front() || lo > xs.back();
+  if (under == 0 && beyond_profile) return z_point;  // level: z = 0 under it
+  const bool profile_ok = beyond_profile || (lo > xs.front() && hi < xs.back() &&
+                                              std::lower_bound(xs.begin(), xs.end(), hi) - std::upper_bound(xs.begin(), xs.end(), lo) <
+                                                  kEnvelopeBreakpoints - 6);
+  const bool bump_ok = under == 0 || (under == 1 && bump->kind == FloorFeature::Kind::kBump &&
+                                      y_W - reach_y >= bump->y_min + bump->ramp && y_W + reach_y <= bump->y_max - bump->ramp);
+  if (profile_ok && bump_ok && std::abs(dir_x) > 1e-6) {
+    // knots in x with the height just below and just above each (left, right)
+    struct Knot {
+      double x, left, right;
+    };
+    std::array<Knot, kEnvelopeBreakpoints> knots;
+    int n = 0;
+    std::size_t segment = hint.segment;
+    const auto profile_at = [&](double x) { return beyond_profile ? 0.0 : profile.HeightAtNear(x, segment); };
+    const auto bump_at = [&](double x) { return under == 1 ? bump->height * floor_detail::Taper(x, bump->x_min, bump->x_max, bump->ramp) : 0.0; };
+    if (!beyond_profile) {
+      for (auto it = std::upper_bound(xs.begin(), xs.end(), lo); it != xs.end() && *it < hi && n < kEnvelopeBreakpoints - 6; ++it) {
+        if (!(std::abs(*it - x_W) < (radius - 1e-9 * radius) * std::abs(dir_x))) continue;  // within the inset ends
+        const double z = profile.z[static_cast<std::size_t>(it - xs.begin())] + bump_at(*it);
+        knots[static_cast<std::size_t>(n++)] = {*it, z, z};
+      }
+    }
+    if (under == 1) {
+      const FloorFeature& f = *bump;
+      const double edges[5] = {f.x_min, f.x_min + f.ramp, f.x_max - f.ramp, f.x_max, 0.5 * (f.x_min + f.x_max)};
+      const int count = f.ramp > 0.0 ? (2.0 * f.ramp < f.x_max - f.x_min ? 4 : 5) : 2;
+      for (int e = 0; e < count; ++e) {
+        const double x = f.ramp > 0.0 ? edges[e] : (e == 0 ? f.x_min : f.x_max);
+        if (count == 5 && (e == 1 || e == 2)) continue;  // the ramps meet in the middle
+        const double s_knot = (x - x_W) / dir_x;
+        if (!(s_knot > -(radius - 1e-9 * radius) && s_knot < radius - 1e-9 * radius)) continue;
+        const double base = profile_at(x);
+        double left = base + bump_at(x), right = left;
+        if (f.ramp <= 0.0) {  // a sharp edge: the floor below it outside, the bump's top inside
+          if (e == 0) left = base;
+          else right = base;
+        }
+        knots[static_cast<std::size_t>(n++)] = {x, left, right};
+      }
+      std::sort(knots.begin(), knots.begin() + n, [](const Knot& p, const Knot& q) { return p.x < q.x; });
+    }
     const double r2 = radius * radius;
     const auto candidate = [&](double s, double z) {
       return (z - z_point) - s * s / (radius + std::sqrt(std::max(0.0, r2 - s * s)));
     };
-    std::size_t segment = hint.segment;
-    double best = 0.0;
     const bool forward = dir_x > 0.0;
-    double s_prev = -radius;
-    double z_prev = profile.HeightAtNear(forward ? lo : hi, segment);
+    // the ends just inside the disc (1e-9 R), so that an edge at an end is seen from within
+    const double inset = 1e-9 * radius, end_s = radius - inset;
+    double best = 0.0;
+    double s_prev = -end_s;
+    const double start = x_W - end_s * dir_x;
+    double z_prev = profile_at(start) + bump_at(start);
     best = std::max(best, candidate(s_prev, z_prev));
-    auto k = std::upper_bound(xs.begin(), xs.end(), lo) - xs.begin();  // first knot above lo
-    const auto last = std::lower_bound(xs.begin(), xs.end(), hi) - xs.begin();  // first knot at or above hi
-    const auto piece = [&](double s, double z) {
-      best = std::max(best, candidate(s, z));
+    const auto piece = [&](double s, double z_in, double z_out) {  // along s: arriving at z_in, leaving at z_out
+      best = std::max(best, std::max(candidate(s, z_in), candidate(s, z_out)));
       if (s > s_prev) {
-        const double rise = (z - z_prev) / (s - s_prev);
+        const double rise = (z_in - z_prev) / (s - s_prev);
         const double tangent = radius * rise / std::sqrt(1.0 + rise * rise);
         if (tangent > s_prev && tangent < s) best = std::max(best, candidate(tangent, z_prev + rise * (tangent - s_prev)));
       }
       s_prev = s;
-      z_prev = z;
+      z_prev = z_out;
     };
-    const long count = static_cast<long>(last - k);
-    for (long j = 0; j < count; ++j) {
-      const std::size_t knot = static_cast<std::size_t>(forward ? k + j : last - 1 - j);
-      piece((xs[knot] - x_W) / dir_x, profile.z[knot]);
+    for (int j = 0; j < n; ++j) {
+      const Knot& k = knots[static_cast<std::size_t>(forward ? j : n - 1 - j)];
+      piece((k.x - x_W) / dir_x, forward ? k.left : k.right, forward ? k.right : k.left);
     }
-    piece(radius, profile.HeightAtNear(forward ? hi : lo, segment));
+    const double end = x_W + end_s * dir_x;
+    const double z_end = profile_at(end) + bump_at(end);
+    piece(end_s, z_end, z_end);
     return z_point + best;
   }
   return EnvelopeByBreakpoints(x_W, y_W, dir_x, dir_y, radius, z_point, hint);
