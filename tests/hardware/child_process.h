@@ -1,7 +1,9 @@
 #pragma once
-// A child process for tests that start pwsim processes: its stdout and stderr come back
-// through a pipe read by a thread, and the test waits for events only (a line the child
-// wrote, its exit), each bounded by a guard against a hang, never for a time.
+// A child process for tests that start pwsim processes (the end-to-end tests of the session,
+// platform-sim, hmd-peer and drive): its stdout and stderr come back through a pipe read by a
+// thread, and the test waits for events only (a line the child wrote, its exit), each bounded by
+// a guard against a hang that is generous enough for a machine with every core busy, never for
+// a time. The one copy: tests include it as "tests/hardware/child_process.h".
 
 #include <fcntl.h>
 #include <poll.h>
@@ -16,6 +18,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -76,24 +79,10 @@ class ChildProcess {
   /// Blocks until a line starting with `prefix` was written after the first `skip` such
   /// lines; returns the rest of it, or nullopt when the output closed (or the guard ran out).
   std::optional<std::string> WaitForLine(const std::string& prefix, int skip = 0) {
-    std::unique_lock<std::mutex> lock(mutex_);
-    std::optional<std::string> found;
-    changed_.wait_for(lock, std::chrono::duration<double>(kGuardS), [&] {
-      std::size_t at = 0;
-      int seen = 0;
-      for (;;) {
-        const std::size_t end = output_.find('\n', at);
-        if (end == std::string::npos) break;
-        if (output_.compare(at, prefix.size(), prefix) == 0 && seen++ == skip) {
-          found = output_.substr(at + prefix.size(), end - at - prefix.size());
-          return true;
-        }
-        at = end + 1;
-      }
-      return eof_;
-    });
-    return found;
+    return WaitFor(prefix, false, skip);
   }
+  /// The same for a line containing `text` anywhere; returns the whole line.
+  std::optional<std::string> WaitForLineContaining(const std::string& text) { return WaitFor(text, true, 0); }
 
   /// Waits for the exit up to `seconds`: the exit code, -2 for a signal, -1 when the guard ran
   /// out (then it is killed).
@@ -120,6 +109,11 @@ class ChildProcess {
     Wait();
   }
 
+  /// Sends `signal` (SIGINT for a soft stop, SIGKILL for a crash) while it runs.
+  void Signal(int signal) {
+    if (pid_ > 0 && status_ == kRunning) ::kill(pid_, signal);
+  }
+
   std::string Output() {
     std::lock_guard<std::mutex> lock(mutex_);
     return output_;
@@ -127,6 +121,27 @@ class ChildProcess {
   pid_t pid() const { return pid_; }
 
  private:
+  std::optional<std::string> WaitFor(const std::string& text, bool anywhere, int skip) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    std::optional<std::string> found;
+    changed_.wait_for(lock, std::chrono::duration<double>(kGuardS), [&] {
+      std::size_t at = 0;
+      int seen = 0;
+      for (;;) {
+        const std::size_t end = output_.find('\n', at);
+        if (end == std::string::npos) break;
+        const std::string_view line(output_.data() + at, end - at);
+        if ((anywhere ? line.find(text) != std::string_view::npos : line.rfind(text, 0) == 0) && seen++ == skip) {
+          found = std::string(anywhere ? line : line.substr(text.size()));
+          return true;
+        }
+        at = end + 1;
+      }
+      return eof_;
+    });
+    return found;
+  }
+
   static constexpr int kRunning = -100;
   pid_t pid_{-1};
   int pidfd_{-1};

@@ -25,6 +25,7 @@
 #include "hardware/udp_can_bus.h"
 #include "hardware/udp_socket.h"
 #include "mca/platform.h"
+#include "tests/hardware/child_process.h"
 
 namespace pwsim::hw {
 namespace {
@@ -35,76 +36,8 @@ const std::string kPwsim = std::string(PWSIM_BINARY_DIR) + "/pwsim";
 const fs::path kPw4Dof = fs::path(PWSIM_SOURCE_DIR) / "scenes/platforms/pw4dof.yaml";
 constexpr int kGuardMs = 60'000;
 
-/// A child process with its stdout + stderr on a pipe, read on demand (no threads).
-class Child {
- public:
-  explicit Child(const std::vector<std::string>& args) {
-    std::vector<char*> argv;
-    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    int fds[2];
-    if (::pipe2(fds, O_CLOEXEC) != 0) return;
-    pid_ = ::fork();
-    if (pid_ == 0) {
-      ::dup2(fds[1], 1);
-      ::dup2(fds[1], 2);
-      ::execv(argv[0], argv.data());
-      ::_exit(127);
-    }
-    ::close(fds[1]);
-    fd_ = fds[0];
-  }
-  ~Child() {
-    Kill();
-    if (fd_ >= 0) ::close(fd_);
-  }
-  Child(const Child&) = delete;
-  Child& operator=(const Child&) = delete;
-
-  /// The rest of the first line starting with `prefix`, or nullopt at EOF or after the guard.
-  std::optional<std::string> WaitForLine(const std::string& prefix) {
-    for (;;) {
-      std::size_t at = 0;
-      for (std::size_t end; (end = output_.find('\n', at)) != std::string::npos; at = end + 1) {
-        if (output_.compare(at, prefix.size(), prefix) == 0)
-          return output_.substr(at + prefix.size(), end - at - prefix.size());
-      }
-      if (!ReadSome()) return std::nullopt;
-    }
-  }
-  /// Reads to EOF and waits for the exit; the exit code (-2 for a signal).
-  int Wait() {
-    while (ReadSome()) {
-    }
-    if (pid_ <= 0) return -1;
-    int status = 0;
-    ::waitpid(pid_, &status, 0);
-    pid_ = -1;
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -2;
-  }
-  void Kill() {
-    if (pid_ <= 0) return;
-    ::kill(pid_, SIGKILL);
-    ::waitpid(pid_, nullptr, 0);
-    pid_ = -1;
-  }
-  const std::string& output() const { return output_; }
-
- private:
-  bool ReadSome() {
-    if (fd_ < 0) return false;
-    pollfd p{fd_, POLLIN, 0};
-    if (::poll(&p, 1, kGuardMs) <= 0) return false;
-    char buffer[4096];
-    const ssize_t n = ::read(fd_, buffer, sizeof buffer);
-    if (n <= 0) return false;
-    output_.append(buffer, static_cast<std::size_t>(n));
-    return true;
-  }
-  pid_t pid_{-1};
-  int fd_{-1};
-  std::string output_;
-};
+/// The child processes (tests/hardware/child_process.h).
+using Child = pwsim::test::ChildProcess;
 
 /// The master's end of the link and what it heard.
 struct Master {
@@ -218,10 +151,10 @@ TEST(PlatformSimProcess, Pw4DofBootsFiveDrivesFollowsAndIsReadmittedAfterARestar
   // First run: boot-ups at power-on, the start-up, a short motion.
   auto first = spawn("first.json");
   const auto banner = first->WaitForLine("pwsim platform-sim: pw4dof, drives ");
-  ASSERT_TRUE(banner) << first->output();
+  ASSERT_TRUE(banner) << first->Output();
   EXPECT_NE(banner->find("1 (yaw), 2 (leg_front_left)"), std::string::npos) << *banner;
-  ASSERT_TRUE(m.BootUpsFromAll(n, 1)) << first->output();
-  ASSERT_TRUE(m.StartUp(n)) << first->output();
+  ASSERT_TRUE(m.BootUpsFromAll(n, 1)) << first->Output();
+  ASSERT_TRUE(m.StartUp(n)) << first->Output();
   std::array<std::uint16_t, 8> enable{};
   enable.fill(canopen::controlword::kEnableOperation);
   auto follow = [&](const mca::DofArray& goal, int cycles) {
@@ -245,10 +178,10 @@ TEST(PlatformSimProcess, Pw4DofBootsFiveDrivesFollowsAndIsReadmittedAfterARestar
   // Killed mid-session and restarted on the same port: boot-ups again, the start-up again.
   first->Kill();
   auto second = spawn("second.json");
-  ASSERT_TRUE(second->WaitForLine("pwsim platform-sim: listening on ")) << second->output();
-  ASSERT_TRUE(m.BootUpsFromAll(n, 3)) << second->output();  // power-on, reset-comm, power-on
-  ASSERT_TRUE(m.StartUp(n)) << second->output();
-  ASSERT_TRUE(second->WaitForLine("pwsim platform-sim: operation enabled")) << second->output();
+  ASSERT_TRUE(second->WaitForLine("pwsim platform-sim: listening on ")) << second->Output();
+  ASSERT_TRUE(m.BootUpsFromAll(n, 3)) << second->Output();  // power-on, reset-comm, power-on
+  ASSERT_TRUE(m.StartUp(n)) << second->Output();
+  ASSERT_TRUE(second->WaitForLine("pwsim platform-sim: operation enabled")) << second->Output();
   goal[mca::Index(mca::Dof::kRoll)] = -2.0 * mca::kDegToRad;
   goal[mca::Index(mca::Dof::kYaw)] = 5.0 * mca::kDegToRad;
   ASSERT_TRUE(follow(goal, 200));
@@ -256,8 +189,8 @@ TEST(PlatformSimProcess, Pw4DofBootsFiveDrivesFollowsAndIsReadmittedAfterARestar
 
   // The master stops: the drives quick-stop (300 ms without it), the simulator exits on idle
   // (1 s), says what the actuators did and writes its JSON report.
-  EXPECT_EQ(second->Wait(), 0) << second->output();
-  const std::string& out = second->output();
+  EXPECT_EQ(second->Wait(), 0) << second->Output();
+  const std::string& out = second->Output();
   EXPECT_NE(out.find("pwsim platform-sim: node 2 leg_front_left (leg): position "), std::string::npos) << out;
   EXPECT_NE(out.find("pwsim platform-sim: plate pose by forward kinematics: surge 0 m"), std::string::npos) << out;
   EXPECT_EQ(out.find("EXCEEDED"), std::string::npos) << out;

@@ -35,6 +35,7 @@
 #include "hardware/canopen.h"
 #include "hardware/hmd_protocol.h"
 #include "hardware/udp_socket.h"
+#include "tests/hardware/child_process.h"
 
 namespace pwsim::hw {
 namespace {
@@ -51,127 +52,8 @@ const std::string kPwsim = std::getenv("PWSIM_E2E_PWSIM") != nullptr
 // limits are only guards against a hang, generous enough for a machine with every core busy.
 constexpr double kGuardS = 120.0;
 
-/// A child process whose stdout and stderr come back through a pipe, read by a thread.
-class Child {
- public:
-  explicit Child(const std::vector<std::string>& args) {
-    // Everything the child needs is prepared before fork: after it, only async-signal-safe
-    // calls (this process has threads).
-    std::vector<char*> argv;
-    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    int fds[2];
-    if (::pipe2(fds, O_CLOEXEC) != 0) return;
-    pid_ = ::fork();
-    if (pid_ == 0) {
-      ::dup2(fds[1], 1);
-      ::dup2(fds[1], 2);
-      ::execv(argv[0], argv.data());
-      ::_exit(127);
-    }
-    ::close(fds[1]);
-    if (pid_ < 0) {
-      ::close(fds[0]);
-      return;
-    }
-    pidfd_ = static_cast<int>(::syscall(SYS_pidfd_open, pid_, 0));
-    reader_ = std::thread([this, fd = fds[0]] {
-      char buffer[4096];
-      for (;;) {
-        const ssize_t n = ::read(fd, buffer, sizeof(buffer));
-        if (n < 0 && errno == EINTR) continue;
-        std::lock_guard<std::mutex> lock(mutex_);
-        if (n <= 0) {
-          eof_ = true;
-          changed_.notify_all();
-          break;
-        }
-        output_.append(buffer, static_cast<std::size_t>(n));
-        changed_.notify_all();
-      }
-      ::close(fd);
-    });
-  }
-  ~Child() {
-    if (pid_ > 0 && status_ == kRunning) {
-      ::kill(pid_, SIGKILL);
-      Wait(kGuardS);
-    }
-    if (reader_.joinable()) reader_.join();
-    if (pidfd_ >= 0) ::close(pidfd_);
-  }
-  Child(const Child&) = delete;
-  Child& operator=(const Child&) = delete;
-
-  /// Blocks until a line starting with `prefix` has been written; returns the rest of it, or
-  /// nullopt when the child closed its output (or the guard ran out) first.
-  std::optional<std::string> WaitForLine(const std::string& prefix) { return Wait(prefix, false); }
-  /// The same for a line containing `text` anywhere; returns the whole line.
-  std::optional<std::string> WaitForLineContaining(const std::string& text) { return Wait(text, true); }
-
-  /// Waits for the exit (pidfd readable) up to `seconds`; returns the exit code, -2 for a
-  /// signal, or -1 (then kills it) when the guard ran out.
-  int Wait(double seconds) {
-    if (pid_ <= 0) return -1;
-    if (status_ != kRunning) return status_;
-    pollfd p{pidfd_, POLLIN, 0};
-    const int ready = pidfd_ < 0 ? 1 : ::poll(&p, 1, static_cast<int>(seconds * 1000));
-    int status = 0;
-    if (ready <= 0) {
-      ::kill(pid_, SIGKILL);
-      ::waitpid(pid_, &status, 0);
-      status_ = -1;
-    } else {
-      ::waitpid(pid_, &status, 0);
-      status_ = WIFEXITED(status) ? WEXITSTATUS(status) : -2;
-    }
-    if (reader_.joinable()) reader_.join();  // the pipe reaches EOF with the exit
-    return status_;
-  }
-
-  std::string Output() {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return output_;
-  }
-
- private:
-  std::optional<std::string> Wait(const std::string& text, bool anywhere) {
-    std::unique_lock<std::mutex> lock(mutex_);
-    std::optional<std::string> found;
-    changed_.wait_for(lock, std::chrono::duration<double>(kGuardS), [&] {
-      std::size_t at = 0;
-      for (;;) {
-        const std::size_t end = output_.find('\n', at);
-        if (end == std::string::npos) break;
-        const std::string_view line(output_.data() + at, end - at);
-        if (anywhere ? line.find(text) != std::string_view::npos : line.rfind(text, 0) == 0) {
-          found = std::string(anywhere ? line : line.substr(text.size()));
-          return true;
-        }
-        at = end + 1;
-      }
-      return eof_;
-    });
-    return found;
-  }
-
- public:
-
-  void Signal(int signal) {
-    if (pid_ > 0 && status_ == kRunning) ::kill(pid_, signal);
-  }
-
- private:
-  static constexpr int kRunning = -100;
-  pid_t pid_{-1};
-  int pidfd_{-1};
-  int status_{kRunning};
-  std::thread reader_;
-  std::mutex mutex_;
-  std::condition_variable changed_;
-  std::string output_;
-  bool eof_{false};
-};
+/// The child processes (tests/hardware/child_process.h).
+using Child = pwsim::test::ChildProcess;
 
 nlohmann::json ReadJson(const fs::path& file) {
   std::ifstream in(file);
