@@ -246,7 +246,11 @@ std::string PlotBody(const Figure& figure, const std::string& data_file) {
       gp << "\nset key\nunset style data\nset style fill empty\n";
       continue;
     }
-    gp << "set xrange [*:*]\n";
+    if (figure.x_min < figure.x_max)
+      gp << "set xrange [" << figure.x_min << ":" << figure.x_max << "]\n";
+    else
+      gp << "set xrange [*:*]\n";
+    if (figure.x_integer_tics) gp << "set xtics 1\nset format x '%.0f'\n";
     if (figure.log_x) gp << "set logscale x\n";
     gp << "set xlabel " << Quote(p + 1 == n ? figure.x_label : std::string()) << "\n";
     if (panel.equal_axes) gp << "set size ratio -1\n";

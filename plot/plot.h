@@ -87,6 +87,11 @@ struct Figure {
   std::string title;
   std::string x_label;  ///< with its unit, e.g. "t [s]"
   bool log_x{false};
+  /// Fixed x range when x_min < x_max (e.g. counted attempts 1..n with half a step free on each
+  /// side, which autoscale would spread over 0.99-1.01 for a single one); else autoscaled.
+  /// Integer tics when x_integer_tics.
+  double x_min{0.0}, x_max{0.0};
+  bool x_integer_tics{false};
   std::vector<Panel> panels;
   int width_px{1100};
   int panel_height_px{320};

@@ -182,6 +182,23 @@ void WriteItemFigure(const std::vector<SkillAttempt>& attempts, const std::strin
       time.series.push_back(t);
     }
   }
+  // Times from 0, so that two close times are not drawn as far apart (autoscale spread one
+  // attempt's 6.76 s over 6.68-6.84 s).
+  double longest = 0.0;
+  for (const plot::Series& t : time.series)
+    for (double y : t.y)
+      if (std::isfinite(y)) longest = std::max(longest, y);
+  if (longest > 0.0) {
+    time.y_min = 0.0;
+    time.y_max = 1.1 * longest;
+  }
+  // Attempts are counted: integer tics, half an attempt free on each side.
+  int attempts_drawn = 1;
+  for (const SkillAttempt& a : attempts)
+    if (a.item == item) attempts_drawn = std::max(attempts_drawn, static_cast<int>(a.attempt));
+  figure.x_min = 0.5;
+  figure.x_max = attempts_drawn + 0.5;
+  figure.x_integer_tics = true;
   figure.panels = {score, time};
   plot::WriteFigure(stem, figure);
 }
