@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "engine/input_error.h"
+#include "tests/run_command.h"
 
 namespace pwsim {
 namespace {
@@ -36,12 +37,12 @@ TEST(TerrainTest, SpeedCushionShape) {
 // Tests that a written terrain file reads back identically.
 TEST(TerrainTest, FileRoundTrip) {
   const Terrain original = MakeSpeedCushion(2.0, 0.05, 0.25, 1.0, 10.0);
-  const auto file = std::filesystem::temp_directory_path() / "pwsim_terrain_roundtrip.yaml";
+  const pwsim::testing::TempDir dir("terrain_roundtrip");  // its own, removed after
+  const auto file = dir / "terrain.yaml";
   WriteTerrainFile(original, file);
   const Terrain read = ReadTerrainFile(file);
   EXPECT_EQ(read.x, original.x);
   EXPECT_EQ(read.z, original.z);
-  std::filesystem::remove(file);
 }
 
 }  // namespace

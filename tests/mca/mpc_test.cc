@@ -16,6 +16,7 @@
 #include "mca/mpc.h"
 #include "mca/offline_optimum.h"
 #include "tests/mca/actuator_checks.h"
+#include "tests/run_command.h"
 
 namespace pwsim::mca {
 namespace {
@@ -232,7 +233,8 @@ TEST(MpcTest, TiltCoordinationComesOutOfTheOptimisation) {
 }
 
 McaConfig LoadText(const std::string& mca_yaml) {
-  const std::filesystem::path file = std::filesystem::temp_directory_path() / "pwsim_mpc_test_scene.yaml";
+  const pwsim::testing::TempDir dir("mpc_test_scene");  // its own, removed after the load
+  const std::filesystem::path file = dir / "pwsim_mpc_test_scene.yaml";
   {
     std::ofstream out(file);
     out << "platform: " << PWSIM_SOURCE_DIR << "/scenes/platforms/pw4dof.yaml\nmca:\n" << mca_yaml;

@@ -58,7 +58,12 @@ void ExpectMatchesGolden(const ImageView& image, const std::string& name) {
   ASSERT_TRUE(delta.same_size) << name;
   EXPECT_LE(delta.max, kMaxPixelDelta) << name;
   EXPECT_LE(delta.mean, kMeanPixelDelta) << name;
-  if (delta.mean > kMeanPixelDelta) WritePng(std::filesystem::temp_directory_path() / name, image);
+  if (delta.mean > kMeanPixelDelta) {  // kept for a look, in the build tree (not a shared /tmp name)
+    const std::filesystem::path seen = std::filesystem::path(PWSIM_BINARY_DIR) / "test_out" / "render" / name;
+    std::filesystem::create_directories(seen.parent_path());
+    WritePng(seen, image);
+    ADD_FAILURE() << "the image rendered is in " << seen;
+  }
 }
 
 // Tests that the OSMesa context reports a real renderer (llvmpipe on CI, no GPU, no X).

@@ -9,16 +9,11 @@
 
 #include "render/image_io.h"
 #include "tests/render/ffprobe.h"
+#include "tests/run_command.h"
 
 namespace pwsim::render {
 namespace {
 
-std::filesystem::path TempDir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("pwsim_video_test_" + name);
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
 
 /// Frame k: a colour ramp that shifts with k (so every frame differs).
 Image TestFrame(int k, int width = 64, int height = 48) {
@@ -38,7 +33,8 @@ Image TestFrame(int k, int width = 64, int height = 48) {
 
 // Tests that ffprobe reads the H.264 video with every frame and a duration of frames / fps.
 TEST(VideoWriterTest, FfprobeReadsFrameCountAndDuration) {
-  const auto dir = TempDir("h264");
+  const pwsim::testing::TempDir temp("video_test_h264");  // its own, removed after
+  const std::filesystem::path& dir = temp.path();
   VideoWriter dut({dir / "video.mp4", 64, 48, 25, VideoCodec::kH264, 20});
   for (int k = 0; k < 25; ++k) dut.Push(TestFrame(k).view());
   dut.Close();
@@ -52,7 +48,8 @@ TEST(VideoWriterTest, FfprobeReadsFrameCountAndDuration) {
 
 // Tests that the lossless video decodes to exactly the pixels pushed.
 TEST(VideoWriterTest, LosslessIsExact) {
-  const auto dir = TempDir("lossless");
+  const pwsim::testing::TempDir temp("video_test_lossless");  // its own, removed after
+  const std::filesystem::path& dir = temp.path();
   VideoWriter dut({dir / "video.mkv", 64, 48, 25, VideoCodec::kLossless, 0});
   for (int k = 0; k < 5; ++k) dut.Push(TestFrame(k).view());
   dut.Close();
@@ -66,7 +63,8 @@ TEST(VideoWriterTest, LosslessIsExact) {
 
 // Tests that an abandoned (never closed) video leaves no file behind.
 TEST(VideoWriterTest, AbandonedLeavesNoFile) {
-  const auto dir = TempDir("abandoned");
+  const pwsim::testing::TempDir temp("video_test_abandoned");  // its own, removed after
+  const std::filesystem::path& dir = temp.path();
   {
     VideoWriter dut({dir / "video.mp4", 64, 48, 25, VideoCodec::kH264, 20});
     dut.Push(TestFrame(0).view());
