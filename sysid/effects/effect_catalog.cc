@@ -175,6 +175,10 @@ EffectFamily MakeFamily(EffectId id) {
       massless.rung = 3;
       massless.series_start = true;
       family.members = {stiff, compliant, massless};
+      family.copy_member = [](const EffectMembers& from, EffectMembers& to) { to.tyre = from.tyre; };
+      family.member_flags = [](const EffectMembers& m) -> std::vector<std::pair<std::string, double>> {
+        return {{"tyre_massless", m.tyre == TyreLaw::kMassless ? 1.0 : 0.0}};
+      };
       break;
     }
     case EffectId::kCushionCompliance: {
@@ -184,6 +188,12 @@ EffectFamily MakeFamily(EffectId id) {
       whole.setting.cushion_load = CushionLoad::kWholeChair;
       whole.ranked_with_previous = true;
       family.members = {Member("per_wheel", StartGrid(p)), whole};
+      family.copy_member = [](const EffectMembers& from, EffectMembers& to) {
+        to.cushion_load = from.cushion_load;
+      };
+      family.member_flags = [](const EffectMembers& m) -> std::vector<std::pair<std::string, double>> {
+        return {{"cushion_whole_chair", m.cushion_load == CushionLoad::kWholeChair ? 1.0 : 0.0}};
+      };
       break;
     }
     case EffectId::kNonlinearStiffness: {
@@ -194,6 +204,11 @@ EffectFamily MakeFamily(EffectId id) {
       FamilyMember rebound = Member("rebound", StartGrid(p, {{}, {}, {1.0}, {}}));
       rebound.setting.stops = StopSides::kRebound;
       family.members = {Member("compression", StartGrid(p)), both, rebound};
+      family.copy_member = [](const EffectMembers& from, EffectMembers& to) { to.stops = from.stops; };
+      family.member_flags = [](const EffectMembers& m) -> std::vector<std::pair<std::string, double>> {
+        return {{"bump_rebound", m.stops != StopSides::kCompression ? 1.0 : 0.0},
+                {"bump_compression", m.stops != StopSides::kRebound ? 1.0 : 0.0}};
+      };
       break;
     }
     case EffectId::kSuspensionFriction: {
@@ -204,6 +219,10 @@ EffectFamily MakeFamily(EffectId id) {
       smooth.setting.friction = FrictionLaw::kSmoothCoulomb;
       smooth.held = {2};
       family.members = {dahl, smooth};
+      family.copy_member = [](const EffectMembers& from, EffectMembers& to) { to.friction = from.friction; };
+      family.member_flags = [](const EffectMembers& m) -> std::vector<std::pair<std::string, double>> {
+        return {{"friction_smooth_coulomb", m.friction == FrictionLaw::kSmoothCoulomb ? 1.0 : 0.0}};
+      };
       break;
     }
     default:
@@ -226,22 +245,13 @@ const EffectFamily& Family(EffectId id) {
 const std::vector<ParamSpec>& EffectParameters(EffectId id) { return Family(id).params; }
 
 std::vector<std::pair<std::string, double>> MemberFlags(EffectId id, const EffectMembers& member) {
-  if (id == EffectId::kCushionCompliance)
-    return {{"cushion_whole_chair", member.cushion_load == CushionLoad::kWholeChair ? 1.0 : 0.0}};
-  if (id == EffectId::kNonlinearStiffness)
-    return {{"bump_rebound", member.stops != StopSides::kCompression ? 1.0 : 0.0},
-            {"bump_compression", member.stops != StopSides::kRebound ? 1.0 : 0.0}};
-  if (id == EffectId::kSuspensionFriction)
-    return {{"friction_smooth_coulomb", member.friction == FrictionLaw::kSmoothCoulomb ? 1.0 : 0.0}};
-  if (id == EffectId::kTyreCompliance) return {{"tyre_massless", member.tyre == TyreLaw::kMassless ? 1.0 : 0.0}};
-  return {};
+  const EffectFamily& family = Family(id);
+  return family.member_flags ? family.member_flags(member) : std::vector<std::pair<std::string, double>>{};
 }
 
 void CopyMember(EffectId id, const EffectMembers& from, EffectMembers& to) {
-  if (id == EffectId::kCushionCompliance) to.cushion_load = from.cushion_load;
-  if (id == EffectId::kNonlinearStiffness) to.stops = from.stops;
-  if (id == EffectId::kSuspensionFriction) to.friction = from.friction;
-  if (id == EffectId::kTyreCompliance) to.tyre = from.tyre;
+  const EffectFamily& family = Family(id);
+  if (family.copy_member) family.copy_member(from, to);
 }
 
 void CopyEffect(EffectId id, const EffectParams& from, EffectParams& to) {

@@ -79,6 +79,11 @@ struct EffectFamily {
   EffectId id;
   std::vector<ParamSpec> params;
   std::vector<FamilyMember> members;
+  /// Copies the family's field of EffectMembers (its member) from `from` into `to`; null for a
+  /// family of one law.
+  void (*copy_member)(const EffectMembers& from, EffectMembers& to){nullptr};
+  /// The member as named flags for reports (1 or 0); null for a family of one law.
+  std::vector<std::pair<std::string, double>> (*member_flags)(const EffectMembers& member){nullptr};
 };
 
 /// The family of effect `id`.
