@@ -291,16 +291,8 @@ void MakeHubStep(const Chair& chair, double dt, Setup& m) {
     for (int j = 0; j < w; ++j) m.hub_step[static_cast<std::size_t>(i * kMaxWheels + j)] = inverse(i, j);
 }
 
-Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
-  const Chair& chair = trial.chair;
-  const EffectParams& fx = params.fx;
-  PWSIM_DEMAND(chair.gm.has_value() && trial.step > 0.0);
-  Setup m;
-  m.wheels = chair.wheel_count();
-  PWSIM_DEMAND(m.wheels <= kMaxWheels);
-  m.member = fx.member;
-  const std::vector<double> factors = CushionHeightFactors(chair, trial.load_kg, fx);
-  const double dt = trial.step;
+/// tyre_compliance (unsprung): each tyre class's mode ω², 2ζω and exact propagator.
+void SetupTyreModes(const EffectParams& fx, double dt, Setup& m) {
   for (int t = 1; t <= 2; ++t) {
     const double period = t == 1 ? fx.caster_tyre_period : fx.drive_tyre_period;
     if (period <= 1e-6) continue;
@@ -309,6 +301,14 @@ Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
     m.tyre_omega2[t] = omega * omega;
     m.tyre_2zw[t] = 2.0 * fx.tyre_damping * omega;
   }
+}
+
+/// Each wheel's own data: position and GM share, and per effect its radius (wheel_radius), its
+/// tyre (tyre_compliance; its compliance returned), its friction (suspension_friction) and its
+/// cushion factor (cushion_compliance).
+std::array<double, kMaxWheels> SetupWheels(const PreparedTrial& trial, const EffectParams& fx, Setup& m) {
+  const Chair& chair = trial.chair;
+  const std::vector<double> factors = CushionHeightFactors(chair, trial.load_kg, fx);
   const WheelArray tyre_compliance = TyreCompliances(fx, trial);
   std::array<double, kMaxWheels> compliance{};
   for (int i = 0; i < m.wheels; ++i) {
@@ -340,52 +340,85 @@ Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
   }
   m.gm_pitch_gain = fx.cushion_pitch_gain;
   m.on.gm_scaled = m.on.gm_scaled || m.gm_pitch_gain != 1.0;
-  m.mass = MovingMass(chair, trial.load_kg);
-  if (m.on.tyre) {
-    m.share = SuspensionShares(m.alpha, compliance, m.wheels, params.lm.k_z);
-    const WheelPlane by_share = WeightedPlane(m.share, m.wheel_x, m.wheels);
-    const WheelPlane by_alpha = WeightedPlane(m.alpha, m.wheel_x, m.wheels);
-    for (int i = 0; i < m.wheels; ++i) {
-      m.k_wheel[i] = m.share[i] * params.lm.k_z;
-      // Held over the step, the wheel's own damper is stable while c Δt / m_u < 2: capped at 1.
-      // (A massless hub's balance is solved implicitly: no cap.)
-      m.c_wheel[i] = m.k_tyre[i] > 0.0 ? m.share[i] * params.lm.c_z
-                     : m.inv_unsprung[i] > 0.0
-                         ? std::min(m.share[i] * params.lm.c_z, 1.0 / (m.inv_unsprung[i] * dt))
-                         : 0.0;
-      m.plane_z[i] = by_share.z[i];
-      m.plane_t[i] = by_share.pitch[i];
-      m.gm_dz[i] = by_share.z[i] - by_alpha.z[i];
-      m.gm_dt[i] = by_share.pitch[i] - by_alpha.pitch[i];
-      // A tyre pushes, never pulls: its force (static W_i + m_u g plus the deviation) stays ≥ 0;
-      // the static load W_i is the suspension's share of the weight.
-      m.lift_off[i] = -(m.share[i] * m.mass * kGravity * m.inv_unsprung[i] + kGravity);
-    }
+  return compliance;
+}
+
+/// tyre_compliance: each wheel's own suspension under its tyre (header): the shares s, its
+/// spring and damper, the s-weighted plane, the GM's series shift and the lift-off limit.
+void SetupSeriesSuspension(const std::array<double, kMaxWheels>& compliance, const LumpedParams& lm,
+                           double dt, Setup& m) {
+  m.share = SuspensionShares(m.alpha, compliance, m.wheels, lm.k_z);
+  const WheelPlane by_share = WeightedPlane(m.share, m.wheel_x, m.wheels);
+  const WheelPlane by_alpha = WeightedPlane(m.alpha, m.wheel_x, m.wheels);
+  for (int i = 0; i < m.wheels; ++i) {
+    m.k_wheel[i] = m.share[i] * lm.k_z;
+    // Held over the step, the wheel's own damper is stable while c Δt / m_u < 2: capped at 1.
+    // (A massless hub's balance is solved implicitly: no cap.)
+    m.c_wheel[i] = m.k_tyre[i] > 0.0 ? m.share[i] * lm.c_z
+                   : m.inv_unsprung[i] > 0.0
+                       ? std::min(m.share[i] * lm.c_z, 1.0 / (m.inv_unsprung[i] * dt))
+                       : 0.0;
+    m.plane_z[i] = by_share.z[i];
+    m.plane_t[i] = by_share.pitch[i];
+    m.gm_dz[i] = by_share.z[i] - by_alpha.z[i];
+    m.gm_dt[i] = by_share.pitch[i] - by_alpha.pitch[i];
+    // A tyre pushes, never pulls: its force (static W_i + m_u g plus the deviation) stays ≥ 0;
+    // the static load W_i is the suspension's share of the weight.
+    m.lift_off[i] = -(m.share[i] * m.mass * kGravity * m.inv_unsprung[i] + kGravity);
   }
+}
+
+/// The LM (eq. 3) and the effects that act on it: heave_pitch_coupling, nonlinear_stiffness.
+void SetupLumped(const PreparedTrial& trial, const ExtendedParams& params, Setup& m) {
+  const EffectParams& fx = params.fx;
+  const double dt = trial.step;
   m.k_z = params.lm.k_z;
   m.c_z = params.lm.c_z;
   m.k_t = params.lm.k_theta;
   m.c_t = params.lm.c_theta;
   m.heave = MakeAxisPropagator({m.mass, m.c_z, m.k_z}, dt);
-  m.pitch = MakeAxisPropagator({PitchInertia(chair, trial.load_kg), m.c_t, m.k_t}, dt);
+  m.pitch = MakeAxisPropagator({PitchInertia(trial.chair, trial.load_kg), m.c_t, m.k_t}, dt);
   m.k_zt = fx.stiffness_coupling * std::sqrt(std::max(0.0, m.k_z * m.k_t));
   m.c_zt = fx.damping_coupling * std::sqrt(std::max(0.0, m.c_z * m.c_t));
   m.hard_z = fx.heave_hardening;
   m.hard_t = fx.pitch_hardening;
   m.bump_gain = fx.bump_gain;
   m.bump_gap = fx.bump_gap;
+}
+
+/// suspension_friction: Dahl's presliding length, or smooth Coulomb's rate kept stable.
+void SetupFriction(const PreparedTrial& trial, const EffectParams& fx, Setup& m) {
+  const double dt = trial.step;
   m.presliding = std::max(1e-6, fx.friction_presliding);
   if (m.SmoothCoulomb()) {
     // Held over the step, the law's slope F_c/v_s is a damper on the chassis: kept below one
     // n-th of the explicit limit (c Δt (1/M + x_i²/I_θ) < 1 for each of n wheels).
-    const double inv_inertia = 1.0 / PitchInertia(chair, trial.load_kg);
+    const double inv_inertia = 1.0 / PitchInertia(trial.chair, trial.load_kg);
     for (int i = 0; i < m.wheels; ++i)
       m.smooth_rate[i] = std::max(fx.friction_smooth_rate,
                                   m.wheels * m.friction[i] * dt *
                                       (1.0 / m.mass + m.wheel_x[i] * m.wheel_x[i] * inv_inertia));
   }
-  // Γ_θ = M lever a_x with the mass-weighted lever of chair and occupant.
+}
+
+Setup MakeSetup(const PreparedTrial& trial, const ExtendedParams& params) {
+  const Chair& chair = trial.chair;
+  const EffectParams& fx = params.fx;
+  PWSIM_DEMAND(chair.gm.has_value() && trial.step > 0.0);
+  Setup m;
+  m.wheels = chair.wheel_count();
+  PWSIM_DEMAND(m.wheels <= kMaxWheels);
+  m.member = fx.member;
+  const double dt = trial.step;
+  SetupTyreModes(fx, dt, m);
+  const std::array<double, kMaxWheels> compliance = SetupWheels(trial, fx, m);
+  m.mass = MovingMass(chair, trial.load_kg);
+  if (m.on.tyre) SetupSeriesSuspension(compliance, params.lm, dt, m);
+  SetupLumped(trial, params, m);
+  SetupFriction(trial, fx, m);
+  // inertial_pitch: Γ_θ = M lever a_x with the mass-weighted lever of chair and occupant.
   m.lever = (chair.mass * fx.cm_lever + trial.load_kg * fx.load_cm_lever) / m.mass;
+  // marker_offset.
   m.marker_x = fx.marker_lever_x;
   m.marker_z = fx.marker_lever_z;
   m.on.held_forces = m.k_zt != 0.0 || m.c_zt != 0.0 || m.hard_z != 0.0 || m.hard_t != 0.0 ||
