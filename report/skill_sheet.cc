@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/atomic_file.h"
+#include "engine/csv_fields.h"
 #include "engine/input_error.h"
 #include "plot/plot.h"
 #include "report/study_report.h"
@@ -71,17 +72,6 @@ std::string NoCommas(std::string text) {
   return text;
 }
 
-std::vector<std::string> SplitFields(const std::string& line) {
-  std::vector<std::string> fields;
-  std::stringstream in(line);
-  std::string f;
-  while (std::getline(in, f, ',')) {
-    const auto b = f.find_first_not_of(" \t\r"), e = f.find_last_not_of(" \t\r");
-    fields.push_back(b == std::string::npos ? "" : f.substr(b, e - b + 1));
-  }
-  if (!line.empty() && line.back() == ',') fields.emplace_back();
-  return fields;
-}
 
 /// Items and sessions in order of first appearance.
 std::vector<std::string> InOrder(const std::vector<SkillAttempt>& attempts, std::string SkillAttempt::*field) {
@@ -376,7 +366,7 @@ bool IsSkillSheet(const fs::path& file) {
   std::string line;
   while (std::getline(in, line)) {
     if (line.find_first_not_of(" \t\r") == std::string::npos || line[0] == '#') continue;
-    const std::vector<std::string> header = SplitFields(line);
+    const std::vector<std::string> header = SplitCsvFields(line);
     auto has = [&](const char* name) { return std::find(header.begin(), header.end(), name) != header.end(); };
     return has("session") && has("item") && has("score");
   }
@@ -390,12 +380,7 @@ std::vector<SkillAttempt> ReadSkillSheets(const std::vector<fs::path>& files) {
     if (!in) throw InputError(file.string(), 0, "SHEET.csv", "a readable sheet.csv (pwsim skills)", "cannot open");
     std::string line;
     int number = 0;
-    std::vector<std::string> header;
-    while (header.empty() && std::getline(in, line)) {
-      ++number;
-      if (line.find_first_not_of(" \t\r") == std::string::npos || line[0] == '#') continue;
-      header = SplitFields(line);
-    }
+    const std::vector<std::string> header = ReadCsvHeader(in, number, line);
     std::map<std::string, std::size_t> column;
     for (std::size_t i = 0; i < header.size(); ++i) column[header[i]] = i;
     for (const char* need : {"participant", "session", "item", "attempt", "score"}) {
@@ -407,7 +392,7 @@ std::vector<SkillAttempt> ReadSkillSheets(const std::vector<fs::path>& files) {
     while (std::getline(in, line)) {
       ++number;
       if (line.find_first_not_of(" \t\r") == std::string::npos || line[0] == '#') continue;
-      const std::vector<std::string> f = SplitFields(line);
+      const std::vector<std::string> f = SplitCsvFields(line);
       if (f.size() != header.size()) {
         throw InputError(file.string(), number, "", std::to_string(header.size()) + " fields", std::to_string(f.size()));
       }

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/atomic_file.h"
+#include "engine/csv_fields.h"
 #include "engine/input_error.h"
 #include "report/study_report.h"
 #include "study/analysis.h"
@@ -39,17 +40,6 @@ std::string PlannedRunsCsv(const study::StudyPlan& plan, const std::string& scen
 
 namespace {
 
-std::vector<std::string> SplitFields(const std::string& line) {
-  std::vector<std::string> fields;
-  std::stringstream in(line);
-  std::string f;
-  while (std::getline(in, f, ',')) {
-    const auto b = f.find_first_not_of(" \t\r"), e = f.find_last_not_of(" \t\r");
-    fields.push_back(b == std::string::npos ? "" : f.substr(b, e - b + 1));
-  }
-  if (!line.empty() && line.back() == ',') fields.emplace_back();
-  return fields;
-}
 
 }  // namespace
 
@@ -59,12 +49,7 @@ std::vector<PlannedRun> ReadPlannedRuns(const std::filesystem::path& file) {
   if (!in) throw InputError(file.string(), 0, "", "a readable runs.csv", "cannot open");
   std::string line;
   int number = 0;
-  std::vector<std::string> header;
-  while (header.empty() && std::getline(in, line)) {
-    ++number;
-    if (line.find_first_not_of(" \t\r") == std::string::npos || line[0] == '#') continue;
-    header = SplitFields(line);
-  }
+  const std::vector<std::string> header = ReadCsvHeader(in, number, line);
   std::map<std::string, std::size_t> column;
   for (std::size_t i = 0; i < header.size(); ++i) column[header[i]] = i;
   for (const char* need : {"participant", "condition", "report"}) {
@@ -75,7 +60,7 @@ std::vector<PlannedRun> ReadPlannedRuns(const std::filesystem::path& file) {
   while (std::getline(in, line)) {
     ++number;
     if (line.find_first_not_of(" \t\r") == std::string::npos || line[0] == '#') continue;
-    const std::vector<std::string> f = SplitFields(line);
+    const std::vector<std::string> f = SplitCsvFields(line);
     if (f.size() != header.size())
       throw InputError(file.string(), number, "", std::to_string(header.size()) + " fields", std::to_string(f.size()));
     PlannedRun run;

@@ -7,6 +7,7 @@
 #include <map>
 #include <sstream>
 
+#include "engine/csv_fields.h"
 #include "engine/input_error.h"
 
 namespace pwsim::study {
@@ -19,14 +20,6 @@ std::string Trim(const std::string& s) {
   return s.substr(b, e - b + 1);
 }
 
-std::vector<std::string> SplitFields(const std::string& line) {
-  std::vector<std::string> out;
-  std::string field;
-  std::istringstream in(line);
-  while (std::getline(in, field, ',')) out.push_back(Trim(field));
-  if (!line.empty() && line.back() == ',') out.push_back("");
-  return out;
-}
 
 std::string Quoted(const std::string& s) { return "\"" + s + "\""; }
 
@@ -74,7 +67,7 @@ Ratings ParseRatings(const std::string& text, const std::string& name) {
     if (trimmed.empty() || trimmed[0] == '#') continue;
     if (trimmed.find('"') != std::string::npos)
       throw InputError(name, line_no, "line", "comma-separated fields without quotes", Quoted(trimmed));
-    const std::vector<std::string> fields = SplitFields(trimmed);
+    const std::vector<std::string> fields = SplitCsvFields(trimmed);
     if (header_line == 0) {
       header_line = line_no;
       for (std::size_t i = 0; i < fields.size(); ++i) {
