@@ -118,10 +118,11 @@ constexpr int kPointTypes[] = {7, 5, 9, 13, 11, 6, 4, 8, 12, 10};
 
 std::string StyleText(const Series& series, std::size_t index) {
   const int pt = kPointTypes[index % std::size(kPointTypes)];
+  const std::string ps = " ps " + FormatDouble(series.point_size > 0.0 ? series.point_size : 0.6);
   std::string text;
   switch (series.style) {
-    case Style::kPoints: text = "points pt " + std::to_string(pt) + " ps 0.6"; break;
-    case Style::kLinesPoints: text = "linespoints pt " + std::to_string(pt) + " ps 0.6"; break;
+    case Style::kPoints: text = "points pt " + std::to_string(pt) + ps; break;
+    case Style::kLinesPoints: text = "linespoints pt " + std::to_string(pt) + ps; break;
     case Style::kSteps: text = "steps"; break;
     case Style::kLines: text = "lines"; break;
   }

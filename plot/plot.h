@@ -50,6 +50,7 @@ struct Series {
   /// over an equal one leaves it visible. Points take a different shape per series (filled
   /// circle, square, triangle, diamond, ...), for the same reason.
   int dash{0};
+  double point_size{0.0};  ///< of points, in gnuplot's units; 0: 0.6
 };
 
 /// One box of a box plot: the box spans the quartiles, the whiskers reach the most extreme

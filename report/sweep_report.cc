@@ -87,6 +87,7 @@ std::vector<fs::path> WriteSweepPlots(const sweep::Manifest& manifest, const swe
       negatives.label = "negative in these tasks (size drawn)";
       negatives.style = plot::Style::kPoints;
       negatives.color = plot::color::kBlack;
+      negatives.point_size = 1.2;
       if (sign_changes) {
         panel.title += ": size (its sign changes across the sweep)";
         panel.y_label = "size of " + panel.y_label;
