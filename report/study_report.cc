@@ -23,15 +23,19 @@ void WriteStudyReport(const std::filesystem::path& out, const std::filesystem::p
 
   // Fig. 8b: median, quartiles and extremes per condition, every rating shown.
   plot::Figure fig;
-  fig.title = "Ratings per condition (" + std::to_string(ratings.participants.size()) + " participants)";
-  fig.width_px = 700;
+  fig.title = "How the participants rated each ride (" + std::to_string(ratings.participants.size()) +
+              " participants; box: quartiles and median, whiskers: extremes, dots: each rating)";
+  fig.width_px = 900;
   fig.panel_height_px = 480;
   plot::Panel panel;
   panel.y_label = "rating (1 = accurate ... 6 = no motion perceived)";
   double lo = 1.0, hi = 6.0;
   for (const study::ConditionSummary& c : analysis.conditions) {
     plot::BoxGroup box;
-    box.label = c.name;
+    // seed 000's two conditions in words (pwsim session --sources: T_r=measured, T_m=model by default)
+    box.label = c.name == "T_r"   ? "T_r: tracked motion of the real chair"
+                : c.name == "T_m" ? "T_m: motion of the chair model"
+                                  : c.name;
     box.values = c.values;
     panel.boxes.push_back(box);
     lo = std::min(lo, c.stats.min);
@@ -41,6 +45,7 @@ void WriteStudyReport(const std::filesystem::path& out, const std::filesystem::p
   panel.y_max = hi + 0.5;
   panel.box_whiskers_to_extremes = true;
   panel.box_show_points = true;
+  panel.y_tic_step = 1.0;  // the scale's steps
   fig.panels.push_back(panel);
   plot::WriteFigure(out / "boxplot", fig);
   WriteFileAtomically(out / "study.md", md);
