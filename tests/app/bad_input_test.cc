@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "tests/app/pwsim_run.h"
 #include "tests/sysid/platform/emps_data.h"
 
 namespace pwsim::app {
@@ -28,32 +29,17 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int status{0};
-  std::string output;
-};
+using Result = test::PwsimResult;
+using test::ReadWholeFile;
 
-fs::path Scratch(const std::string& name) {
-  const fs::path dir = fs::path(PWSIM_BINARY_DIR) / "test_out" / "bad_input" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path Scratch(const std::string& name) { return test::FreshTestFolder("bad_input", name); }
+std::string ReadText(const fs::path& file) { return ReadWholeFile(file); }
 
-std::string ReadText(const fs::path& file) {
-  std::ifstream in(file);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+/// Runs the built pwsim in `cwd`, quiet (stdout and stderr together).
+Result Pwsim(const std::string& args, const fs::path& cwd) { return test::RunPwsim(args + " --quiet", cwd, true); }
 
-/// Runs the built pwsim in `cwd` (stdout and stderr together).
-Result Pwsim(const std::string& args, const fs::path& cwd) {
-  const std::string command = "cd '" + cwd.string() + "' && " + std::string(PWSIM_BINARY_DIR) + "/pwsim " + args +
-                              " --quiet > pwsim.log 2>&1";
-  const int raw = std::system(command.c_str());
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, ReadText(cwd / "pwsim.log")};
-}
+
+
 
 /// Expects `args` run in `dir` to fail with status 1, print `message`, and leave no `o`.
 void ExpectRefused(const fs::path& dir, const std::string& args, const std::string& message) {

@@ -17,6 +17,7 @@
 #include "app/commands.h"
 #include "app/output_folder.h"
 #include "engine/input_error.h"
+#include "tests/app/pwsim_run.h"
 #include "tests/hardware/session_world.h"
 
 namespace pwsim::app {
@@ -24,30 +25,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int status{0};
-  std::string output;
-};
+using Result = test::PwsimResult;
 
-/// A fresh folder of this test under the build tree.
-fs::path Scratch(const std::string& name) {
-  const fs::path dir = fs::path(PWSIM_BINARY_DIR) / "test_out" / "cli" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path Scratch(const std::string& name) { return test::FreshTestFolder("cli", name); }
 
 /// Runs the built pwsim in `cwd` (stdout and stderr together).
-Result Pwsim(const std::string& args, const fs::path& cwd) {
-  const fs::path log = cwd / "pwsim.log";
-  const std::string command = "cd '" + cwd.string() + "' && " + std::string(PWSIM_BINARY_DIR) + "/pwsim " + args +
-                              " > '" + log.string() + "' 2>&1";
-  const int raw = std::system(command.c_str());
-  std::ifstream in(log);
-  std::stringstream text;
-  text << in.rdbuf();
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, text.str()};
-}
+Result Pwsim(const std::string& args, const fs::path& cwd) { return test::RunPwsim(args, cwd, true); }
+
+
 
 std::size_t Count(const std::string& text, const std::string& part) {
   std::size_t n = 0;

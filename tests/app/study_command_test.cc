@@ -12,31 +12,20 @@
 #include <sstream>
 #include <string>
 
+#include "tests/app/pwsim_run.h"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int status{0};
-  std::string output;
-};
+using Result = pwsim::test::PwsimResult;
 
-fs::path Scratch(const std::string& name) {
-  const fs::path dir = fs::path(PWSIM_BINARY_DIR) / "test_out" / "study_command" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path Scratch(const std::string& name) { return pwsim::test::FreshTestFolder("study_command", name); }
 
-Result Pwsim(const std::string& args, const fs::path& dir) {
-  const fs::path log = dir / "pwsim.log";
-  const std::string command = std::string(PWSIM_BINARY_DIR) + "/pwsim " + args + " > '" + log.string() + "' 2>&1";
-  const int raw = std::system(command.c_str());
-  std::ifstream in(log);
-  std::stringstream text;
-  text << in.rdbuf();
-  return {WEXITSTATUS(raw), text.str()};
-}
+/// Runs the built pwsim from the test's working folder, its log in `dir`.
+Result Pwsim(const std::string& args, const fs::path& dir) { return pwsim::test::RunPwsim(args, dir, false); }
+
+
 
 /// Seed 000's reconstructed study (docs/study.md); the pairing is arbitrary.
 void WritePaperRatings(const fs::path& file) {
