@@ -73,52 +73,6 @@ std::string EffectNameList() {
 
 namespace {
 
-// Each effect's parameters: name, scale, bounds, starts, the EffectParams field, unit.
-std::vector<ParamSpec> Parameters(EffectId id) {
-  using F = EffectParams;
-  switch (id) {
-    case EffectId::kWheelRadius:
-      return {{"caster_radius_m", 0.1, 0.0, 0.35, {0.04, 0.12}, &F::caster_radius, "m"},
-              {"drive_radius_m", 0.1, 0.0, 0.40, {0.04, 0.18}, &F::drive_radius, "m"}};
-    case EffectId::kTyreCompliance:
-      return {{"caster_tyre_period_s", 0.1, 0.02, 1.0, {0.06, 0.15, 0.4}, &F::caster_tyre_period, "s"},
-              {"drive_tyre_period_s", 0.1, 0.02, 1.0, {0.05, 0.15}, &F::drive_tyre_period, "s"},
-              {"tyre_damping_ratio", 0.3, 0.05, 1.0, {0.3}, &F::tyre_damping, "-"},
-              {"caster_tyre_compliance_m_per_n", 5e-5, 0.0, 5e-4, {0.0, 5e-5, 2.5e-4},
-               &F::caster_tyre_compliance, "m/N"},
-              {"drive_tyre_compliance_m_per_n", 1e-5, 0.0, 2e-4, {0.0, 1e-5, 6e-5},
-               &F::drive_tyre_compliance, "m/N"},
-              {"tyre_time_constant_s", 0.005, 1e-4, 0.05, {0.005}, &F::tyre_time_constant, "s"},
-              {"rear_caster_compliance_ratio", 0.5, 0.2, 5.0, {1.0}, &F::rear_caster_compliance_ratio,
-               "-"}};
-    case EffectId::kCushionCompliance:
-      return {{"cushion_loss_per_kn", 0.2, 0.0, 1.2, {0.1, 0.4}, &F::cushion_loss_per_kn, "-"},
-              {"cushion_height_gain", 0.2, 0.5, 1.5, {1.0}, &F::cushion_height_gain, "-"},
-              {"cushion_exponent", 0.5, 0.3, 2.5, {1.0}, &F::cushion_exponent, "-"},
-              {"cushion_pitch_gain", 0.2, 0.5, 2.0, {1.0}, &F::cushion_pitch_gain, "-"}};
-    case EffectId::kHeavePitchCoupling:
-      return {{"stiffness_coupling", 0.2, -0.8, 0.8, {-0.2, 0.2}, &F::stiffness_coupling, "-"},
-              {"damping_coupling", 0.2, -0.8, 0.8, {0.0}, &F::damping_coupling, "-"}};
-    case EffectId::kNonlinearStiffness:
-      return {{"heave_hardening", 0.5, 0.0, 10.0, {0.3}, &F::heave_hardening, "-"},
-              {"pitch_hardening", 0.5, 0.0, 10.0, {0.3}, &F::pitch_hardening, "-"},
-              {"bump_gain", 0.5, 0.0, 20.0, {0.0, 1.0}, &F::bump_gain, "-"},
-              {"bump_gap_m", 0.005, 0.0, 0.03, {0.004}, &F::bump_gap, "m"}};
-    case EffectId::kSuspensionFriction:
-      return {{"caster_friction_n", 20.0, 0.0, 250.0, {10.0, 40.0}, &F::caster_friction, "N"},
-              {"drive_friction_n", 20.0, 0.0, 250.0, {10.0, 40.0}, &F::drive_friction, "N"},
-              {"friction_presliding_m", 5e-4, 5e-5, 5e-3, {2e-4, 1e-3}, &F::friction_presliding, "m"},
-              {"friction_smooth_rate_mps", 5e-3, 5e-4, 5e-2, {5e-3}, &F::friction_smooth_rate, "m/s"}};
-    case EffectId::kInertialPitch:
-      return {{"cm_lever_m", 0.2, -1.5, 1.5, {0.0}, &F::cm_lever, "m"},
-              {"load_cm_lever_m", 0.2, -1.5, 1.5, {0.0}, &F::load_cm_lever, "m"}};
-    case EffectId::kMarkerOffset:
-      return {{"marker_lever_x_m", 0.1, -1.0, 1.0, {0.0, 0.15}, &F::marker_lever_x, "m"},
-              {"marker_lever_z_m", 0.2, -1.5, 1.5, {0.0, 0.5}, &F::marker_lever_z, "m"}};
-  }
-  return {};
-}
-
 /// Every combination of the parameters' start lists (the first parameter varying fastest),
 /// each parameter's list replaced where `lists` gives one; combinations `keep` rejects are left
 /// out.
@@ -147,88 +101,230 @@ FamilyMember Member(std::string name, std::vector<std::vector<double>> starts) {
   return member;
 }
 
-EffectFamily MakeFamily(EffectId id) {
-  EffectFamily family{id, Parameters(id), {}};
+// ---- wheel_radius ----
+EffectFamily WheelRadiusFamily() {
+  using F = EffectParams;
+  EffectFamily family{EffectId::kWheelRadius, {}, {}};
+  family.params = {
+      {"caster_radius_m", 0.1, 0.0, 0.35, {0.04, 0.12}, &F::caster_radius, "m"},
+      {"drive_radius_m", 0.1, 0.0, 0.40, {0.04, 0.18}, &F::drive_radius, "m"}};
   const std::vector<ParamSpec>& p = family.params;
-  switch (id) {
-    case EffectId::kTyreCompliance: {
-      // Stiff tyres (c_t held at 0: a filter of the ground with no reaction; the best two
-      // starts solved, their periods lying in different basins more often than not) and
-      // compliant tyres in series with each wheel's own suspension spring (the best start of
-      // each caster-compliance rung: a start's error favours the stiff rungs, whose fits stay
-      // near the base model, over a soft tyre's basin).
-      // Massless tyres in series (no unsprung mass: the periods and ζ held, the dampers' time
-      // constant and the rear casters' compliance ratio fitted), the best start of each
-      // caster-compliance rung as well.
-      auto compliant_tyre = [](const std::vector<double>& s) { return s[3] > 0.0 || s[4] > 0.0; };
-      FamilyMember stiff = Member("stiff", StartGrid(p, {{}, {}, {}, {0.0}, {0.0}}));
-      stiff.held = {3, 4, 5, 6};
-      stiff.solved = 2;
-      FamilyMember compliant = Member("compliant", StartGrid(p, {}, compliant_tyre));
-      compliant.held = {5, 6};
-      compliant.rung = 3;
-      compliant.series_start = true;
-      FamilyMember massless =
-          Member("massless", StartGrid(p, {{0.15}, {0.15}, {0.3}, {}, {}, {0.003, 0.008}}, compliant_tyre));
-      massless.setting.tyre = TyreLaw::kMassless;
-      massless.held = {0, 1, 2};
-      massless.rung = 3;
-      massless.series_start = true;
-      family.members = {stiff, compliant, massless};
-      family.copy_member = [](const EffectMembers& from, EffectMembers& to) { to.tyre = from.tyre; };
-      family.member_flags = [](const EffectMembers& m) -> std::vector<std::pair<std::string, double>> {
-        return {{"tyre_massless", m.tyre == TyreLaw::kMassless ? 1.0 : 0.0}};
-      };
-      break;
-    }
-    case EffectId::kCushionCompliance: {
-      // The load basis: each wheel's static load or the whole chair's weight; one ranking, the
-      // better start solved.
-      FamilyMember whole = Member("whole_chair", StartGrid(p));
-      whole.setting.cushion_load = CushionLoad::kWholeChair;
-      whole.ranked_with_previous = true;
-      family.members = {Member("per_wheel", StartGrid(p)), whole};
-      family.copy_member = [](const EffectMembers& from, EffectMembers& to) {
-        to.cushion_load = from.cushion_load;
-      };
-      family.member_flags = [](const EffectMembers& m) -> std::vector<std::pair<std::string, double>> {
-        return {{"cushion_whole_chair", m.cushion_load == CushionLoad::kWholeChair ? 1.0 : 0.0}};
-      };
-      break;
-    }
-    case EffectId::kNonlinearStiffness: {
-      // Stops in compression only, in rebound as well, or in rebound only (with stops: b > 0),
-      // the best start of each solved (a start's error hardly tells them apart).
-      FamilyMember both = Member("both", StartGrid(p, {{}, {}, {1.0}, {}}));
-      both.setting.stops = StopSides::kBoth;
-      FamilyMember rebound = Member("rebound", StartGrid(p, {{}, {}, {1.0}, {}}));
-      rebound.setting.stops = StopSides::kRebound;
-      family.members = {Member("compression", StartGrid(p)), both, rebound};
-      family.copy_member = [](const EffectMembers& from, EffectMembers& to) { to.stops = from.stops; };
-      family.member_flags = [](const EffectMembers& m) -> std::vector<std::pair<std::string, double>> {
-        return {{"bump_rebound", m.stops != StopSides::kCompression ? 1.0 : 0.0},
-                {"bump_compression", m.stops != StopSides::kRebound ? 1.0 : 0.0}};
-      };
-      break;
-    }
-    case EffectId::kSuspensionFriction: {
-      // Dahl's law (v_s held) and smooth Coulomb (δ_p held), the best start of each solved.
-      FamilyMember dahl = Member("dahl", StartGrid(p));
-      dahl.held = {3};
-      FamilyMember smooth = Member("smooth_coulomb", StartGrid(p, {{}, {}, {5e-4}, {2e-3, 8e-3}}));
-      smooth.setting.friction = FrictionLaw::kSmoothCoulomb;
-      smooth.held = {2};
-      family.members = {dahl, smooth};
-      family.copy_member = [](const EffectMembers& from, EffectMembers& to) { to.friction = from.friction; };
-      family.member_flags = [](const EffectMembers& m) -> std::vector<std::pair<std::string, double>> {
-        return {{"friction_smooth_coulomb", m.friction == FrictionLaw::kSmoothCoulomb ? 1.0 : 0.0}};
-      };
-      break;
-    }
-    default:
-      family.members = {Member("law", StartGrid(p))};
-  }
+  family.members = {Member("law", StartGrid(p))};
+  family.truth = [](double s, const Chair& chair) {
+    EffectParams fx;
+    fx.caster_radius = s * MeanRadius(chair, true);
+    fx.drive_radius = s * MeanRadius(chair, false);
+    return fx;
+  };
   return family;
+}
+
+// ---- tyre_compliance ----
+EffectFamily TyreComplianceFamily() {
+  using F = EffectParams;
+  EffectFamily family{EffectId::kTyreCompliance, {}, {}};
+  family.params = {
+      {"caster_tyre_period_s", 0.1, 0.02, 1.0, {0.06, 0.15, 0.4}, &F::caster_tyre_period, "s"},
+      {"drive_tyre_period_s", 0.1, 0.02, 1.0, {0.05, 0.15}, &F::drive_tyre_period, "s"},
+      {"tyre_damping_ratio", 0.3, 0.05, 1.0, {0.3}, &F::tyre_damping, "-"},
+      {"caster_tyre_compliance_m_per_n", 5e-5, 0.0, 5e-4, {0.0, 5e-5, 2.5e-4},
+          &F::caster_tyre_compliance, "m/N"},
+      {"drive_tyre_compliance_m_per_n", 1e-5, 0.0, 2e-4, {0.0, 1e-5, 6e-5},
+          &F::drive_tyre_compliance, "m/N"},
+      {"tyre_time_constant_s", 0.005, 1e-4, 0.05, {0.005}, &F::tyre_time_constant, "s"},
+      {"rear_caster_compliance_ratio", 0.5, 0.2, 5.0, {1.0}, &F::rear_caster_compliance_ratio,
+          "-"}};
+  const std::vector<ParamSpec>& p = family.params;
+  // Stiff tyres (c_t held at 0: a filter of the ground with no reaction; the best two
+  // starts solved, their periods lying in different basins more often than not) and
+  // compliant tyres in series with each wheel's own suspension spring (the best start of
+  // each caster-compliance rung: a start's error favours the stiff rungs, whose fits stay
+  // near the base model, over a soft tyre's basin).
+  // Massless tyres in series (no unsprung mass: the periods and ζ held, the dampers' time
+  // constant and the rear casters' compliance ratio fitted), the best start of each
+  // caster-compliance rung as well.
+  auto compliant_tyre = [](const std::vector<double>& s) { return s[3] > 0.0 || s[4] > 0.0; };
+  FamilyMember stiff = Member("stiff", StartGrid(p, {{}, {}, {}, {0.0}, {0.0}}));
+  stiff.held = {3, 4, 5, 6};
+  stiff.solved = 2;
+  FamilyMember compliant = Member("compliant", StartGrid(p, {}, compliant_tyre));
+  compliant.held = {5, 6};
+  compliant.rung = 3;
+  compliant.series_start = true;
+  FamilyMember massless =
+      Member("massless", StartGrid(p, {{0.15}, {0.15}, {0.3}, {}, {}, {0.003, 0.008}}, compliant_tyre));
+  massless.setting.tyre = TyreLaw::kMassless;
+  massless.held = {0, 1, 2};
+  massless.rung = 3;
+  massless.series_start = true;
+  family.members = {stiff, compliant, massless};
+  family.copy_member = [](const EffectMembers& from, EffectMembers& to) { to.tyre = from.tyre; };
+  family.member_flags = [](const EffectMembers& m) -> std::vector<std::pair<std::string, double>> {
+    return {{"tyre_massless", m.tyre == TyreLaw::kMassless ? 1.0 : 0.0}};
+  };
+  family.truth = [](double s, const Chair&) {
+    EffectParams fx;
+    // Casters 5 Hz and drive wheels 12.5 Hz at s = 1; softer and less damped above.
+    fx.caster_tyre_period = std::clamp(0.2 * s, 0.045, 1.0);
+    fx.drive_tyre_period = std::clamp(0.08 * s, 0.045, 1.0);
+    fx.tyre_damping = std::max(0.05, 0.25 / std::pow(std::max(1.0, s), 1.75));
+    return fx;
+  };
+  return family;
+}
+
+// ---- cushion_compliance ----
+EffectFamily CushionComplianceFamily() {
+  using F = EffectParams;
+  EffectFamily family{EffectId::kCushionCompliance, {}, {}};
+  family.params = {
+      {"cushion_loss_per_kn", 0.2, 0.0, 1.2, {0.1, 0.4}, &F::cushion_loss_per_kn, "-"},
+      {"cushion_height_gain", 0.2, 0.5, 1.5, {1.0}, &F::cushion_height_gain, "-"},
+      {"cushion_exponent", 0.5, 0.3, 2.5, {1.0}, &F::cushion_exponent, "-"},
+      {"cushion_pitch_gain", 0.2, 0.5, 2.0, {1.0}, &F::cushion_pitch_gain, "-"}};
+  const std::vector<ParamSpec>& p = family.params;
+  // The load basis: each wheel's static load or the whole chair's weight; one ranking, the
+  // better start solved.
+  FamilyMember whole = Member("whole_chair", StartGrid(p));
+  whole.setting.cushion_load = CushionLoad::kWholeChair;
+  whole.ranked_with_previous = true;
+  family.members = {Member("per_wheel", StartGrid(p)), whole};
+  family.copy_member = [](const EffectMembers& from, EffectMembers& to) {
+    to.cushion_load = from.cushion_load;
+  };
+  family.member_flags = [](const EffectMembers& m) -> std::vector<std::pair<std::string, double>> {
+    return {{"cushion_whole_chair", m.cushion_load == CushionLoad::kWholeChair ? 1.0 : 0.0}};
+  };
+  family.truth = [](double s, const Chair&) {
+    EffectParams fx;
+    fx.cushion_loss_per_kn = 0.12 * s;
+    return fx;
+  };
+  return family;
+}
+
+// ---- heave_pitch_coupling ----
+EffectFamily HeavePitchCouplingFamily() {
+  using F = EffectParams;
+  EffectFamily family{EffectId::kHeavePitchCoupling, {}, {}};
+  family.params = {
+      {"stiffness_coupling", 0.2, -0.8, 0.8, {-0.2, 0.2}, &F::stiffness_coupling, "-"},
+      {"damping_coupling", 0.2, -0.8, 0.8, {0.0}, &F::damping_coupling, "-"}};
+  const std::vector<ParamSpec>& p = family.params;
+  family.members = {Member("law", StartGrid(p))};
+  family.truth = [](double s, const Chair&) {
+    EffectParams fx;
+    fx.stiffness_coupling = std::min(0.8, 0.3 * s);
+    fx.damping_coupling = std::min(0.8, 0.3 * s);
+    return fx;
+  };
+  return family;
+}
+
+// ---- nonlinear_stiffness ----
+EffectFamily NonlinearStiffnessFamily() {
+  using F = EffectParams;
+  EffectFamily family{EffectId::kNonlinearStiffness, {}, {}};
+  family.params = {
+      {"heave_hardening", 0.5, 0.0, 10.0, {0.3}, &F::heave_hardening, "-"},
+      {"pitch_hardening", 0.5, 0.0, 10.0, {0.3}, &F::pitch_hardening, "-"},
+      {"bump_gain", 0.5, 0.0, 20.0, {0.0, 1.0}, &F::bump_gain, "-"},
+      {"bump_gap_m", 0.005, 0.0, 0.03, {0.004}, &F::bump_gap, "m"}};
+  const std::vector<ParamSpec>& p = family.params;
+  // Stops in compression only, in rebound as well, or in rebound only (with stops: b > 0),
+  // the best start of each solved (a start's error hardly tells them apart).
+  FamilyMember both = Member("both", StartGrid(p, {{}, {}, {1.0}, {}}));
+  both.setting.stops = StopSides::kBoth;
+  FamilyMember rebound = Member("rebound", StartGrid(p, {{}, {}, {1.0}, {}}));
+  rebound.setting.stops = StopSides::kRebound;
+  family.members = {Member("compression", StartGrid(p)), both, rebound};
+  family.copy_member = [](const EffectMembers& from, EffectMembers& to) { to.stops = from.stops; };
+  family.member_flags = [](const EffectMembers& m) -> std::vector<std::pair<std::string, double>> {
+    return {{"bump_rebound", m.stops != StopSides::kCompression ? 1.0 : 0.0},
+            {"bump_compression", m.stops != StopSides::kRebound ? 1.0 : 0.0}};
+  };
+  family.truth = [](double s, const Chair&) {
+    EffectParams fx;
+    fx.heave_hardening = 1.0 * s;
+    fx.pitch_hardening = 1.0 * s;
+    return fx;
+  };
+  return family;
+}
+
+// ---- suspension_friction ----
+EffectFamily SuspensionFrictionFamily() {
+  using F = EffectParams;
+  EffectFamily family{EffectId::kSuspensionFriction, {}, {}};
+  family.params = {
+      {"caster_friction_n", 20.0, 0.0, 250.0, {10.0, 40.0}, &F::caster_friction, "N"},
+      {"drive_friction_n", 20.0, 0.0, 250.0, {10.0, 40.0}, &F::drive_friction, "N"},
+      {"friction_presliding_m", 5e-4, 5e-5, 5e-3, {2e-4, 1e-3}, &F::friction_presliding, "m"},
+      {"friction_smooth_rate_mps", 5e-3, 5e-4, 5e-2, {5e-3}, &F::friction_smooth_rate, "m/s"}};
+  const std::vector<ParamSpec>& p = family.params;
+  // Dahl's law (v_s held) and smooth Coulomb (δ_p held), the best start of each solved.
+  FamilyMember dahl = Member("dahl", StartGrid(p));
+  dahl.held = {3};
+  FamilyMember smooth = Member("smooth_coulomb", StartGrid(p, {{}, {}, {5e-4}, {2e-3, 8e-3}}));
+  smooth.setting.friction = FrictionLaw::kSmoothCoulomb;
+  smooth.held = {2};
+  family.members = {dahl, smooth};
+  family.copy_member = [](const EffectMembers& from, EffectMembers& to) { to.friction = from.friction; };
+  family.member_flags = [](const EffectMembers& m) -> std::vector<std::pair<std::string, double>> {
+    return {{"friction_smooth_coulomb", m.friction == FrictionLaw::kSmoothCoulomb ? 1.0 : 0.0}};
+  };
+  family.truth = [](double s, const Chair&) {
+    EffectParams fx;
+    fx.caster_friction = 40.0 * s;
+    fx.drive_friction = 60.0 * s;
+    fx.friction_presliding = 5e-4;
+    return fx;
+  };
+  return family;
+}
+
+// ---- inertial_pitch ----
+EffectFamily InertialPitchFamily() {
+  using F = EffectParams;
+  EffectFamily family{EffectId::kInertialPitch, {}, {}};
+  family.params = {
+      {"cm_lever_m", 0.2, -1.5, 1.5, {0.0}, &F::cm_lever, "m"},
+      {"load_cm_lever_m", 0.2, -1.5, 1.5, {0.0}, &F::load_cm_lever, "m"}};
+  const std::vector<ParamSpec>& p = family.params;
+  family.members = {Member("law", StartGrid(p))};
+  family.truth = [](double s, const Chair& chair) {
+    EffectParams fx;
+    fx.cm_lever = chair.cm_height * s;
+    fx.load_cm_lever = chair.cm_height * s;
+    return fx;
+  };
+  return family;
+}
+
+// ---- marker_offset ----
+EffectFamily MarkerOffsetFamily() {
+  using F = EffectParams;
+  EffectFamily family{EffectId::kMarkerOffset, {}, {}};
+  family.params = {
+      {"marker_lever_x_m", 0.1, -1.0, 1.0, {0.0, 0.15}, &F::marker_lever_x, "m"},
+      {"marker_lever_z_m", 0.2, -1.5, 1.5, {0.0, 0.5}, &F::marker_lever_z, "m"}};
+  const std::vector<ParamSpec>& p = family.params;
+  family.members = {Member("law", StartGrid(p))};
+  family.truth = [](double s, const Chair&) {
+    EffectParams fx;
+    fx.marker_lever_x = 0.15 * s;
+    return fx;
+  };
+  return family;
+}
+
+EffectFamily MakeFamily(EffectId id) {
+  using Make = EffectFamily (*)();
+  static constexpr std::array<Make, kEffectCount> make{
+      WheelRadiusFamily,        TyreComplianceFamily,     CushionComplianceFamily,
+      HeavePitchCouplingFamily, NonlinearStiffnessFamily, SuspensionFrictionFamily,
+      InertialPitchFamily,      MarkerOffsetFamily};
+  return make[static_cast<std::size_t>(Index(id))]();
 }
 
 }  // namespace
@@ -272,45 +368,8 @@ std::vector<double> GetEffectValues(EffectId id, const EffectParams& fx) {
 }
 
 EffectParams TruthEffect(EffectId id, double strength, const Chair& chair) {
-  EffectParams fx;
-  const double s = strength;
-  if (s <= 0.0) return fx;
-  switch (id) {
-    case EffectId::kWheelRadius:
-      fx.caster_radius = s * MeanRadius(chair, true);
-      fx.drive_radius = s * MeanRadius(chair, false);
-      break;
-    case EffectId::kTyreCompliance:
-      // Casters 5 Hz and drive wheels 12.5 Hz at s = 1; softer and less damped above.
-      fx.caster_tyre_period = std::clamp(0.2 * s, 0.045, 1.0);
-      fx.drive_tyre_period = std::clamp(0.08 * s, 0.045, 1.0);
-      fx.tyre_damping = std::max(0.05, 0.25 / std::pow(std::max(1.0, s), 1.75));
-      break;
-    case EffectId::kCushionCompliance:
-      fx.cushion_loss_per_kn = 0.12 * s;
-      break;
-    case EffectId::kHeavePitchCoupling:
-      fx.stiffness_coupling = std::min(0.8, 0.3 * s);
-      fx.damping_coupling = std::min(0.8, 0.3 * s);
-      break;
-    case EffectId::kNonlinearStiffness:
-      fx.heave_hardening = 1.0 * s;
-      fx.pitch_hardening = 1.0 * s;
-      break;
-    case EffectId::kSuspensionFriction:
-      fx.caster_friction = 40.0 * s;
-      fx.drive_friction = 60.0 * s;
-      fx.friction_presliding = 5e-4;
-      break;
-    case EffectId::kInertialPitch:
-      fx.cm_lever = chair.cm_height * s;
-      fx.load_cm_lever = chair.cm_height * s;
-      break;
-    case EffectId::kMarkerOffset:
-      fx.marker_lever_x = 0.15 * s;
-      break;
-  }
-  return fx;
+  if (strength <= 0.0) return EffectParams{};
+  return Family(id).truth(strength, chair);
 }
 
 }  // namespace pwsim::effects

@@ -74,7 +74,9 @@ struct FamilyMember {
 };
 
 /// An effect's family: its parameters and its members (one member "law" where the family has
-/// a single law; every member shares the parameters).
+/// a single law; every member shares the parameters), how its member is copied and reported,
+/// and its truth for synthetic trials. Each effect's family is one function of
+/// effect_catalog.cc (e.g. TyreComplianceFamily): the one place of the catalogue that knows it.
 struct EffectFamily {
   EffectId id;
   std::vector<ParamSpec> params;
@@ -84,6 +86,8 @@ struct EffectFamily {
   void (*copy_member)(const EffectMembers& from, EffectMembers& to){nullptr};
   /// The member as named flags for reports (1 or 0); null for a family of one law.
   std::vector<std::pair<std::string, double>> (*member_flags)(const EffectMembers& member){nullptr};
+  /// The hidden effect's values at strength s > 0 on `chair` (TruthEffect).
+  EffectParams (*truth)(double s, const Chair& chair){nullptr};
 };
 
 /// The family of effect `id`.
