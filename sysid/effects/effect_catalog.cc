@@ -34,26 +34,9 @@ double MeanRadius(const Chair& chair, bool casters) {
 
 std::span<const EffectId> AllEffects() { return kAll; }
 
-const char* EffectName(EffectId id) {
-  static constexpr std::array<const char*, kEffectCount> names{
-      "wheel_radius",        "tyre_compliance",     "cushion_compliance", "heave_pitch_coupling",
-      "nonlinear_stiffness", "suspension_friction", "inertial_pitch",     "marker_offset"};
-  return names[Index(id)];
-}
+const char* EffectName(EffectId id) { return Family(id).name; }
 
-const char* EffectDescription(EffectId id) {
-  static constexpr std::array<const char*, kEffectCount> text{
-      "finite wheel radius: wheel centres ride the rolling-disc envelope of the ground",
-      "vertical tyre compliance: series spring-damper per wheel, with an unsprung mass or massless",
-      "the obstacle yields under load: effective height h (g - c (W/1 kN)^p), W per wheel or whole chair",
-      "off-diagonal stiffness and damping between heave and pitch",
-      "progressive (hardening) suspension stiffness: symmetric cubic and per-wheel bump stops, "
-      "in compression or both ways",
-      "dry (Coulomb) friction in the suspension: Dahl's law or smooth Coulomb, per wheel",
-      "pitch torque from longitudinal acceleration (the Γθ term), chair and occupant levers",
-      "tracked origin not at O_V: a lever arm (forward, up) mixes pitch into the measured x and altitude"};
-  return text[Index(id)];
-}
+const char* EffectDescription(EffectId id) { return Family(id).description; }
 
 std::optional<EffectId> ParseEffect(const std::string& name) {
   for (EffectId id : kAll) {
@@ -105,6 +88,9 @@ FamilyMember Member(std::string name, std::vector<std::vector<double>> starts) {
 EffectFamily WheelRadiusFamily() {
   using F = EffectParams;
   EffectFamily family{EffectId::kWheelRadius, {}, {}};
+  family.name = "wheel_radius";
+  family.description =
+      "finite wheel radius: wheel centres ride the rolling-disc envelope of the ground";
   family.params = {
       {"caster_radius_m", 0.1, 0.0, 0.35, {0.04, 0.12}, &F::caster_radius, "m"},
       {"drive_radius_m", 0.1, 0.0, 0.40, {0.04, 0.18}, &F::drive_radius, "m"}};
@@ -123,6 +109,9 @@ EffectFamily WheelRadiusFamily() {
 EffectFamily TyreComplianceFamily() {
   using F = EffectParams;
   EffectFamily family{EffectId::kTyreCompliance, {}, {}};
+  family.name = "tyre_compliance";
+  family.description =
+      "vertical tyre compliance: series spring-damper per wheel, with an unsprung mass or massless";
   family.params = {
       {"caster_tyre_period_s", 0.1, 0.02, 1.0, {0.06, 0.15, 0.4}, &F::caster_tyre_period, "s"},
       {"drive_tyre_period_s", 0.1, 0.02, 1.0, {0.05, 0.15}, &F::drive_tyre_period, "s"},
@@ -177,6 +166,9 @@ EffectFamily TyreComplianceFamily() {
 EffectFamily CushionComplianceFamily() {
   using F = EffectParams;
   EffectFamily family{EffectId::kCushionCompliance, {}, {}};
+  family.name = "cushion_compliance";
+  family.description =
+      "the obstacle yields under load: effective height h (g - c (W/1 kN)^p), W per wheel or whole chair";
   family.params = {
       {"cushion_loss_per_kn", 0.2, 0.0, 1.2, {0.1, 0.4}, &F::cushion_loss_per_kn, "-"},
       {"cushion_height_gain", 0.2, 0.5, 1.5, {1.0}, &F::cushion_height_gain, "-"},
@@ -207,6 +199,9 @@ EffectFamily CushionComplianceFamily() {
 EffectFamily HeavePitchCouplingFamily() {
   using F = EffectParams;
   EffectFamily family{EffectId::kHeavePitchCoupling, {}, {}};
+  family.name = "heave_pitch_coupling";
+  family.description =
+      "off-diagonal stiffness and damping between heave and pitch";
   family.params = {
       {"stiffness_coupling", 0.2, -0.8, 0.8, {-0.2, 0.2}, &F::stiffness_coupling, "-"},
       {"damping_coupling", 0.2, -0.8, 0.8, {0.0}, &F::damping_coupling, "-"}};
@@ -225,6 +220,10 @@ EffectFamily HeavePitchCouplingFamily() {
 EffectFamily NonlinearStiffnessFamily() {
   using F = EffectParams;
   EffectFamily family{EffectId::kNonlinearStiffness, {}, {}};
+  family.name = "nonlinear_stiffness";
+  family.description =
+      "progressive (hardening) suspension stiffness: symmetric cubic and per-wheel bump stops, "
+      "in compression or both ways";
   family.params = {
       {"heave_hardening", 0.5, 0.0, 10.0, {0.3}, &F::heave_hardening, "-"},
       {"pitch_hardening", 0.5, 0.0, 10.0, {0.3}, &F::pitch_hardening, "-"},
@@ -256,6 +255,9 @@ EffectFamily NonlinearStiffnessFamily() {
 EffectFamily SuspensionFrictionFamily() {
   using F = EffectParams;
   EffectFamily family{EffectId::kSuspensionFriction, {}, {}};
+  family.name = "suspension_friction";
+  family.description =
+      "dry (Coulomb) friction in the suspension: Dahl's law or smooth Coulomb, per wheel";
   family.params = {
       {"caster_friction_n", 20.0, 0.0, 250.0, {10.0, 40.0}, &F::caster_friction, "N"},
       {"drive_friction_n", 20.0, 0.0, 250.0, {10.0, 40.0}, &F::drive_friction, "N"},
@@ -287,6 +289,9 @@ EffectFamily SuspensionFrictionFamily() {
 EffectFamily InertialPitchFamily() {
   using F = EffectParams;
   EffectFamily family{EffectId::kInertialPitch, {}, {}};
+  family.name = "inertial_pitch";
+  family.description =
+      "pitch torque from longitudinal acceleration (the Γθ term), chair and occupant levers";
   family.params = {
       {"cm_lever_m", 0.2, -1.5, 1.5, {0.0}, &F::cm_lever, "m"},
       {"load_cm_lever_m", 0.2, -1.5, 1.5, {0.0}, &F::load_cm_lever, "m"}};
@@ -305,6 +310,9 @@ EffectFamily InertialPitchFamily() {
 EffectFamily MarkerOffsetFamily() {
   using F = EffectParams;
   EffectFamily family{EffectId::kMarkerOffset, {}, {}};
+  family.name = "marker_offset";
+  family.description =
+      "tracked origin not at O_V: a lever arm (forward, up) mixes pitch into the measured x and altitude";
   family.params = {
       {"marker_lever_x_m", 0.1, -1.0, 1.0, {0.0, 0.15}, &F::marker_lever_x, "m"},
       {"marker_lever_z_m", 0.2, -1.5, 1.5, {0.0, 0.5}, &F::marker_lever_z, "m"}};

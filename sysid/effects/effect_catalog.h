@@ -86,6 +86,8 @@ struct EffectFamily {
   void (*copy_member)(const EffectMembers& from, EffectMembers& to){nullptr};
   /// The member as named flags for reports (1 or 0); null for a family of one law.
   std::vector<std::pair<std::string, double>> (*member_flags)(const EffectMembers& member){nullptr};
+  const char* name{""};         ///< the spec's id (EffectName)
+  const char* description{""};  ///< one line (EffectDescription)
   /// The hidden effect's values at strength s > 0 on `chair` (TruthEffect).
   EffectParams (*truth)(double s, const Chair& chair){nullptr};
 };
