@@ -1,17 +1,19 @@
 #!/bin/sh
-# Runs the three-process end-to-end tests (SessionEndToEnd.*) N times while stress-ng keeps
-# every core busy, and prints how often each test passed. Evidence that the tests synchronise
-# on events, not on scheduling luck (issue 10, item 8).
+# Runs the end-to-end tests that start pwsim processes N times while stress-ng keeps every core
+# busy, and prints how often each test passed. Evidence that the tests synchronise on events,
+# not on scheduling luck (issue 10, item 8; issue 42, item 5): the three-process session tests
+# (hardware_e2e_test), platform-sim as a process (hardware_platform_sim_e2e_test) and the
+# headset and drive links (hardware_link_e2e_test), all with tests/hardware/child_process.h.
 #
 # Usage: scripts/e2e-under-load.sh [N=50] [BUILD_DIR=build] [STRESSORS=nproc]
-# Needs: BUILD_DIR/pwsim and BUILD_DIR/tests/hardware/hardware_e2e_test built; stress-ng.
+# Needs: BUILD_DIR/pwsim and the test binaries built; stress-ng.
 # The binaries are copied first, so rebuilding meanwhile does not change what is tested.
 set -eu
 n=${1:-50}
 build=${2:-build}
 stressors=${3:-$(nproc)}
-test_bin="$build/tests/hardware/hardware_e2e_test"
-for f in "$build/pwsim" "$test_bin"; do
+tests="hardware_e2e_test hardware_platform_sim_e2e_test hardware_link_e2e_test"
+for f in "$build/pwsim" $(for t in $tests; do echo "$build/tests/hardware/$t"; done); do
   [ -x "$f" ] || { echo "e2e-under-load: $f not built" >&2; exit 2; }
 done
 command -v stress-ng >/dev/null 2>&1 || { echo "e2e-under-load: stress-ng not installed (scripts/install-deps.sh)" >&2; exit 2; }
@@ -24,23 +26,29 @@ cleanup() {
 }
 trap cleanup EXIT INT TERM
 cp "$build/pwsim" "$work/pwsim"
-cp "$test_bin" "$work/hardware_e2e_test"
+for t in $tests; do cp "$build/tests/hardware/$t" "$work/$t"; done
 
 # One CPU hog per core (or STRESSORS), for as long as the runs take.
 stress-ng --cpu "$stressors" --cpu-method matrixprod --quiet >/dev/null 2>&1 &
 stress_pid=$!
 
-echo "e2e-under-load: $n runs of SessionEndToEnd.* with stress-ng --cpu $stressors on $(nproc) cores"
+echo "e2e-under-load: $n runs of $tests with stress-ng --cpu $stressors on $(nproc) cores"
 echo "  load average at start: $(cut -d' ' -f1-3 /proc/loadavg)"
 : >"$work/results"
 i=1
 while [ "$i" -le "$n" ]; do
-  PWSIM_E2E_PWSIM="$work/pwsim" "$work/hardware_e2e_test" --gtest_filter='SessionEndToEnd.*' \
-    >"$work/run.log" 2>&1 || true
-  grep -E '^\[ +(OK|FAILED|SKIPPED) +\] SessionEndToEnd\.[A-Za-z]+ \(' "$work/run.log" |
-    sed -E 's/^\[ +([A-Z]+) +\] SessionEndToEnd\.([A-Za-z]+) .*/\2 \1/' >>"$work/results"
-  if grep -q '^\[  FAILED  \] SessionEndToEnd\.[A-Za-z]* (' "$work/run.log"; then
-    echo "  run $i: FAILED"; grep -B2 -A12 'Failure' "$work/run.log" | head -40 | sed 's/^/    /'
+  failed=""
+  for t in $tests; do
+    PWSIM_E2E_PWSIM="$work/pwsim" "$work/$t" >"$work/run.log" 2>&1 || true
+    grep -E '^\[ +(OK|FAILED|SKIPPED) +\] [A-Za-z0-9_/.]+ \(' "$work/run.log" |
+      sed -E 's/^\[ +([A-Z]+) +\] ([A-Za-z0-9_/.]+) .*/\2 \1/' >>"$work/results"
+    if grep -q '^\[  FAILED  \] [A-Za-z0-9_/.]* (' "$work/run.log"; then
+      failed="$failed $t"
+      grep -B2 -A12 'Failure' "$work/run.log" | head -40 | sed 's/^/    /'
+    fi
+  done
+  if [ -n "$failed" ]; then
+    echo "  run $i: FAILED in$failed"
   else
     echo "  run $i: ok (load $(cut -d' ' -f1 /proc/loadavg))"
   fi

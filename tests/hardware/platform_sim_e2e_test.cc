@@ -32,7 +32,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kPwsim = std::string(PWSIM_BINARY_DIR) + "/pwsim";
+/// The binary under test: PWSIM_E2E_PWSIM when set (scripts/e2e-under-load.sh runs a copy), else
+/// the build's.
+const std::string kPwsim = std::getenv("PWSIM_E2E_PWSIM") != nullptr ? std::string(std::getenv("PWSIM_E2E_PWSIM"))
+                                                                     : std::string(PWSIM_BINARY_DIR) + "/pwsim";
 const fs::path kPw4Dof = fs::path(PWSIM_SOURCE_DIR) / "scenes/platforms/pw4dof.yaml";
 constexpr int kGuardMs = 60'000;
 
