@@ -18,10 +18,11 @@ if (has_slice) {
 }
 set title "grey: neutral; colour: ".words
 set xlabel "x, forward [m]"; set ylabel "y, left [m]"; set zlabel "z, up [m]" rotate parallel
-set view 62, 28
+set view 62, 28, 0.85  # room for the key below
 set view equal xyz
 set xyplane at 0
-set key below center maxrows 3 font ",9"
+# the key under the plot from its left (centred, its two columns ran off the image's left edge)
+set key default; set key below left vertical maxrows 3 Left reverse font ",9"
 set grid
 splot geo index 0 using 1:2:3 with lines lc rgb "#B0B0B0" lw 1 title "everything at neutral", \
       geo index 1 using 1:2:($4 >= 0 ? $3 : 1/0) with lines lc rgb "#0072B2" lw 4 title "legs / rail (stroke) at the pose", \
@@ -36,7 +37,7 @@ if (has_slice) {
   set cblabel "largest stroke use at heave 0 (share of the half-stroke from neutral)"
   set cbrange [0:1.5]
   set palette defined (0 "#FFFFFF", 1 "#6BAED6", 1.0001 "#D0D0D0", 1.5 "#808080")
-  set key below center maxrows 2 font ",9"
+  set key default; set key below center maxrows 2 font ",9"
   set object 1 rect from -roll_box,-pitch_box to roll_box,pitch_box front fs empty border lc rgb "#0072B2" dt 2 lw 2
   set xrange [-1.5*roll_box:1.5*roll_box]; set yrange [-1.5*pitch_box:1.5*pitch_box]
   plot slice index 0 using 1:2:4 with image notitle, \
