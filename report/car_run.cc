@@ -201,6 +201,7 @@ void RenderCarTrial(const vehicle::CarScene& scene, const std::vector<CarSample>
   render::VideoWriter video({out_dir / "video.mp4", renderer.width(), renderer.height(), config.fps,
                              render::VideoCodec::kH264, config.crf});
   std::vector<double> frame(frames), tick(frames), time(frames), cx(frames), cy(frames), cz(frames), cyaw(frames);
+  if (options.progress) options.progress("render", 0, static_cast<int>(frames));
   for (std::size_t k = 0; k < frames; ++k) {
     const std::size_t row = k * static_cast<std::size_t>(ticks_per_frame);
     const CarSample& s = samples[row];
@@ -210,7 +211,6 @@ void RenderCarTrial(const vehicle::CarScene& scene, const std::vector<CarSample>
     const double t = scene.clock.TimeAt(s.tick);
     render::Image image = render::CopyImage(renderer.Render(X_WV, X_WC, t));
     render::DashboardReading reading;
-  if (options.progress) options.progress("render", 0, static_cast<int>(frames));
     reading.engine_rpm = vehicle::EngineRpm(s.state);
     reading.speed_kmh = vehicle::Speed(s.state) * 3.6;
     reading.gear = s.input.gear;
@@ -225,6 +225,7 @@ void RenderCarTrial(const vehicle::CarScene& scene, const std::vector<CarSample>
     cy[k] = X_WC.translation().y();
     cz[k] = X_WC.translation().z();
     cyaw[k] = s.state.yaw;
+    if (options.progress) options.progress("render", static_cast<int>(k + 1), static_cast<int>(frames));
   }
   video.Close();
   TrialTable table(frames);
@@ -234,7 +235,6 @@ void RenderCarTrial(const vehicle::CarScene& scene, const std::vector<CarSample>
   table.Add("cam_x_m", cx);
   table.Add("cam_y_m", cy);
   table.Add("cam_z_m", cz);
-    if (options.progress) options.progress("render", static_cast<int>(k + 1), static_cast<int>(frames));
   table.Add("cam_yaw_rad", cyaw);
   table.WriteCsv(out_dir / "frames.csv");
   summary["render"] = {{"video", "video.mp4"},
