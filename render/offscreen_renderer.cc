@@ -2,6 +2,7 @@
 
 #include <GL/osmesa.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <map>
@@ -93,7 +94,10 @@ Eigen::Matrix4d GlEyeInCamera() {
   return m;
 }
 
-osg::ref_ptr<osg::Texture2D> MakeOsgTexture(TextureKind kind, std::uint32_t seed) {
+/// A repeating texture, mip-mapped (the chain built from the image: a minified floor shows the
+/// mean of its texels, not a beat of them against the pixel grid) and sampled with up to
+/// `anisotropy` taps along the direction of strongest minification.
+osg::ref_ptr<osg::Texture2D> MakeOsgTexture(TextureKind kind, std::uint32_t seed, int anisotropy) {
   const TextureImage texture = MakeTexture(kind, seed);
   auto* data = new unsigned char[texture.rgb.size()];
   std::memcpy(data, texture.rgb.data(), texture.rgb.size());
@@ -105,6 +109,7 @@ osg::ref_ptr<osg::Texture2D> MakeOsgTexture(TextureKind kind, std::uint32_t seed
   out->setWrap(osg::Texture::WRAP_T, osg::Texture::REPEAT);
   out->setFilter(osg::Texture::MIN_FILTER, osg::Texture::LINEAR_MIPMAP_NEAREST);
   out->setFilter(osg::Texture::MAG_FILTER, osg::Texture::LINEAR);
+  out->setMaxAnisotropy(static_cast<float>(anisotropy));  // GL clamps it to the context's maximum
   return out;
 }
 
@@ -145,7 +150,8 @@ osg::ref_ptr<osg::Program> MakeProgram(bool textured) {
 /// One Geode per frame of reference; quads of one texture share one Geometry. Lighting is off:
 /// a fixed shade per quad (from its normal and the scene's light direction) is baked into the
 /// vertex colours, so pixels do not change when the camera moves (good for optical flow).
-osg::ref_ptr<osg::Geode> MakeGeode(const std::vector<Quad>& quads, const RenderScene& scene) {
+osg::ref_ptr<osg::Geode> MakeGeode(const std::vector<Quad>& quads, const RenderScene& scene,
+                                   int anisotropy) {
   osg::ref_ptr<osg::Geode> geode = new osg::Geode;
   std::map<TextureKind, std::vector<const Quad*>> by_texture;
   for (const Quad& quad : quads) by_texture[quad.texture].push_back(&quad);
@@ -166,8 +172,10 @@ osg::ref_ptr<osg::Geode> MakeGeode(const std::vector<Quad>& quads, const RenderS
                                       static_cast<float>(corner.y()),
                                       static_cast<float>(corner.z())));
         const Eigen::Vector3d d = corner - quad->corners[0];
-        uvs->push_back(osg::Vec2(static_cast<float>(d.dot(u_axis) / u_len / quad->tile),
-                                 static_cast<float>(d.dot(v_axis) / v_len / quad->tile)));
+        uvs->push_back(quad->world_uv ? osg::Vec2(static_cast<float>(corner.x() / quad->tile),
+                                                  static_cast<float>(corner.y() / quad->tile))
+                                      : osg::Vec2(static_cast<float>(d.dot(u_axis) / u_len / quad->tile),
+                                                  static_cast<float>(d.dot(v_axis) / v_len / quad->tile)));
         colors->push_back(osg::Vec4(static_cast<float>(quad->color.r * shade),
                                     static_cast<float>(quad->color.g * shade),
                                     static_cast<float>(quad->color.b * shade), 1.0F));
@@ -181,7 +189,7 @@ osg::ref_ptr<osg::Geode> MakeGeode(const std::vector<Quad>& quads, const RenderS
     const bool textured = kind != TextureKind::kNone;
     state->setAttributeAndModes(MakeProgram(textured).get(), osg::StateAttribute::ON);
     if (textured) {
-      state->setTextureAttributeAndModes(0, MakeOsgTexture(kind, scene.texture_seed).get(),
+      state->setTextureAttributeAndModes(0, MakeOsgTexture(kind, scene.texture_seed, anisotropy).get(),
                                          osg::StateAttribute::ON);
       state->addUniform(new osg::Uniform("tex", 0));
     }
@@ -226,6 +234,7 @@ struct OffscreenRenderer::Impl {
   std::vector<osg::Camera*> clearing;  ///< the cameras that clear: master (mono) or the eyes
   Eigen::Vector3d room_min_W, room_max_W;
   double eye_margin{0.0};  ///< [m] how far inside the room the head must be to skip the clear
+  double anisotropy{1.0};  ///< texture anisotropy in effect (config's, clamped by the context)
 };
 
 OffscreenRenderer::OffscreenRenderer(const RenderScene& scene, const RenderConfig& config)
@@ -248,9 +257,9 @@ OffscreenRenderer::OffscreenRenderer(const RenderScene& scene, const RenderConfi
 
   // The scene graph: room and cushion in W, the chair under its pose X_WV.
   osg::ref_ptr<osg::Group> root = new osg::Group;
-  root->addChild(MakeGeode(scene.world, scene).get());
+  root->addChild(MakeGeode(scene.world, scene, config.anisotropy).get());
   d.chair = new osg::MatrixTransform;
-  d.chair->addChild(MakeGeode(scene.chair, scene).get());
+  d.chair->addChild(MakeGeode(scene.chair, scene, config.anisotropy).get());
   root->addChild(d.chair.get());
 
   osgViewer::Viewer& viewer = d.viewer;
@@ -301,6 +310,12 @@ OffscreenRenderer::OffscreenRenderer(const RenderScene& scene, const RenderConfi
   d.gc->makeCurrent();
   const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
   const auto* version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
+  const auto* extensions = reinterpret_cast<const char*>(glGetString(GL_EXTENSIONS));
+  GLfloat max_anisotropy = 1.0F;
+  if (extensions != nullptr && std::strstr(extensions, "GL_EXT_texture_filter_anisotropic") != nullptr) {
+    glGetFloatv(GL_MAX_TEXTURE_MAX_ANISOTROPY_EXT, &max_anisotropy);
+  }
+  d.anisotropy = std::min(static_cast<double>(config.anisotropy), static_cast<double>(max_anisotropy));
   d.gc->releaseContext();
   if (renderer == nullptr || std::strlen(renderer) == 0) {
     throw RenderError(
@@ -318,6 +333,7 @@ int OffscreenRenderer::width() const { return impl_->config.image_width(); }
 int OffscreenRenderer::height() const { return impl_->config.image_height(); }
 const std::string& OffscreenRenderer::gl_renderer() const { return impl_->renderer; }
 const std::string& OffscreenRenderer::gl_version() const { return impl_->version; }
+double OffscreenRenderer::texture_anisotropy() const { return impl_->anisotropy; }
 
 ImageView OffscreenRenderer::Render(const Eigen::Isometry3d& X_WV, const Eigen::Isometry3d& X_WC,
                                     double time) {

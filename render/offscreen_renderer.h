@@ -50,6 +50,9 @@ class OffscreenRenderer final {
   int height() const;
   const std::string& gl_renderer() const;  ///< e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
   const std::string& gl_version() const;
+  /// The textures' max anisotropy in effect: config.anisotropy clamped by the context's
+  /// GL_MAX_TEXTURE_MAX_ANISOTROPY (1 without GL_EXT_texture_filter_anisotropic).
+  double texture_anisotropy() const;
 
  private:
   struct Impl;

@@ -57,6 +57,7 @@ RenderConfig ParseRenderConfig(const Scene& scene) {
   config.cushion_width =
       map.NumberOr("cushion_width_m", config.cushion_width, Range::Positive(20.0, "m"));
   config.crf = map.IntegerOr("crf", config.crf, 0, 51);
+  config.anisotropy = map.IntegerOr("anisotropy", config.anisotropy, 1, 16);
   if (map.Has("hmd")) {
     YamlMap hmd = map.Map("hmd");
     ReadSize(hmd, "eye_size", &config.hmd.eye_width, &config.hmd.eye_height);

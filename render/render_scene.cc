@@ -9,8 +9,8 @@ namespace {
 using Eigen::Vector3d;
 
 Quad MakeQuad(Vector3d a, Vector3d b, Vector3d c, Vector3d d, Rgb color, TextureKind texture,
-              double tile) {
-  return Quad{{a, b, c, d}, color, texture, tile};
+              double tile, bool world_uv = false) {
+  return Quad{{a, b, c, d}, color, texture, tile, world_uv};
 }
 
 /// The six faces of an axis-aligned box [lo, hi], facing outwards.
@@ -129,12 +129,13 @@ void AddHeightField(std::vector<Quad>* quads, const HeightGrid& grid, Rgb color,
                                     off_floor(at(i + 1, j + 1)) || off_floor(at(i, j + 1)));
       if ((relief || last) && run_start >= 0) {  // the run of floor cells ends before cell i
         quads->push_back(MakeQuad(at(run_start, j), at(i, j), at(i, j + 1), at(run_start, j + 1),
-                                  floor_color, TextureKind::kFloor, 1.0));
+                                  floor_color, TextureKind::kFloor, 1.0, true));
         run_start = -1;
       }
       if (last) break;
       if (relief) {
-        quads->push_back(MakeQuad(at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1), color, texture, 0.5));
+        quads->push_back(
+            MakeQuad(at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1), color, texture, 0.5, true));
       } else if (run_start < 0) {
         run_start = i;
       }
@@ -167,7 +168,7 @@ void AddFloorAround(std::vector<Quad>* quads, const Eigen::AlignedBox2d& floor,
   auto add = [&](double ax, double ay, double bx, double by) {
     if (bx > ax && by > ay) {
       quads->push_back(MakeQuad({ax, ay, z}, {bx, ay, z}, {bx, by, z}, {ax, by, z}, color,
-                                TextureKind::kFloor, 1.0));
+                                TextureKind::kFloor, 1.0, true));
     }
   };
   add(x0, y0, x1, hy0);    // in front of the hole (−y side)

@@ -33,6 +33,11 @@ struct Quad {
   Rgb color;                               ///< multiplies the texture
   TextureKind texture{TextureKind::kNone};
   double tile{1.0};  ///< [m] edge of one texture repeat on the quad
+  /// Texture coordinates from W's x and y, (u, v) = (x, y) / tile, instead of from the quad's
+  /// own corner 0: floors made of many quads (relief cells, floor runs) then show one
+  /// continuous pattern. Per-quad coordinates restart the texture at every 5 cm cell, a
+  /// periodic patch that beats against the pixel grid (moiré).
+  bool world_uv{false};
 };
 
 struct RenderScene {
