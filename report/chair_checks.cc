@@ -245,6 +245,11 @@ nlohmann::ordered_json Braking(const Chair& chair, double load, const std::files
 nlohmann::ordered_json Tip(const Chair& chair, double load, const std::filesystem::path& out) {
   const Chair variant = RearDriveVariant(chair);
   PlanarLayout layout = DefaultPlanarLayout(variant);
+  // The closed form (x_c - x_r)/h takes each wheel's contact under its axle: point contacts and
+  // rigid tyres. Wheels of radius R touch a slope R sin(grade) off that point and their tyres
+  // yield, which moves the grade; they have their own closed-form checks
+  // (tests/engine/full_chair_wheels_test.cc).
+  layout.rolling_envelope = false;
   const double h = variant.cm_height;
   const auto tips_at = [&](double grade, const PlanarLayout& l, double* front_load) {
     FloorMap floor;
