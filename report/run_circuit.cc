@@ -76,6 +76,15 @@ std::string ContactName(int contact, int rows) {
   return std::to_string(contact / 2 + 1) + (contact % 2 == 0 ? "l" : "r");
 }
 
+/// The same contact in words for a figure's legend: its row from the front, its side and kind.
+std::string ContactWords(int contact, int rows, bool caster) {
+  const char* side = contact % 2 == 0 ? "left" : "right";
+  if (contact >= 2 * rows) return std::string("anti-tip wheel, ") + side;
+  const int row = contact / 2;
+  const std::string place = row == 0 ? "front" : row == rows - 1 ? "rear" : rows == 3 ? "middle" : "row " + std::to_string(row + 1);
+  return place + " " + side + (caster ? " caster" : " drive wheel");
+}
+
 TrialTable CircuitColumns(const Scene& scene, const std::vector<FullChairSample>& samples) {
   TrialTable table(samples.size());
   table.Add("t_s", Column(samples, [&](const FullChairSample& s) { return scene.clock.TimeAt(s.tick); }));
@@ -276,10 +285,10 @@ void AddHeadForceBound(const Scene& scene, const std::vector<FullChairSample>& s
   // head_force.png: the deviation against the bound (log scale: the bound is loose)
   plot::Figure figure;
   figure.title = "pwsim run: " + scene.name + ", head specific force against its plausibility bound";
-  figure.x_label = "t [s]";
+  figure.x_label = "time [s]";
   plot::Panel panel;
-  panel.title = "|f_H - (0, 0, g)| at the head; the bound (engine/circuit.h) from the floor, chair and peak speeds";
-  panel.y_label = "[m/s^2]";
+  panel.title = "how far the push felt at the head departs from gravity alone, and the most this floor, chair and drive allow (log scale)";
+  panel.y_label = "specific force beyond gravity [m/s²]";
   panel.log_y = true;
   const auto series = [&](const char* label, unsigned color, const std::vector<double>& y, int dash) {
     plot::Series s;
@@ -291,9 +300,9 @@ void AddHeadForceBound(const Scene& scene, const std::vector<FullChairSample>& s
     s.dash = dash;
     return s;
   };
-  panel.series.push_back(series("head |f - g|", 0x0072B2, deviation, 0));
+  panel.series.push_back(series("at the head", 0x0072B2, deviation, 0));
   if (wall_peak > 0.0) panel.series.push_back(series("at a wall contact (impact, outside the bound)", 0xD55E00, at_wall, 0));
-  panel.series.push_back(series("bound", 0x111111, limit, 2));
+  panel.series.push_back(series("plausibility bound (docs/circuits.md)", 0x111111, limit, 2));
   figure.panels.push_back(panel);
   plot::WriteFigure(out_dir / "head_force.png", figure);
 }
@@ -380,7 +389,7 @@ void WriteCircuitFigures(const Scene& scene, const std::vector<FullChairSample>&
   }
   plot::Figure top;
   top.title = "pwsim run: " + scene.name + " from above";
-  top.x_label = "x [m] (W)";
+  top.x_label = "along the room [m]";
   // a map: as tall as the path's extent needs at ~650 px of plot width (beside the key)
   double x_lo = 0.0, x_hi = 1.0, y_lo = 0.0, y_hi = 1.0;
   bool first = true;
@@ -399,7 +408,7 @@ void WriteCircuitFigures(const Scene& scene, const std::vector<FullChairSample>&
   top.panel_height_px = static_cast<int>(std::clamp(120.0 + 560.0 * aspect, 360.0, 1100.0));
   plot::Panel map;
   map.title = "path, casters and contacts";
-  map.y_label = "y [m] (W, left)";
+  map.y_label = "across the room, to the left [m]";
   map.equal_axes = true;
   for (plot::Series* s : {&walls, &obstacles, &relief, &gates, &footprint, &path, &casters, &hits, &lifted}) {
     if (s->x.empty()) {  // keep the legend stable: an empty series is one NaN point
@@ -429,19 +438,23 @@ void WriteCircuitFigures(const Scene& scene, const std::vector<FullChairSample>&
   loads.y_label = "load [N]";
   for (int c = 0; c < contacts; ++c) {
     const auto i = static_cast<std::size_t>(c);
-    const std::string name = ContactName(c, rows);
-    loads.series.push_back(over_time(name, [i](const FullChairSample& s) { return s.contacts[i].load; }));
+    const std::string words = ContactWords(c, rows, IsCaster(scene, c));
+    loads.series.push_back(over_time(words, [i](const FullChairSample& s) { return s.contacts[i].load; }));
     if (IsCaster(scene, c)) {
-      angles.series.push_back(over_time("caster " + name, [i](const FullChairSample& s) { return s.casters[i].angle * kRadToDeg; }));
+      angles.series.push_back(over_time(words, [i](const FullChairSample& s) { return s.casters[i].angle * kRadToDeg; }));
     }
   }
   plot::Panel lift;
   lift.title = "wheels lifted off";
-  lift.y_label = "count [-]";
-  lift.series.push_back(over_time("lift_off_count", [](const FullChairSample& s) { return s.lift_off_count; }));
+  lift.y_label = "wheels off the floor [number]";
+  lift.series.push_back(over_time("wheels lifted off", [](const FullChairSample& s) { return s.lift_off_count; }));
+  double most_lifted = 0.0;
+  for (double v : lift.series.back().y) most_lifted = std::max(most_lifted, v);
+  lift.y_min = -0.2;  // a count: from none, whole wheels up to at least one
+  lift.y_max = std::max(1.0, most_lifted) + 0.2;
   plot::Figure wheels;
   wheels.title = "pwsim run: " + scene.name + ", casters and wheel loads";
-  wheels.x_label = "t [s]";
+  wheels.x_label = "time [s]";
   if (!angles.series.empty()) wheels.panels.push_back(angles);
   wheels.panels.push_back(loads);
   wheels.panels.push_back(lift);
