@@ -109,22 +109,19 @@ void AddYawedBox(std::vector<Quad>* quads, const Eigen::Vector2d& centre, double
   AddPrism(quads, {centre - u - v, centre + u - v, centre + u + v, centre - u + v}, z0, z1, color);
 }
 
-void AddHeightField(std::vector<Quad>* quads, const HeightGrid& grid, Rgb color, TextureKind texture,
-                    double flat, Rgb floor_color) {
-  if (grid.nx < 2 || grid.ny < 2 ||
-      grid.z.size() != static_cast<std::size_t>(grid.nx) * static_cast<std::size_t>(grid.ny)) {
-    return;
-  }
+void AddRelief(std::vector<Quad>* quads, const ReliefGrid& grid, Rgb color, TextureKind texture,
+               double flat, Rgb floor_color) {
+  const int nx = static_cast<int>(grid.x.size()), ny = static_cast<int>(grid.y.size());
+  if (nx < 2 || ny < 2 || grid.z.size() != grid.x.size() * grid.y.size()) return;
   auto at = [&](int i, int j) {
-    return Vector3d(grid.x0 + i * grid.cell, grid.y0 + j * grid.cell,
-                    grid.z[static_cast<std::size_t>(j) * static_cast<std::size_t>(grid.nx) +
-                           static_cast<std::size_t>(i)]);
+    return Vector3d(grid.x[static_cast<std::size_t>(i)], grid.y[static_cast<std::size_t>(j)],
+                    grid.z[static_cast<std::size_t>(j) * grid.x.size() + static_cast<std::size_t>(i)]);
   };
   auto off_floor = [&](const Vector3d& p) { return p.z() != flat; };
-  for (int j = 0; j + 1 < grid.ny; ++j) {
+  for (int j = 0; j + 1 < ny; ++j) {
     int run_start = -1;  // first cell of the current run on the floor
-    for (int i = 0; i + 1 <= grid.nx; ++i) {
-      const bool last = i + 1 == grid.nx;
+    for (int i = 0; i + 1 <= nx; ++i) {
+      const bool last = i + 1 == nx;
       const bool relief = !last && (off_floor(at(i, j)) || off_floor(at(i + 1, j)) ||
                                     off_floor(at(i + 1, j + 1)) || off_floor(at(i, j + 1)));
       if ((relief || last) && run_start >= 0) {  // the run of floor cells ends before cell i
@@ -151,14 +148,78 @@ void AddHeightField(std::vector<Quad>* quads, const HeightGrid& grid, Rgb color,
     quads->push_back(up ? MakeQuad(p0, q0, q, p, side, TextureKind::kNone, 1.0)
                         : MakeQuad(q0, p0, p, q, side, TextureKind::kNone, 1.0));
   };
-  for (int i = 0; i + 1 < grid.nx; ++i) {
+  for (int i = 0; i + 1 < nx; ++i) {
     skirt(at(i, 0), at(i + 1, 0));
-    skirt(at(i + 1, grid.ny - 1), at(i, grid.ny - 1));
+    skirt(at(i + 1, ny - 1), at(i, ny - 1));
   }
-  for (int j = 0; j + 1 < grid.ny; ++j) {
-    skirt(at(grid.nx - 1, j), at(grid.nx - 1, j + 1));
+  for (int j = 0; j + 1 < ny; ++j) {
+    skirt(at(nx - 1, j), at(nx - 1, j + 1));
     skirt(at(0, j + 1), at(0, j));
   }
+}
+
+void AddHeightField(std::vector<Quad>* quads, const HeightGrid& grid, Rgb color, TextureKind texture,
+                    double flat, Rgb floor_color) {
+  if (grid.nx < 2 || grid.ny < 2 ||
+      grid.z.size() != static_cast<std::size_t>(grid.nx) * static_cast<std::size_t>(grid.ny)) {
+    return;
+  }
+  ReliefGrid relief;
+  for (int i = 0; i < grid.nx; ++i) relief.x.push_back(grid.x0 + i * grid.cell);
+  for (int j = 0; j < grid.ny; ++j) relief.y.push_back(grid.y0 + j * grid.cell);
+  relief.z = grid.z;
+  AddRelief(quads, relief, color, texture, flat, floor_color);
+}
+
+std::vector<double> FloorGridLines(const FloorMap& map, bool along_x, double lo, double hi,
+                                   double cell) {
+  std::vector<double> lines{lo, hi};
+  if (!(hi > lo) || !(cell > 0.0)) return {lo};
+  const int steps = static_cast<int>(std::ceil((hi - lo) / cell));
+  for (int k = 1; k < steps; ++k) lines.push_back(lo + k * cell);
+  auto add = [&](double u) {
+    if (u > lo && u < hi) lines.push_back(u);
+  };
+  if (along_x) {
+    for (double x : map.profile.x) add(x);
+  }
+  for (const FloorFeature& f : map.features) {
+    const double u_min = along_x ? f.x_min : f.y_min, u_max = along_x ? f.x_max : f.y_max;
+    add(u_min);
+    add(u_max);
+    if (f.ramp > 0.0) {
+      add(std::min(u_min + f.ramp, u_max));
+      add(std::max(u_max - f.ramp, u_min));
+    } else {
+      add(u_min - kStepFaceRun);
+      add(u_max + kStepFaceRun);
+    }
+  }
+  if (map.grid) {
+    const HeightGrid& g = *map.grid;
+    const int n = along_x ? g.nx : g.ny;
+    for (int k = 0; k < n; ++k) add((along_x ? g.x0 : g.y0) + k * g.cell);
+  }
+  std::sort(lines.begin(), lines.end());
+  std::vector<double> out;
+  for (double u : lines) {
+    if (out.empty() || u - out.back() > 1e-9) out.push_back(u);
+  }
+  out.back() = hi;  // the end stays exact (a line within 1e-9 below it merged into it)
+  return out;
+}
+
+ReliefGrid SampleFloorRelief(const FloorMap& map, const Eigen::AlignedBox2d& box, double cell) {
+  ReliefGrid grid;
+  grid.x = FloorGridLines(map, true, box.min().x(), box.max().x(), cell);
+  grid.y = FloorGridLines(map, false, box.min().y(), box.max().y(), cell);
+  grid.z.resize(grid.x.size() * grid.y.size());
+  for (std::size_t j = 0; j < grid.y.size(); ++j) {
+    for (std::size_t i = 0; i < grid.x.size(); ++i) {
+      grid.z[j * grid.x.size() + i] = map.HeightAt(grid.x[i], grid.y[j]);
+    }
+  }
+  return grid;
 }
 
 void AddFloorAround(std::vector<Quad>* quads, const Eigen::AlignedBox2d& floor,
@@ -278,23 +339,11 @@ RenderScene BuildCircuitRenderScene(const Scene& scene, const RenderConfig& conf
     const Eigen::Vector2d size = relief.sizes();
     double cell = relief_cell;
     while ((size.x() / cell + 2) * (size.y() / cell + 2) > 250000.0) cell *= 1.5;  // bounded
-    HeightGrid grid;
-    grid.x0 = relief.min().x();
-    grid.y0 = relief.min().y();
-    grid.cell = cell;
-    grid.nx = static_cast<int>(std::ceil(size.x() / cell)) + 1;
-    grid.ny = static_cast<int>(std::ceil(size.y() / cell)) + 1;
-    grid.z.resize(static_cast<std::size_t>(grid.nx) * static_cast<std::size_t>(grid.ny));
-    for (int j = 0; j < grid.ny; ++j) {
-      for (int i = 0; i < grid.nx; ++i) {
-        grid.z[static_cast<std::size_t>(j * grid.nx + i)] =
-            map.HeightAt(grid.x0 + i * cell, grid.y0 + j * cell);
-      }
-    }
-    if (grid.nx >= 2 && grid.ny >= 2) {
-      AddHeightField(&out.world, grid, Rgb{0.95F, 0.55F, 0.15F}, TextureKind::kCushion, 0.0, floor);
-      hole = Eigen::AlignedBox2d(Eigen::Vector2d(grid.x0, grid.y0),
-                                 Eigen::Vector2d(grid.x0 + (grid.nx - 1) * cell, grid.y0 + (grid.ny - 1) * cell));
+    const ReliefGrid grid = SampleFloorRelief(map, relief, cell);
+    if (grid.x.size() >= 2 && grid.y.size() >= 2) {
+      AddRelief(&out.world, grid, Rgb{0.95F, 0.55F, 0.15F}, TextureKind::kCushion, 0.0, floor);
+      hole = Eigen::AlignedBox2d(Eigen::Vector2d(grid.x.front(), grid.y.front()),
+                                 Eigen::Vector2d(grid.x.back(), grid.y.back()));
     }
   }
   if (hole.isEmpty()) hole = Eigen::AlignedBox2d(lo, lo);  // a point: the floor is whole

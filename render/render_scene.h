@@ -53,7 +53,8 @@ struct RenderScene {
 };
 
 /// A circuit scene (scene.circuit): a floor over the circuit's extent with its relief (every
-/// layer of the floor map sampled on a grid of `relief_cell` [m] where it is not flat), the
+/// layer of the floor map sampled where it is not flat, on the lines of FloorGridLines with
+/// `relief_cell` [m] between breakpoints: ramps, dips and steps where the physics has them), the
 /// walls (scene.room.height high), obstacles, gates (two posts and a stripe on the floor) and
 /// the chair. No ceiling: the sky is the clear colour. @pre scene.is_circuit().
 RenderScene BuildCircuitRenderScene(const Scene& scene, const RenderConfig& config,
@@ -78,14 +79,41 @@ void AddWall(std::vector<Quad>* quads, const Eigen::Vector2d& a, const Eigen::Ve
 void AddYawedBox(std::vector<Quad>* quads, const Eigen::Vector2d& centre, double hx, double hy,
                  double yaw, double z0, double z1, Rgb color);
 
-/// The relief of a height grid set into a floor at height `flat`: one quad per cell with any
-/// corner off the floor (above it, or below it in a dip), the cells on the floor as floor
+/// Heights on a rectilinear grid: node (i, j) at (x[i], y[j]) holds z[j · x.size() + i].
+struct ReliefGrid {
+  std::vector<double> x;  ///< [m] increasing grid lines along W's x
+  std::vector<double> y;  ///< [m] increasing, along W's y
+  std::vector<double> z;  ///< [m] x.size() · y.size() heights
+};
+
+/// The relief of a grid set into a floor at height `flat`: one quad per cell with any corner
+/// off the floor (above it, or below it in a dip), the cells on the floor as floor
 /// (`floor_color`, kFloor; one quad per run of them along x), and a skirt between the floor
 /// around and the grid's border where it is off the floor. The floor outside the grid is
-/// AddFloorAround's.
+/// AddFloorAround's. Relief and floor quads take their texture coordinates from W (world_uv).
+void AddRelief(std::vector<Quad>* quads, const ReliefGrid& grid, Rgb color,
+               TextureKind texture = TextureKind::kCushion, double flat = 0.0,
+               Rgb floor_color = Rgb{0.85F, 0.80F, 0.72F});
+/// AddRelief of a regular height grid (node (i, j) at (x0 + i·cell, y0 + j·cell)).
 void AddHeightField(std::vector<Quad>* quads, const HeightGrid& grid, Rgb color,
                     TextureKind texture = TextureKind::kCushion, double flat = 0.0,
                     Rgb floor_color = Rgb{0.85F, 0.80F, 0.72F});
+
+/// [m] how far outside a sharp edge (a feature with ramp 0) its second grid line lies: the
+/// step's face is drawn that close to upright.
+inline constexpr double kStepFaceRun = 1e-4;
+
+/// The grid lines over [lo, hi] along x (`along_x`) or y that draw `map` as the physics sees
+/// it: lo, hi, every `cell` between, and every breakpoint of a layer inside (the profile's
+/// knots along x; each feature's edges and taper knots, x_min + ramp and x_max − ramp; the
+/// height grid's lines); a sharp edge (ramp 0) also gets a line kStepFaceRun outside it.
+/// Between two lines each layer is linear or bilinear in (x, y) (a plane feature's taper
+/// excepted: quadratic, off by at most grade · cell² / (4 ramp)), so the drawn surface is the
+/// floor map's wherever a cell's two triangles match its bilinear patch.
+std::vector<double> FloorGridLines(const FloorMap& map, bool along_x, double lo, double hi,
+                                   double cell);
+/// map.HeightAt at the nodes of FloorGridLines over `box` along both axes.
+ReliefGrid SampleFloorRelief(const FloorMap& map, const Eigen::AlignedBox2d& box, double cell);
 
 /// The floor at height z over the box `floor` less the rectangle `hole` inside it (up to four
 /// quads, kFloor).
