@@ -47,7 +47,7 @@ struct RenderConfig {
   std::uint32_t texture_seed{20240601};  ///< procedural textures (deterministic)
   /// Textures are mip-mapped; above 1, also sampled anisotropically (up to this many taps
   /// along the floor's direction of minification: a sharper far floor). llvmpipe then takes
-  /// ≈ 3× the CPU per frame (1280×720 circuit view: 20 → 73 ms), so 1 by default.
+  /// ≈ 3.5× the CPU per frame (1280×720 circuit view: 20 → 73 ms), so 1 by default.
   int anisotropy{1};
   double cushion_width{1.8};             ///< [m] across the path
   int crf{20};                           ///< H.264 constant rate factor (0 = best, 51 = worst)

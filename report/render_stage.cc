@@ -348,6 +348,7 @@ void RenderTrial(const Scene& scene, const TrialTable& table, const RenderStageO
                                      {"video", "video.mp4"},
                                      {"encoder", h264.encoder()},
                                      {"gl_renderer", renderer.gl_renderer()},
+                                     {"texture_anisotropy", renderer.texture_anisotropy()},
                                      {"wall_s", wall_s},
                                      {"frames_per_s", static_cast<double>(frame_count) / wall_s}};
   if (config.stereo) {

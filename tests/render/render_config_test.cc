@@ -64,6 +64,19 @@ TEST(RenderConfigTest, UnknownKeyFails) {
   }
 }
 
+// Tests that anisotropic filtering is off by default, read from the section, and refused
+// outside 1..16 naming the field.
+TEST(RenderConfigTest, AnisotropyReadAndBounded) {
+  EXPECT_EQ(ParseRenderConfig(SceneWithRender("")).anisotropy, 1);
+  EXPECT_EQ(ParseRenderConfig(SceneWithRender("render: {anisotropy: 8}\n")).anisotropy, 8);
+  try {
+    ParseRenderConfig(SceneWithRender("render: {anisotropy: 32}\n"));
+    FAIL() << "no error";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("render.anisotropy"), std::string::npos) << error.what();
+  }
+}
+
 // Tests that a frame rate which does not divide the clock rate fails (frame k = tick k·N).
 TEST(RenderConfigTest, FpsMustDivideClockRate) {
   EXPECT_THROW(ParseRenderConfig(SceneWithRender("render: {fps: 60}\n")), InputError);
