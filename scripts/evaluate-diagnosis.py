@@ -286,6 +286,7 @@ def reliability_figure(sets, png):
               "plot " + ", ".join(plots) + "\n")
     subprocess.run(["gnuplot"], input=script, text=True, check=True)
     os.replace(tmp, png)
+    os.remove(data)
     return True
 
 
@@ -305,7 +306,9 @@ def calibration_section(args, results, md):
              "Wilson interval). Brier score = mean (p − y)²; for reference, the Brier score of the constant "
              "base rate of that split and of the categorical answer (1 for a confirmed cause, else 0).\n\n")
     png = getattr(args, "reliability_png", "")
-    if png and reliability_figure([(n, p) for n, p in sets if n != "evaluation + false alarm"], png):
+    # The figure shows the evaluation (the calibration measured) where there is one.
+    shown = [(n, p) for n, p in sets if n == "evaluation"] or sets[:1]
+    if png and reliability_figure(shown, png):
         md.write(f"![reliability](" + os.path.relpath(png, os.path.dirname(os.path.abspath(args.md))) + ")\n\n")
     for name, pairs in sets:
         members = dict(splits)[name]
@@ -316,7 +319,14 @@ def calibration_section(args, results, md):
             found = {c["effect"] for c in r["causes"] if c.get("confirmed")}
             present = set(effects_of(r["row"]))
             categorical += [(float(e in found), int(e in present)) for e in CATALOGUE]
-        md.write(f"**{name}** ({len(rs)} sets, {len(pairs)} effect-sets, {sum(y for _, y in pairs)} present): "
+        stored = {}
+        for r in rs:
+            inputs = r.get("probability_inputs") or {}
+            key = f"π {inputs.get('prior', '?'):.3g}, ν {inputs.get('samples_per_unit', '?'):.3g}" if inputs else "unknown"
+            stored[key] = stored.get(key, 0) + 1
+        constants = "; ".join(f"{k} in {n}" for k, n in stored.items())
+        md.write(f"**{name}** ({len(rs)} sets, {len(pairs)} effect-sets, {sum(y for _, y in pairs)} present; "
+                 f"probabilities as the diagnosis wrote them, constants {constants}): "
                  f"Brier **{brier(pairs):.4f}** (base rate {base:.3f}: {brier([(base, y) for _, y in pairs]):.4f}; "
                  f"categorical: {brier(categorical):.4f})\n\n")
         md.write("| predicted | effect-sets | mean predicted | observed | 90 % interval |\n|---|---|---|---|---|\n")
