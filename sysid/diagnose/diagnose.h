@@ -261,6 +261,10 @@ std::vector<bool> ChooseHeldOut(const std::vector<effects::TrialRecord>& trials,
 std::vector<bool> ChooseSelection(const std::vector<effects::TrialRecord>& trials,
                                   const std::vector<bool>& report);
 
+/// One measured trial as the diagnosis reads it (its name, terrain, load, nominal speed and
+/// track), on `chair`.
+effects::TrialRecord RecordOf(const MeasuredTrial& trial, const Chair& chair);
+
 /// Measured trials as diagnosis records. When the chair has no identified gm (or lm), the base
 /// model is identified (sysid/identify/, the paper's §IV) on the trials ChooseHeldOut keeps
 /// for training, so held-out trials stay out of every fit. `base_source` says which.

@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "engine/check.h"
+#include "sysid/diagnose/diagnose.h"
 #include "sysid/diagnose/greybox_fit.h"
 
 namespace pwsim::diagnose {
@@ -17,17 +18,7 @@ ModelCheck CheckModelOnTrials(const std::vector<MeasuredTrial>& trials, const Ch
   out.held_out = std::find(judged.begin(), judged.end(), true) != judged.end();
   std::vector<effects::TrialRecord> records;
   for (const MeasuredTrial& m : trials) {
-    effects::TrialRecord r;
-    r.name = m.name;
-    r.chair = chair;
-    r.terrain = m.terrain;
-    r.load_kg = m.load_kg;
-    r.speed = m.NominalSpeed();
-    r.t = m.track.t;
-    r.x = m.track.x;
-    r.z = m.track.z;
-    r.pitch = m.track.pitch;
-    records.push_back(WithoutOutliers(std::move(r), rest_window));  // noise_model.h
+    records.push_back(WithoutOutliers(RecordOf(m, chair), rest_window));  // noise_model.h
   }
   out.noise = EstimateNoiseModel(records, rest_window);
   std::vector<FitTrial> fit_trials;

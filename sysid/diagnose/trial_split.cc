@@ -61,6 +61,20 @@ IdentifyOptions BaseIdentifyOptions() {
 }
 }  // namespace
 
+effects::TrialRecord RecordOf(const MeasuredTrial& trial, const Chair& chair) {
+  effects::TrialRecord r;
+  r.name = trial.name;
+  r.chair = chair;
+  r.terrain = trial.terrain;
+  r.load_kg = trial.load_kg;
+  r.speed = trial.NominalSpeed();
+  r.t = trial.track.t;
+  r.x = trial.track.x;
+  r.z = trial.track.z;
+  r.pitch = trial.track.pitch;
+  return r;
+}
+
 std::vector<effects::TrialRecord> RecordsFromMeasured(const std::vector<MeasuredTrial>& trials,
                                                       std::string* base_source) {
   std::vector<effects::TrialRecord> records;
@@ -70,17 +84,7 @@ std::vector<effects::TrialRecord> RecordsFromMeasured(const std::vector<Measured
                        "the same wheels as " + trials.front().chair_file.string(),
                        std::to_string(m.chair.wheel_count()) + " wheels");
     }
-    effects::TrialRecord r;
-    r.name = m.name;
-    r.chair = m.chair;
-    r.terrain = m.terrain;
-    r.load_kg = m.load_kg;
-    r.speed = m.NominalSpeed();
-    r.t = m.track.t;
-    r.x = m.track.x;
-    r.z = m.track.z;
-    r.pitch = m.track.pitch;
-    records.push_back(std::move(r));
+    records.push_back(RecordOf(m, m.chair));
   }
   Chair chair = trials.front().chair;
   if (chair.gm && chair.lm) {
