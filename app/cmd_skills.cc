@@ -11,6 +11,7 @@
 
 #include "app/commands.h"
 #include "app/output_folder.h"
+#include "app/progress.h"
 #include "report/skill_sheet.h"
 
 namespace pwsim::app {
@@ -43,6 +44,7 @@ const CommandSpec& SkillsSpec() {
           {"session", "NAME", "-", "session", "the session of the RUN_DIRs (e.g. a date or a condition)"},
           {"before", "DIR,...", "-", "", "the runs of the session before training, in attempt order (with --after)"},
           {"after", "DIR,...", "-", "", "the runs of the session after training, in attempt order (with --before)"},
+          QuietOption(),  // accepted as by every command; the sheet takes seconds and prints no progress
       },
       "RUN_DIR  output folders of `pwsim run` or `pwsim drive` on a skill item (each with score.json), in attempt order; "
       "the attempts of an item are numbered in the order given. sheet.md gives per session each item's score (the mean "
