@@ -196,16 +196,20 @@ void PlotResiduals(const diagnose::TrialAnalysis& t, const std::string& cause,
     ebp[k] = 1e3 * (t.pitch[k] - t.pitch_base[k]);
     eep[k] = 1e3 * (t.pitch[k] - t.pitch_ext[k]);
   }
-  const std::string ext = "extended (" + cause + ")";
+  std::string words = cause;  // the effect's id in words: tyre_compliance -> tyre compliance
+  std::replace(words.begin(), words.end(), '_', ' ');
+  const std::string ext = "model with " + words;
+  const std::string base = "base model (seed 000)";
   std::vector<plot::SharedXPanel> panels{
-      {"Z: measured vs models", "Z [mm]",
-       {{"measured", mz, 0x222222}, {"base", bz, 0x0072B2}, {ext, xz, 0xD55E00}}},
-      {"Z residual before/after", "Z residual [mm]", {{"base", ebz, 0x0072B2}, {ext, eez, 0xD55E00}}},
-      {"pitch: measured vs models", "pitch [mrad]",
-       {{"measured", mp, 0x222222}, {"base", bp, 0x0072B2}, {ext, xp, 0xD55E00}}},
-      {"pitch residual before/after", "pitch residual [mrad]",
-       {{"base", ebp, 0x0072B2}, {ext, eep, 0xD55E00}}}};
-  plot::WriteSharedXFigure(file, tz, panels, "t [s]", 1100, 240);
+      {"chair height at the marker: measured and modelled", "height [mm]",
+       {{"measured", mz, 0x222222}, {base, bz, 0x0072B2}, {ext, xz, 0xD55E00}}},
+      {"height: what each model misses (measured - model)", "height error [mm]",
+       {{base, ebz, 0x0072B2}, {ext, eez, 0xD55E00}}},
+      {"chair pitch (nose up +): measured and modelled", "pitch [mrad]",
+       {{"measured", mp, 0x222222}, {base, bp, 0x0072B2}, {ext, xp, 0xD55E00}}},
+      {"pitch: what each model misses (measured - model)", "pitch error [mrad]",
+       {{base, ebp, 0x0072B2}, {ext, eep, 0xD55E00}}}};
+  plot::WriteSharedXFigure(file, tz, panels, "time [s]", 1100, 240);
 }
 
 void PlotLocated(const diagnose::LocatedResidual& loc, const std::filesystem::path& file) {
@@ -214,14 +218,16 @@ void PlotLocated(const diagnose::LocatedResidual& loc, const std::filesystem::pa
     return v;
   };
   std::vector<plot::SharedXPanel> panels{
-      {"pitch residual x sign of slope change vs wheel position from a terrain breakpoint",
-       "pitch residual [mrad]",
-       {{"slow trials", milli(loc.slow_pitch), 0x0072B2}, {"fast trials", milli(loc.fast_pitch), 0xD55E00}}},
-      {"Z residual x sign of slope change vs wheel position from a terrain breakpoint",
-       "Z residual [mm]",
-       {{"slow trials", milli(loc.slow_z), 0x0072B2}, {"fast trials", milli(loc.fast_z), 0xD55E00}}}};
+      {"where the base model's pitch error sits around the obstacle's edges (mean near each slope change, "
+       "signed so that ramp feet and crests add up)",
+       "pitch error [mrad]",
+       {{"slower trials", milli(loc.slow_pitch), 0x0072B2}, {"faster trials", milli(loc.fast_pitch), 0xD55E00}}},
+      {"the same for the height error: curves that agree between slow and fast trials are fixed in "
+       "space (the wheels and the ground), not in time (a resonance)",
+       "height error [mm]",
+       {{"slower trials", milli(loc.slow_z), 0x0072B2}, {"faster trials", milli(loc.fast_z), 0xD55E00}}}};
   plot::WriteSharedXFigure(file, loc.distance, panels,
-                           "wheel position from the terrain breakpoint [m]", 1100, 280);
+                           "wheel's distance past the nearest slope change of the obstacle [m]", 1100, 280);
 }
 
 std::string ProbabilityBar(double p, int width) {
