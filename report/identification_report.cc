@@ -123,16 +123,16 @@ void PlotTrial(const MeasuredTrial& trial, const Chair& chair, const TrialCompar
     p_model.push_back(kRadToDeg * cmp.pitch_model[k]);
   }
   std::vector<plot::SharedXPanel> panels;
-  panels.push_back({"(a) ground under O_V and under the front wheel: the model input",
+  panels.push_back({"(a) the ground under the chair's reference point and under its front wheel: what the model is driven by",
                     "ground height [mm]",
-                    {{"ground at O_V", ground, 0x7F7F7F}, {"ground at front wheel", front, 0xE69F00}}});
-  panels.push_back({"(b) Z, fit " + Fixed(cmp.fit_z, 1) + " %",
-                    "Z [mm]",
-                    {{"measured (mocap, centred)", z_meas, 0x0072B2}, {"model GM+LM", z_model, 0xD55E00}}});
-  panels.push_back({"(c) pitch, fit " + Fixed(cmp.fit_pitch, 1) + " %",
-                    "theta [deg]",
-                    {{"measured (mocap, centred)", p_meas, 0x0072B2}, {"model GM+LM", p_model, 0xD55E00}}});
-  plot::WriteSharedXFigure(file, cmp.t, panels, "t [s]", 1100, 280);
+                    {{"under the reference point", ground, 0x7F7F7F}, {"under the front wheel", front, 0xE69F00}}});
+  panels.push_back({"(b) chair height, measured and modelled (fit " + Fixed(cmp.fit_z, 1) + " %)",
+                    "height [mm]",
+                    {{"measured (motion capture)", z_meas, 0x0072B2}, {"identified model", z_model, 0xD55E00}}});
+  panels.push_back({"(c) chair pitch (nose up +), measured and modelled (fit " + Fixed(cmp.fit_pitch, 1) + " %)",
+                    "pitch [deg]",
+                    {{"measured (motion capture)", p_meas, 0x0072B2}, {"identified model", p_model, 0xD55E00}}});
+  plot::WriteSharedXFigure(file, cmp.t, panels, "time [s]", 1100, 280);
 }
 
 void RemoveIdentificationReport(const std::filesystem::path& out) {
