@@ -112,11 +112,12 @@ std::vector<std::filesystem::path> WritePlatformIdentifyReport(const sp::Platfor
 
   // Figure: measured vs predicted effort and residual, per joint block.
   plot::Figure fig;
-  fig.title = "IDIM-LS, model " + fit.model.name;
-  fig.x_label = "t [s]";
+  fig.title = "Each joint's effort, measured and predicted by the identified model (" + fit.model.name +
+              ", inverse-dynamics least squares)";
+  fig.x_label = "time [s]";
   const Eigen::VectorXd pred = fit.regression.x * fit.ls.theta;
   for (std::size_t j = 0; j < fit.joints.size(); ++j) {
-    plot::Series meas{"measured", {}, {}}, model{"model", {}, {}}, res{"residual", {}, {}};
+    plot::Series meas{"measured", {}, {}}, model{"identified model", {}, {}}, res{"measured - model", {}, {}};
     for (Eigen::Index i = 0; i < fit.regression.y.size(); ++i) {
       if (fit.regression.joint_of_row[static_cast<std::size_t>(i)] != static_cast<int>(j)) continue;
       const double t = fit.regression.t[static_cast<std::size_t>(i)];
@@ -129,12 +130,14 @@ std::vector<std::filesystem::path> WritePlatformIdentifyReport(const sp::Platfor
     }
     if (meas.x.empty()) continue;
     plot::Panel p1;
-    p1.title = fit.joints[j] + ": effort (decimated rows)";
-    p1.y_label = "effort [N or N m]";
+    const bool rotary = j < fit.joint_kinds.size() && fit.joint_kinds[j] == sysid::platform::JointKind::kRevolute;
+    const std::string effort = rotary ? "torque" : "force", unit = rotary ? " [N m]" : " [N]";
+    p1.title = "joint " + fit.joints[j] + ": motor " + effort + " (the rows the fit used)";
+    p1.y_label = effort + unit;
     p1.series = {meas, model};
     plot::Panel p2;
-    p2.title = fit.joints[j] + ": residual";
-    p2.y_label = "residual [N or N m]";
+    p2.title = "joint " + fit.joints[j] + ": what the model misses";
+    p2.y_label = effort + " error" + unit;
     p2.series = {res};
     fig.panels.push_back(p1);
     fig.panels.push_back(p2);
@@ -266,8 +269,8 @@ std::vector<std::filesystem::path> WritePlatformDiagnosisReport(const sp::AxisDi
 
   plot::Figure fig;
   const std::string verdict = diagnose::VerdictName(d.verdict);
-  fig.title = "report rows (moving): verdict " + verdict + ", cause " + d.cause;
-  fig.x_label = "row";
+  fig.title = "The report rows (held out of every choice; the axis moving): verdict " + verdict + ", cause " + d.cause;
+  fig.x_label = "report sample, in recording order [number]";
   std::vector<double> idx(d.heldout_tau.size());
   for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = static_cast<double>(i);
   std::vector<double> rb(idx.size()), re(idx.size());
@@ -276,26 +279,26 @@ std::vector<std::filesystem::path> WritePlatformDiagnosisReport(const sp::AxisDi
     re[i] = d.heldout_tau[i] - d.heldout_ext[i];
   }
   plot::Panel p1;
-  p1.title = "effort";
+  p1.title = "motor effort, measured and modelled";
   p1.y_label = "effort [N]";
-  p1.series = {{"measured", idx, d.heldout_tau}, {"base", idx, d.heldout_base}, {"extended", idx, d.heldout_ext}};
+  p1.series = {{"measured", idx, d.heldout_tau}, {"base model", idx, d.heldout_base}, {"model with the cause", idx, d.heldout_ext}};
   plot::Panel p2;
-  p2.title = "residual";
-  p2.y_label = "residual [N]";
-  p2.series = {{"base", idx, rb}, {"extended", idx, re}};
+  p2.title = "what each model misses (measured - model)";
+  p2.y_label = "effort error [N]";
+  p2.series = {{"base model", idx, rb}, {"model with the cause", idx, re}};
   plot::Panel p3;
-  p3.title = "residual against velocity";
-  p3.y_label = "residual [N]";
-  plot::Series sb{"base", d.heldout_qd, rb, plot::Style::kPoints};
-  plot::Series se{"extended", d.heldout_qd, re, plot::Style::kPoints};
+  p3.title = "what each model misses, against the axis speed";
+  p3.y_label = "effort error [N]";
+  plot::Series sb{"base model", d.heldout_qd, rb, plot::Style::kPoints};
+  plot::Series se{"model with the cause", d.heldout_qd, re, plot::Style::kPoints};
   p3.series = {sb, se};
   fig.panels = {p1, p2};
   std::string figure_line;
   if (!idx.empty()) {
     figure_line = TryFigure(dir / "diagnosis-heldout", fig, &written);
     plot::Figure fv;
-    fv.title = "report-row residual against velocity";
-    fv.x_label = "velocity [m/s or rad/s]";
+    fv.title = "The report rows: each model's effort error against the axis speed";
+    fv.x_label = "axis speed [m/s for a rail, rad/s for a rotary joint]";
     fv.panels = {p3};
     figure_line += "\n\n" + TryFigure(dir / "diagnosis-velocity", fv, &written);
   }

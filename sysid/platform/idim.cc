@@ -365,7 +365,10 @@ PlatformFit IdentifyPlatform(const std::vector<AxisRecording>& recordings,
     const ProcessedRecording p = Preprocess(r, options);
     if (first) {
       fit.model = ModelByName(model_name, p, r.experiment, options);
-      for (const JointStates& s : p.joints) fit.joints.push_back(s.name);
+      for (const JointStates& s : p.joints) {
+        fit.joints.push_back(s.name);
+        fit.joint_kinds.push_back(s.kind);
+      }
       first = false;
     } else {
       if (p.joints.size() != fit.joints.size())

@@ -131,6 +131,7 @@ struct PlatformFit {
   LsFit ls;
   Regression regression;  ///< identification rows (for plots)
   std::vector<std::string> joints;
+  std::vector<JointKind> joint_kinds;  ///< of each joint: its effort is a force [N] or a torque [N m]
   std::vector<ValidationResult> validation;
   std::vector<Regression> validation_regressions;
 };
