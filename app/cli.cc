@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 
 #include "engine/number_format.h"
@@ -199,6 +200,18 @@ std::filesystem::path OutDir(const ParsedArgs& args, const std::string& sub) {
     return dir;
   }
   return DefaultOutDir(args.spec() ? args.spec()->name : "pwsim", sub);
+}
+
+std::vector<std::string> SplitOptionList(const std::string& option, const std::string& text,
+                                         const std::string& item_words) {
+  std::vector<std::string> items;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    if (item.empty()) throw UsageError("option --" + option + ": empty " + item_words + " in \"" + text + "\"");
+    items.push_back(item);
+  }
+  return items;
 }
 
 }  // namespace pwsim::app

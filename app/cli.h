@@ -97,4 +97,10 @@ std::filesystem::path OutDir(const ParsedArgs& args, const std::string& sub = ""
 /// and `git rev-parse HEAD` said when the binary was built ("unknown" outside a git checkout).
 std::string VersionText();
 
+/// The items of option `option`'s comma-separated value `text` ("a,b,c"), each non-empty: an
+/// empty item is a UsageError naming the option, `item_words` (e.g. "name", "run folder") and
+/// the value.
+std::vector<std::string> SplitOptionList(const std::string& option, const std::string& text,
+                                         const std::string& item_words);
+
 }  // namespace pwsim::app

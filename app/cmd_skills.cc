@@ -21,12 +21,7 @@ namespace fs = std::filesystem;
 
 std::vector<fs::path> SplitRuns(const std::string& option, const std::string& text) {
   std::vector<fs::path> runs;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    if (item.empty()) throw UsageError("option --" + option + ": empty run folder in \"" + text + "\"");
-    runs.emplace_back(item);
-  }
+  for (const std::string& item : SplitOptionList(option, text, "run folder")) runs.emplace_back(item);
   if (runs.empty()) throw UsageError("option --" + option + ": expected run folders DIR,DIR,...");
   return runs;
 }

@@ -32,13 +32,7 @@ namespace {
 namespace fs = std::filesystem;
 
 std::vector<std::string> SplitNames(const std::string& option, const std::string& text) {
-  std::vector<std::string> names;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    if (item.empty()) throw UsageError("option --" + option + ": empty name in \"" + text + "\"");
-    names.push_back(item);
-  }
+  const std::vector<std::string> names = SplitOptionList(option, text, "name");
   if (names.size() < 2) throw UsageError("option --" + option + ": expected at least two names, e.g. T_r,T_m");
   return names;
 }
